@@ -1,0 +1,887 @@
+//! A binary bounding volume hierarchy over primitive bounding boxes, built with the binned
+//! surface area heuristic and traversed front to back with a fixed-size stack.
+
+use glam::Vec3;
+
+use crate::math::{Aabb, Ray};
+
+/// Number of SAH bins per axis.
+const BINS: usize = 16;
+/// Nodes with at most this many primitives always become leaves.
+const MIN_LEAF: usize = 1;
+/// Nodes with more primitives than this are split even when the SAH prefers a leaf.
+const MAX_LEAF: usize = 8;
+/// SAH cost of traversing an interior node (testing its two children), relative to one
+/// primitive intersection.
+const TRAVERSAL_COST: f32 = 1.0;
+/// Below this depth the builder switches from the SAH to balanced median splits, which bounds
+/// the depth by `SAH_MAX_DEPTH + ⌈log₂ n⌉ ≤ 24 + 32 < STACK_SIZE`.
+const SAH_MAX_DEPTH: usize = 24;
+/// Traversal stack entries; the builder guarantees `depth() ≤ STACK_SIZE`.
+const STACK_SIZE: usize = 64;
+/// `1 + 2γ₃` with `γ₃ = 3u/(1 − 3u)`, `u = ε/2`: scaling the exit distance of a slab test by
+/// this makes it conservative under floating-point rounding (Ize 2013, "Robust BVH Ray
+/// Traversal"; also PBRT), so rays through box edges and flat boxes are not lost.
+const EXIT_SLACK: f32 = 1.0 + 2.0 * (1.5 * f32::EPSILON) / (1.0 - 1.5 * f32::EPSILON);
+
+/// One node of the flattened tree: 32 bytes.
+///
+/// Nodes are stored depth first: an interior node's first child directly follows it, and
+/// `index` holds its second child. A leaf (`count > 0`) owns `indices[index..index + count]`.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+struct Node {
+    min: Vec3,
+    index: u32,
+    max: Vec3,
+    count: u32,
+}
+
+/// A bounding volume hierarchy over a set of primitives given by their bounding boxes.
+///
+/// The BVH only knows boxes: queries take a closure that intersects the ray with a primitive,
+/// identified by its index in the slice given to [`Bvh::build`]. `Bvh::default()` is the empty
+/// hierarchy, which no ray hits.
+#[derive(Debug, Clone, Default)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    /// Primitive indices in leaf order.
+    indices: Vec<u32>,
+    depth: usize,
+}
+
+impl Bvh {
+    /// Builds the hierarchy over primitives with the given bounds (binned SAH, deterministic).
+    ///
+    /// Flat (zero-thickness) boxes, many primitives with the same centroid and empty boxes
+    /// (primitives that no ray can hit) are all fine.
+    ///
+    /// # Panics
+    ///
+    /// If there are more than `u32::MAX` primitives.
+    pub fn build(bounds: &[Aabb]) -> Bvh {
+        let n = bounds.len();
+        assert!(
+            u32::try_from(n).is_ok(),
+            "a BVH holds at most u32::MAX primitives, got {n}"
+        );
+        if n == 0 {
+            return Bvh::default();
+        }
+        let prims = bounds
+            .iter()
+            .zip(0..)
+            .map(|(&bounds, index)| {
+                let c = bounds.centroid();
+                BuildPrim {
+                    bounds,
+                    // Empty or unbounded boxes have no meaningful centroid; any point will do.
+                    centroid: Vec3::select(c.is_finite_mask(), c, Vec3::ZERO),
+                    index,
+                }
+            })
+            .collect();
+        let mut builder = Builder {
+            prims,
+            nodes: Vec::with_capacity(2 * n),
+            depth: 0,
+        };
+        builder.build_node(0, n, 1);
+        assert!(
+            builder.depth <= STACK_SIZE,
+            "BVH depth {} exceeds the traversal stack",
+            builder.depth
+        );
+        Bvh {
+            nodes: builder.nodes,
+            indices: builder.prims.iter().map(|p| p.index).collect(),
+            depth: builder.depth,
+        }
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Whether the hierarchy holds no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.indices.is_empty()
+    }
+
+    /// Bounds of all primitives ([`Aabb::EMPTY`] for an empty hierarchy).
+    pub fn bounds(&self) -> Aabb {
+        self.nodes
+            .first()
+            .map_or(Aabb::EMPTY, |n| Aabb::new(n.min, n.max))
+    }
+
+    /// Number of nodes (interior nodes and leaves).
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Number of levels: 0 when empty, 1 for a single leaf.
+    pub fn depth(&self) -> usize {
+        self.depth
+    }
+
+    /// Finds the closest primitive along `ray`, returning its index and ray parameter `t`.
+    ///
+    /// `intersect(prim, ray)` must return `Some(t)` exactly when the primitive is hit at some
+    /// `t` with `ray.tmin ≤ t ≤ ray.tmax` of the ray it is passed, and `None` otherwise. It is
+    /// passed the query ray with `tmax` shrunk to the closest hit found so far; the nodes are
+    /// visited front to back, nearer child first, and skipped once they start beyond `tmax`.
+    ///
+    /// Because `tmax` only shrinks, **the last call that returned `Some` is the closest hit**:
+    /// a closure may record extra data (barycentrics, which mesh) each time it reports a hit,
+    /// overwriting the previous record, and the final record belongs to the returned hit.
+    ///
+    /// The closure's answers are trusted: a `t` outside the ray's interval is taken as is (and
+    /// becomes the new `tmax`), so a test that ignores `tmin`/`tmax` changes which hit wins.
+    #[inline]
+    pub fn closest_hit<F: FnMut(u32, &Ray) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        mut intersect: F,
+    ) -> Option<(u32, f32)> {
+        let mut ray = *ray;
+        let mut closest = None;
+        self.traverse(&mut ray, |prim, ray| {
+            if let Some(t) = intersect(prim, ray) {
+                ray.tmax = t;
+                closest = Some((prim, t));
+            }
+            false
+        });
+        closest
+    }
+
+    /// Whether any primitive intersects `ray`; stops at the first one `intersect` reports hit.
+    ///
+    /// `intersect(prim, ray)` returns whether the primitive is hit with `ray.tmin ≤ t ≤
+    /// ray.tmax` (the ray is always the query ray itself); useful for shadow rays.
+    #[inline]
+    pub fn any_hit<F: FnMut(u32, &Ray) -> bool>(&self, ray: &Ray, mut intersect: F) -> bool {
+        let mut ray = *ray;
+        self.traverse(&mut ray, |prim, ray| intersect(prim, ray))
+    }
+
+    /// Front-to-back traversal calling `leaf_prim(prim, ray)` on every primitive in a reached
+    /// leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal by returning `true`.
+    /// Returns whether it was stopped.
+    #[inline(always)]
+    fn traverse(&self, ray: &mut Ray, mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool) -> bool {
+        let Some(root) = self.nodes.first() else {
+            return false;
+        };
+        let slabs = Slabs::new(ray);
+        if slabs.entry(root, ray.tmin, ray.tmax).is_none() {
+            return false;
+        }
+        let mut stack = [(0u32, 0f32); STACK_SIZE];
+        let mut sp = 0;
+        let mut current = 0usize;
+        loop {
+            let node = &self.nodes[current];
+            if node.count > 0 {
+                let first = node.index as usize;
+                for &prim in &self.indices[first..first + node.count as usize] {
+                    if leaf_prim(prim, ray) {
+                        return true;
+                    }
+                }
+            } else {
+                let (left, right) = (current + 1, node.index as usize);
+                let t_left = slabs.entry(&self.nodes[left], ray.tmin, ray.tmax);
+                let t_right = slabs.entry(&self.nodes[right], ray.tmin, ray.tmax);
+                match (t_left, t_right) {
+                    (Some(tl), Some(tr)) => {
+                        let (near, far, t_far) = if tl <= tr {
+                            (left, right, tr)
+                        } else {
+                            (right, left, tl)
+                        };
+                        stack[sp] = (far as u32, t_far);
+                        sp += 1;
+                        current = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        current = left;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        current = right;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            // Pop the next node that still starts before the closest hit.
+            loop {
+                if sp == 0 {
+                    return false;
+                }
+                sp -= 1;
+                let (node, t_entry) = stack[sp];
+                if t_entry <= ray.tmax * EXIT_SLACK {
+                    current = node as usize;
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// A ray prepared for slab tests: origin, reciprocal direction and which box corner is met
+/// first along each axis.
+struct Slabs {
+    origin: Vec3,
+    inv_dir: Vec3,
+    negative: [bool; 3],
+}
+
+impl Slabs {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Self {
+        let inv_dir = ray.direction.recip();
+        Self {
+            origin: ray.origin,
+            inv_dir,
+            negative: inv_dir.to_array().map(|i| i.is_sign_negative()),
+        }
+    }
+
+    /// Entry distance of the ray into the node's box, clipped to `[tmin, tmax]`; `None` when the
+    /// clipped interval is empty (with the rounding slack [`EXIT_SLACK`]).
+    ///
+    /// Robust to zero direction components: each slab's entry (exit) distance comes from the
+    /// plane met first (last) for the direction's sign (Williams et al. 2005), so `0·∞ = NaN`
+    /// can only appear when the origin lies on that plane of a slab the ray runs parallel to —
+    /// exactly when the slab puts no limit on `t` — and NaN is then ignored by the `max` (`min`)
+    /// that accumulates the entry (exit) distances.
+    #[inline(always)]
+    fn entry(&self, node: &Node, tmin: f32, tmax: f32) -> Option<f32> {
+        let [nx, ny, nz] = self.negative;
+        let (near_x, far_x) = if nx {
+            (node.max.x, node.min.x)
+        } else {
+            (node.min.x, node.max.x)
+        };
+        let (near_y, far_y) = if ny {
+            (node.max.y, node.min.y)
+        } else {
+            (node.min.y, node.max.y)
+        };
+        let (near_z, far_z) = if nz {
+            (node.max.z, node.min.z)
+        } else {
+            (node.min.z, node.max.z)
+        };
+        let (o, inv) = (self.origin, self.inv_dir);
+        let enter = max_ignoring_nan(tmin, (near_x - o.x) * inv.x);
+        let enter = max_ignoring_nan(enter, (near_y - o.y) * inv.y);
+        let enter = max_ignoring_nan(enter, (near_z - o.z) * inv.z);
+        let exit = min_ignoring_nan(tmax, (far_x - o.x) * inv.x);
+        let exit = min_ignoring_nan(exit, (far_y - o.y) * inv.y);
+        let exit = min_ignoring_nan(exit, (far_z - o.z) * inv.z);
+        (enter <= exit * EXIT_SLACK).then_some(enter)
+    }
+}
+
+/// `max(acc, x)`, or `acc` when `x` is NaN (a single `maxss` on x86).
+#[inline(always)]
+fn max_ignoring_nan(acc: f32, x: f32) -> f32 {
+    if x > acc { x } else { acc }
+}
+
+/// `min(acc, x)`, or `acc` when `x` is NaN (a single `minss` on x86).
+#[inline(always)]
+fn min_ignoring_nan(acc: f32, x: f32) -> f32 {
+    if x < acc { x } else { acc }
+}
+
+/// A primitive during the build; the builder reorders these in place.
+#[derive(Clone, Copy)]
+struct BuildPrim {
+    bounds: Aabb,
+    centroid: Vec3,
+    index: u32,
+}
+
+/// Build state: the primitives (reordered into leaf order as the tree is built) and the nodes.
+struct Builder {
+    prims: Vec<BuildPrim>,
+    nodes: Vec<Node>,
+    depth: usize,
+}
+
+/// One SAH bin: the bounds and number of the primitives whose centroid falls in it.
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: Aabb,
+    count: usize,
+}
+
+impl Bin {
+    const EMPTY: Bin = Bin {
+        bounds: Aabb::EMPTY,
+        count: 0,
+    };
+}
+
+/// How to split a node's primitive range.
+enum Split {
+    /// Primitives whose centroid's bin along `axis` is below `bin` go left.
+    Sah { axis: usize, bin: usize },
+    /// Object median: the first half of the range (ordered along `axis`) goes left.
+    Median { axis: usize },
+}
+
+impl Builder {
+    /// Builds the subtree over `prims[start..end]` at `depth` (root = 1) and returns the index
+    /// of its root node.
+    fn build_node(&mut self, start: usize, end: usize, depth: usize) -> usize {
+        self.depth = self.depth.max(depth);
+        let prims = &mut self.prims[start..end];
+        let (bounds, centroids) = prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| {
+            (b.union(p.bounds), c.grow(p.centroid))
+        });
+        let node_index = self.nodes.len();
+        self.nodes.push(Node {
+            min: bounds.min,
+            index: start as u32,
+            max: bounds.max,
+            count: prims.len() as u32,
+        });
+        let mid = match choose_split(prims, depth, &bounds, &centroids) {
+            None => return node_index,
+            Some(Split::Sah { axis, bin }) => {
+                let binning = Binning::new(&centroids, axis);
+                partition(prims, |p| binning.bin(p.centroid) < bin)
+            }
+            Some(Split::Median { axis }) => {
+                let mid = prims.len() / 2;
+                // Ties broken by primitive index: a total order, so the split is deterministic.
+                let key = |p: &BuildPrim| (p.centroid[axis], p.index);
+                prims.select_nth_unstable_by(mid, |a, b| key(a).partial_cmp(&key(b)).unwrap());
+                mid
+            }
+        };
+        debug_assert!(0 < mid && mid < end - start);
+        self.build_node(start, start + mid, depth + 1);
+        let right = self.build_node(start + mid, end, depth + 1);
+        self.nodes[node_index].index = right as u32;
+        self.nodes[node_index].count = 0;
+        node_index
+    }
+}
+
+/// The split for `prims` (with the given bounds and centroid bounds), or `None` for a leaf.
+fn choose_split(
+    prims: &[BuildPrim],
+    depth: usize,
+    bounds: &Aabb,
+    centroids: &Aabb,
+) -> Option<Split> {
+    let count = prims.len();
+    if count <= MIN_LEAF {
+        return None;
+    }
+    let extent = centroids.diagonal();
+    let axis = centroids.longest_axis();
+    if depth >= SAH_MAX_DEPTH || extent.max_element() <= 0.0 {
+        // Deep in a degenerate tree, or all centroids identical: nothing for the SAH to
+        // separate, so halve the range if it is too big for a leaf.
+        return (count > MAX_LEAF).then_some(Split::Median { axis });
+    }
+    // Binned SAH over all three axes in one pass; costs are scaled by the parent's area.
+    let binnings = [0, 1, 2].map(|axis| Binning::new(centroids, axis));
+    let mut bins = [[Bin::EMPTY; BINS]; 3];
+    for p in prims {
+        for (axis, binning) in binnings.iter().enumerate() {
+            let bin = &mut bins[axis][binning.bin(p.centroid)];
+            bin.bounds = bin.bounds.union(p.bounds);
+            bin.count += 1;
+        }
+    }
+    let mut best: Option<(f32, usize, usize)> = None;
+    for (axis, bins) in bins.iter().enumerate() {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        // right_cost[k]: area × count of bins k.. (the right side of a split before bin k).
+        let mut right_cost = [0.0f32; BINS];
+        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        for k in (1..BINS).rev() {
+            acc = acc.union(bins[k].bounds);
+            n += bins[k].count;
+            right_cost[k] = acc.surface_area() * n as f32;
+        }
+        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        for k in 1..BINS {
+            acc = acc.union(bins[k - 1].bounds);
+            n += bins[k - 1].count;
+            if n == 0 || n == count {
+                continue;
+            }
+            let cost = acc.surface_area() * n as f32 + right_cost[k];
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, k));
+            }
+        }
+    }
+    let area = bounds.surface_area();
+    match best {
+        Some((cost, axis, bin)) => {
+            let worth_it = TRAVERSAL_COST * area + cost < area * count as f32;
+            (count > MAX_LEAF || worth_it).then_some(Split::Sah { axis, bin })
+        }
+        // All centroids in one bin on every axis (tiny extents): split by the median.
+        None => (count > MAX_LEAF).then_some(Split::Median { axis }),
+    }
+}
+
+/// Maps centroids to SAH bins along one axis of the centroid bounds.
+struct Binning {
+    axis: usize,
+    min: f32,
+    scale: f32,
+}
+
+impl Binning {
+    fn new(centroids: &Aabb, axis: usize) -> Self {
+        Self {
+            axis,
+            min: centroids.min[axis],
+            scale: BINS as f32 / centroids.diagonal()[axis],
+        }
+    }
+
+    #[inline]
+    fn bin(&self, c: Vec3) -> usize {
+        // `as` saturates (and maps NaN, from a zero extent, to 0): only the top needs clamping.
+        (((c[self.axis] - self.min) * self.scale) as usize).min(BINS - 1)
+    }
+}
+
+/// Moves the items satisfying `left` to the front and returns how many there are.
+fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
+    let mut mid = 0;
+    for i in 0..items.len() {
+        if left(&items[i]) {
+            items.swap(i, mid);
+            mid += 1;
+        }
+    }
+    mid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tiny deterministic generator (LCG), values in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+        }
+        /// A point in [-1, 1]³.
+        fn vec(&mut self) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
+        }
+        fn below(&mut self, n: usize) -> usize {
+            ((self.next() * n as f32) as usize).min(n - 1)
+        }
+    }
+
+    /// Möller–Trumbore in `f64`, test-only: accurate enough that its hits lie in the boxes.
+    fn hit_triangle(ray: &Ray, tri: [Vec3; 3]) -> Option<f32> {
+        let [a, b, c] = tri.map(|v| v.as_dvec3());
+        let (o, d) = (ray.origin.as_dvec3(), ray.direction.as_dvec3());
+        let (e1, e2) = (b - a, c - a);
+        let p = d.cross(e2);
+        let det = e1.dot(p);
+        if det == 0.0 {
+            return None;
+        }
+        let s = o - a;
+        let u = s.dot(p) / det;
+        let q = s.cross(e1);
+        let v = d.dot(q) / det;
+        let t = (e2.dot(q) / det) as f32;
+        (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && ray.accepts(t)).then_some(t)
+    }
+
+    /// Textbook sphere test in `f64`, test-only.
+    fn hit_sphere(ray: &Ray, (center, radius): (Vec3, f32)) -> Option<f32> {
+        let (o, d) = (ray.origin.as_dvec3(), ray.direction.as_dvec3());
+        let (f, r) = (o - center.as_dvec3(), radius as f64);
+        let (a, b, c) = (d.dot(d), f.dot(d), f.dot(f) - r * r);
+        let disc = b * b - a * c;
+        if disc < 0.0 {
+            return None;
+        }
+        let s = disc.sqrt();
+        [(-b - s) / a, (-b + s) / a]
+            .into_iter()
+            .map(|t| t as f32)
+            .find(|&t| ray.accepts(t))
+    }
+
+    fn triangle_bounds(tris: &[[Vec3; 3]]) -> Vec<Aabb> {
+        tris.iter().map(|t| Aabb::from_points(*t)).collect()
+    }
+
+    fn sphere_bounds(spheres: &[(Vec3, f32)]) -> Vec<Aabb> {
+        spheres
+            .iter()
+            .map(|&(c, r)| Aabb::new(c - r, c + r))
+            .collect()
+    }
+
+    fn random_triangles(rng: &mut Rng, n: usize) -> Vec<[Vec3; 3]> {
+        (0..n)
+            .map(|i| {
+                let size = if i % 50 == 0 { 1.0 } else { 0.08 };
+                let c = rng.vec();
+                [
+                    c + size * rng.vec(),
+                    c + size * rng.vec(),
+                    c + size * rng.vec(),
+                ]
+            })
+            .collect()
+    }
+
+    /// Rays of many kinds: from outside and inside the scene bounds, random and axis-aligned
+    /// directions, directions with one or two zero components, origins exactly on coordinates
+    /// of primitive bounds (so slabs see `0·∞`), and limited `[tmin, tmax]`.
+    fn random_ray(rng: &mut Rng, boxes: &[Aabb]) -> Ray {
+        let mut origin = match rng.below(3) {
+            0 => rng.vec() * 3.0,
+            1 => rng.vec() * 0.9,
+            _ => {
+                let b = boxes[rng.below(boxes.len())];
+                if rng.next() < 0.5 { b.min } else { b.max }
+            }
+        };
+        let mut dir = match rng.below(4) {
+            0 => [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z][rng.below(6)],
+            1 => {
+                // One or two zero components.
+                let mut d = rng.vec();
+                d[rng.below(3)] = if rng.next() < 0.5 { 0.0 } else { -0.0 };
+                if rng.next() < 0.3 {
+                    d[rng.below(3)] = 0.0;
+                }
+                d
+            }
+            _ => rng.vec(),
+        };
+        if dir.length_squared() < 1e-6 {
+            dir = Vec3::new(0.3, -0.5, 0.8);
+        }
+        if rng.below(2) == 0 && origin.x.abs() < 3.0 {
+            // Aim at a primitive from here, sometimes.
+            let target = boxes[rng.below(boxes.len())].centroid();
+            if (target - origin).length_squared() > 1e-6 {
+                dir = target - origin;
+                origin[rng.below(3)] += 0.0;
+            }
+        }
+        let dir = dir.normalize();
+        match rng.below(4) {
+            0 => Ray::new(origin, dir, 0.1 * rng.next(), 0.5 + 2.0 * rng.next()),
+            _ => Ray::unbounded(origin, dir, 0.0),
+        }
+    }
+
+    fn brute_closest(
+        n: usize,
+        ray: &Ray,
+        hit: impl Fn(usize, &Ray) -> Option<f32>,
+    ) -> Option<(u32, f32)> {
+        (0..n)
+            .filter_map(|i| hit(i, ray).map(|t| (i as u32, t)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Checks `closest_hit` and `any_hit` against brute force for `rays` random rays.
+    fn check_against_brute_force(
+        n: usize,
+        boxes: &[Aabb],
+        rays: usize,
+        seed: u64,
+        hit: impl Fn(usize, &Ray) -> Option<f32>,
+    ) {
+        let bvh = Bvh::build(boxes);
+        assert_eq!(bvh.len(), n);
+        assert!(bvh.depth() <= STACK_SIZE);
+        let mut rng = Rng(seed);
+        let mut hits = 0;
+        for _ in 0..rays {
+            let ray = random_ray(&mut rng, boxes);
+            let expected = brute_closest(n, &ray, &hit);
+            let mut last = None;
+            let got = bvh.closest_hit(&ray, |prim, r| {
+                assert!(r.tmin == ray.tmin && r.tmax <= ray.tmax && r.origin == ray.origin);
+                let t = hit(prim as usize, r);
+                if t.is_some() {
+                    last = Some(prim);
+                }
+                t
+            });
+            match (expected, got) {
+                (None, None) => {}
+                (Some((_, te)), Some((prim, t))) => {
+                    hits += 1;
+                    // Equal t, or on a near-tie (within rounding, such as at an edge shared by
+                    // two triangles) another primitive.
+                    assert!(
+                        te <= t && t <= te + 1e-5 * (1.0 + te),
+                        "{te} vs {t} for {ray:?}"
+                    );
+                    assert_eq!(hit(prim as usize, &ray), Some(t));
+                    assert_eq!(last, Some(prim), "the last reported hit is the closest");
+                }
+                _ => panic!("brute force {expected:?}, BVH {got:?} for {ray:?}"),
+            }
+            let any = bvh.any_hit(&ray, |prim, r| {
+                assert_eq!(r, &ray);
+                hit(prim as usize, r).is_some()
+            });
+            assert_eq!(any, expected.is_some(), "{ray:?}");
+        }
+        assert!(
+            hits > rays / 10,
+            "only {hits} of {rays} rays hit: the test is too weak"
+        );
+    }
+
+    #[test]
+    fn triangle_soup_matches_brute_force() {
+        let mut rng = Rng(1);
+        let tris = random_triangles(&mut rng, 3000);
+        let boxes = triangle_bounds(&tris);
+        check_against_brute_force(tris.len(), &boxes, 5000, 2, |i, r| hit_triangle(r, tris[i]));
+    }
+
+    #[test]
+    fn sphere_set_matches_brute_force() {
+        let mut rng = Rng(3);
+        let spheres: Vec<(Vec3, f32)> = (0..2000)
+            .map(|i| {
+                (
+                    rng.vec(),
+                    if i % 100 == 0 {
+                        0.5
+                    } else {
+                        0.01 + 0.05 * rng.next()
+                    },
+                )
+            })
+            .collect();
+        let boxes = sphere_bounds(&spheres);
+        check_against_brute_force(spheres.len(), &boxes, 5000, 4, |i, r| {
+            hit_sphere(r, spheres[i])
+        });
+    }
+
+    #[test]
+    fn axis_aligned_quads_with_flat_boxes_match_brute_force() {
+        // A grid of axis-aligned quads (flat bounds), like the walls of a box scene, hit by rays
+        // that run along and start on their planes.
+        let mut tris = Vec::new();
+        for i in 0..12 {
+            for j in 0..12 {
+                let (u, v) = (i as f32 / 6.0 - 1.0, j as f32 / 6.0 - 1.0);
+                let s = 1.0 / 6.0;
+                for axis in 0..3 {
+                    let p = |a: f32, b: f32| {
+                        let mut q = Vec3::splat(if axis == 0 { -0.5 } else { 0.25 * axis as f32 });
+                        q[(axis + 1) % 3] = a;
+                        q[(axis + 2) % 3] = b;
+                        q
+                    };
+                    tris.push([p(u, v), p(u + s, v), p(u + s, v + s)]);
+                    tris.push([p(u, v), p(u + s, v + s), p(u, v + s)]);
+                }
+            }
+        }
+        let boxes = triangle_bounds(&tris);
+        check_against_brute_force(tris.len(), &boxes, 5000, 5, |i, r| hit_triangle(r, tris[i]));
+    }
+
+    #[test]
+    fn slab_test_handles_zero_direction_components() {
+        let node = Node {
+            min: Vec3::ZERO,
+            index: 0,
+            max: Vec3::ONE,
+            count: 1,
+        };
+        let flat = Node {
+            max: Vec3::new(1.0, 1.0, 0.0),
+            ..node
+        };
+        let entry = |o: Vec3, d: Vec3, n: &Node| {
+            Slabs::new(&Ray::unbounded(o, d, 0.0)).entry(n, 0.0, f32::INFINITY)
+        };
+        for d in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.0, 0.6, 0.8),
+            Vec3::new(-0.0, -0.6, -0.8),
+        ] {
+            // On the min and max faces of a slab the ray runs parallel to: inside.
+            for o in [
+                Vec3::new(0.0, 0.5, 0.5),
+                Vec3::new(1.0, 0.5, 0.5),
+                Vec3::new(0.0, 0.0, 0.5),
+            ] {
+                assert_eq!(entry(o, d, &node), Some(0.0), "{o} {d}");
+            }
+            // Just outside: miss.
+            assert_eq!(entry(Vec3::new(-1e-6, 0.5, 0.5), d, &node), None);
+            assert_eq!(entry(Vec3::new(1.0 + 1e-6, 0.5, 0.5), d, &node), None);
+        }
+        // A flat box, approached from outside within its plane and across it.
+        assert_eq!(entry(Vec3::new(-1.0, 0.5, 0.0), Vec3::X, &flat), Some(1.0));
+        assert_eq!(entry(Vec3::new(0.5, 0.5, 2.0), -Vec3::Z, &flat), Some(2.0));
+        assert_eq!(entry(Vec3::new(-1.0, 0.5, 1e-6), Vec3::X, &flat), None);
+        // From outside along an axis.
+        assert_eq!(entry(Vec3::new(0.5, 0.5, -2.0), Vec3::Z, &node), Some(2.0));
+        assert_eq!(entry(Vec3::new(0.5, 0.5, 3.0), -Vec3::Z, &node), Some(2.0));
+        assert_eq!(entry(Vec3::new(0.5, 0.5, 3.0), Vec3::Z, &node), None);
+    }
+
+    #[test]
+    fn empty_bvh_hits_nothing() {
+        for bvh in [Bvh::default(), Bvh::build(&[])] {
+            assert!(bvh.is_empty());
+            assert_eq!((bvh.len(), bvh.node_count(), bvh.depth()), (0, 0, 0));
+            assert!(bvh.bounds().is_empty());
+            let ray = Ray::unbounded(Vec3::ZERO, Vec3::X, 0.0);
+            assert_eq!(bvh.closest_hit(&ray, |_, _| panic!("no primitives")), None);
+            assert!(!bvh.any_hit(&ray, |_, _| panic!("no primitives")));
+        }
+    }
+
+    #[test]
+    fn one_primitive() {
+        let sphere = (Vec3::new(0.0, 0.0, -3.0), 1.0);
+        let bvh = Bvh::build(&sphere_bounds(&[sphere]));
+        assert_eq!((bvh.len(), bvh.node_count(), bvh.depth()), (1, 1, 1));
+        assert_eq!(
+            bvh.bounds(),
+            Aabb::new(Vec3::new(-1.0, -1.0, -4.0), Vec3::new(1.0, 1.0, -2.0))
+        );
+        let hit = |_: u32, r: &Ray| hit_sphere(r, sphere);
+        let ray = Ray::unbounded(Vec3::ZERO, -Vec3::Z, 0.0);
+        assert_eq!(bvh.closest_hit(&ray, hit), Some((0, 2.0)));
+        assert!(bvh.any_hit(&ray, |p, r| hit(p, r).is_some()));
+        let away = Ray::unbounded(Vec3::ZERO, Vec3::Z, 0.0);
+        assert_eq!(bvh.closest_hit(&away, hit), None);
+        let short = Ray::new(Vec3::ZERO, -Vec3::Z, 0.0, 1.5);
+        assert!(!bvh.any_hit(&short, |p, r| hit(p, r).is_some()));
+    }
+
+    #[test]
+    fn identical_centroids_fall_back_to_median_splits() {
+        // Concentric spheres and identical triangles: the SAH has nothing to bin.
+        let spheres: Vec<(Vec3, f32)> = (0..1000)
+            .map(|i| (Vec3::ZERO, 0.01 + 0.001 * i as f32))
+            .collect();
+        let boxes = sphere_bounds(&spheres);
+        let bvh = Bvh::build(&boxes);
+        assert!(bvh.depth() <= 10, "depth {}", bvh.depth());
+        assert!(bvh.nodes.iter().all(|n| n.count as usize <= MAX_LEAF));
+        check_against_brute_force(spheres.len(), &boxes, 1000, 6, |i, r| {
+            hit_sphere(r, spheres[i])
+        });
+
+        let tri = [
+            Vec3::new(-1.0, -1.0, 0.5),
+            Vec3::new(1.0, -1.0, 0.5),
+            Vec3::new(0.0, 1.0, 0.5),
+        ];
+        let bvh = Bvh::build(&triangle_bounds(&vec![tri; 100]));
+        assert!(bvh.nodes.iter().all(|n| n.count as usize <= MAX_LEAF));
+        let ray = Ray::unbounded(Vec3::ZERO, Vec3::Z, 0.0);
+        let (_, t) = bvh.closest_hit(&ray, |_, r| hit_triangle(r, tri)).unwrap();
+        assert_eq!(t, 0.5);
+        let mut calls = 0;
+        assert!(bvh.any_hit(&ray, |_, r| {
+            calls += 1;
+            hit_triangle(r, tri).is_some()
+        }));
+        assert_eq!(calls, 1, "any_hit stops at the first hit");
+    }
+
+    #[test]
+    fn depth_stays_bounded_on_pathological_input() {
+        // Geometrically growing boxes make SAH splits peel off one primitive at a time.
+        let boxes: Vec<Aabb> = (0..20_000)
+            .map(|i| {
+                let x = 1.001f32.powi(i) - 1.0;
+                Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::new(x * 1.5 + 1e-3, 1.0, 1.0))
+            })
+            .chain((0..100).map(|_| Aabb::EMPTY))
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        assert!(bvh.depth() <= STACK_SIZE, "depth {}", bvh.depth());
+        let mut rng = Rng(8);
+        for _ in 0..200 {
+            let ray = Ray::unbounded(Vec3::new(-1.0, rng.next(), rng.next()), Vec3::X, 0.0);
+            assert!(bvh.any_hit(&ray, |i, _| i < 20_000));
+        }
+    }
+
+    #[test]
+    fn build_is_deterministic_and_well_formed() {
+        let mut rng = Rng(9);
+        let tris = random_triangles(&mut rng, 5000);
+        let boxes = triangle_bounds(&tris);
+        let a = Bvh::build(&boxes);
+        let b = Bvh::build(&boxes);
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        // Every primitive appears exactly once, node bounds contain their contents.
+        let mut seen = a.indices.clone();
+        seen.sort_unstable();
+        assert!(seen.iter().copied().eq(0..5000));
+        let contains = |outer: &Node, inner: Aabb| {
+            outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
+        };
+        for (i, n) in a.nodes.iter().enumerate() {
+            if n.count > 0 {
+                assert!(n.count as usize <= MAX_LEAF);
+                let prims = &a.indices[n.index as usize..(n.index + n.count) as usize];
+                assert!(prims.iter().all(|&p| contains(n, boxes[p as usize])));
+            } else {
+                let right = n.index as usize;
+                assert!(right > i + 1 && right < a.nodes.len());
+                assert!(contains(
+                    n,
+                    Aabb::new(a.nodes[i + 1].min, a.nodes[i + 1].max)
+                ));
+                assert!(contains(
+                    n,
+                    Aabb::new(a.nodes[right].min, a.nodes[right].max)
+                ));
+            }
+        }
+        assert_eq!(
+            a.bounds(),
+            boxes.iter().fold(Aabb::EMPTY, |acc, b| acc.union(*b))
+        );
+        assert!(a.depth() < 40, "depth {}", a.depth());
+        assert_eq!(std::mem::size_of::<Node>(), 32);
+    }
+}

@@ -1,0 +1,5 @@
+//! Acceleration structures: a bounding volume hierarchy built with the surface area heuristic.
+
+mod bvh;
+
+pub use bvh::Bvh;

@@ -1,0 +1,89 @@
+use std::path::PathBuf;
+
+/// Everything that can go wrong outside student code. Every message names the file, line or
+/// value at fault and what was expected.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// A malformed OBJ or MTL file.
+    #[error("{path}:{line}: {reason}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number (0 when the fault is not tied to a line).
+        line: usize,
+        /// What was found and what was expected.
+        reason: String,
+    },
+    /// A malformed scene file.
+    #[error("{path}: {reason}")]
+    SceneFile {
+        /// The file.
+        path: PathBuf,
+        /// What was found and what was expected (with line and column when known).
+        reason: String,
+    },
+    /// A texture that cannot be decoded.
+    #[error("{path}: cannot decode texture: {reason}")]
+    Texture {
+        /// The image file.
+        path: PathBuf,
+        /// The decoder's complaint.
+        reason: String,
+    },
+    /// A scene that is syntactically fine but cannot be rendered.
+    #[error("scene '{scene}': {reason}")]
+    Scene {
+        /// The scene's name.
+        scene: String,
+        /// What is wrong and what was expected.
+        reason: String,
+    },
+    /// A bad option or argument value.
+    #[error("invalid {what}: {reason}")]
+    Invalid {
+        /// Which option or value.
+        what: String,
+        /// What was expected.
+        reason: String,
+    },
+    /// A component panicked while rendering.
+    #[error(transparent)]
+    Panic(#[from] PanicError),
+    /// An image could not be encoded or written.
+    #[error("{path}: cannot write image: {reason}")]
+    ImageOutput {
+        /// The output file.
+        path: PathBuf,
+        /// The encoder's complaint.
+        reason: String,
+    },
+}
+
+impl Error {
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+/// A panic inside a component (student code, typically), turned into an error so that one
+/// broken exercise does not bring down a whole run.
+#[derive(Debug, thiserror::Error)]
+#[error("{context} panicked: {message}")]
+pub struct PanicError {
+    /// What was running.
+    pub context: String,
+    /// The panic message (for `todo!("Exercise …")`, the exercise that is not done yet).
+    pub message: String,
+}

@@ -1,0 +1,285 @@
+use glam::{Vec3, Vec3Swizzles};
+
+use crate::math::Ray;
+
+/// Intersects `ray` with the triangle `(v0, v1, v2)`, from either side.
+///
+/// Returns `(t, beta, gamma)` with the hit point `(1 − beta − gamma)·v0 + beta·v1 + gamma·v2`,
+/// where `ray.tmin ≤ t ≤ ray.tmax`, `beta ≥ 0`, `gamma ≥ 0` and `beta + gamma ≤ 1`. `None` for a
+/// miss, a degenerate (zero-area) triangle, or a ray parallel to the triangle's plane.
+///
+/// This is the watertight algorithm of Woop, Benthin and Wald, "Watertight Ray/Triangle
+/// Intersection" (JCGT 2013): the vertices are moved into a ray-aligned frame (translated to the
+/// origin, permuted so the direction's largest component is `z`, and sheared so the direction
+/// becomes `(0, 0, 1)`) and the hit is decided by the signs of three 2D edge functions. The
+/// edge function of an edge depends only on that edge's two vertices, so two triangles sharing
+/// an edge can never both miss a ray that crosses it (no cracks in closed meshes, also not
+/// through shared vertices); values that round to exactly zero are recomputed in `f64`.
+#[inline]
+pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+    let d = ray.direction;
+    let o = ray.origin;
+    let (a, b, c) = (v0 - o, v1 - o, v2 - o);
+    // Permute the axes so that the direction's largest component is the last one. (The
+    // permutation is cyclic, so it keeps the handedness; and since both sides of the triangle
+    // count, the sign of that component needs no further care.)
+    let ad = d.abs();
+    let (d, a, b, c) = if ad.x > ad.y && ad.x > ad.z {
+        (d.yzx(), a.yzx(), b.yzx(), c.yzx())
+    } else if ad.y > ad.z {
+        (d.zxy(), a.zxy(), b.zxy(), c.zxy())
+    } else {
+        (d, a, b, c)
+    };
+    // Shear so that the direction becomes +z (up to the scale `sz` applied to `z` only).
+    let sz = 1.0 / d.z;
+    let sx = d.x * sz;
+    let sy = d.y * sz;
+    let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
+    let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
+    let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
+    // Scaled barycentrics: twice the signed areas of the sub-triangles opposite each vertex,
+    // as seen along the ray.
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // On (or extremely close to) an edge: decide with the exact sign from double precision.
+        let f = |px: f32, py: f32, qx: f32, qy: f32| {
+            (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
+        };
+        u = f(cx, cy, bx, by);
+        v = f(ax, ay, cx, cy);
+        w = f(bx, by, ax, ay);
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    // `t·det`, interpolating the vertices' sheared z.
+    let t_scaled = (u * a.z + v * b.z + w * c.z) * sz;
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    // Also rejects NaN, which only non-finite input or a zero direction can produce.
+    if !ray.accepts(t) {
+        return None;
+    }
+    // Clamp away rounding so the documented ranges hold exactly.
+    let beta = (v * inv_det).min(1.0);
+    let gamma = (w * inv_det).min(1.0 - beta);
+    Some((t, beta, gamma))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tiny deterministic generator (PCG-like LCG), values in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+        }
+        fn vec(&mut self) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
+        }
+    }
+
+    fn check_hit(ray: &Ray, v: [Vec3; 3], hit: (f32, f32, f32)) {
+        let (t, b, g) = hit;
+        assert!(ray.accepts(t));
+        assert!(b >= 0.0 && g >= 0.0 && b + g <= 1.0, "{b} {g}");
+        let p = (1.0 - b - g) * v[0] + b * v[1] + g * v[2];
+        assert!((p - ray.at(t)).length() < 1e-4, "{p} vs {}", ray.at(t));
+    }
+
+    #[test]
+    fn hit_interior_point_from_both_sides() {
+        let v = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let target = 0.5 * v[0] + 0.2 * v[1] + 0.3 * v[2];
+        for origin in [Vec3::new(0.3, -0.4, 2.0), Vec3::new(-0.5, 0.7, -3.0)] {
+            let ray = Ray::unbounded(origin, (target - origin).normalize(), 0.0);
+            let hit = intersect_triangle(&ray, v[0], v[1], v[2]).expect("hit");
+            check_hit(&ray, v, hit);
+            assert!((hit.1 - 0.2).abs() < 1e-5 && (hit.2 - 0.3).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn random_rays_agree_with_barycentric_reference() {
+        let mut rng = Rng(7);
+        let mut hits = 0;
+        for _ in 0..20_000 {
+            let v = [rng.vec(), rng.vec(), rng.vec()];
+            let origin = rng.vec() * 3.0;
+            let dir = (rng.vec() * 0.5 - origin).normalize();
+            let ray = Ray::unbounded(origin, dir, 0.0);
+            // Reference in f64: plane hit, then barycentrics by areas.
+            let [p0, p1, p2] = v.map(|p| p.as_dvec3());
+            let n = (p1 - p0).cross(p2 - p0);
+            let (o, dd) = (origin.as_dvec3(), dir.as_dvec3());
+            let denom = n.dot(dd);
+            let expected = (denom.abs() > 1e-9)
+                .then(|| n.dot(p0 - o) / denom)
+                .and_then(|t| {
+                    let p = o + t * dd;
+                    let b = (p - p0).cross(p2 - p0).dot(n) / n.length_squared();
+                    let g = (p1 - p0).cross(p - p0).dot(n) / n.length_squared();
+                    (t >= 0.0 && b >= 0.0 && g >= 0.0 && b + g <= 1.0).then_some((t, b, g, p))
+                });
+            let got = intersect_triangle(&ray, v[0], v[1], v[2]);
+            match (expected, got) {
+                (Some((t, b, g, _)), Some(h)) => {
+                    hits += 1;
+                    check_hit(&ray, v, h);
+                    assert!(
+                        (t as f32 - h.0).abs() < 1e-3 * (1.0 + t as f32),
+                        "{t} {h:?}"
+                    );
+                    assert!((b as f32 - h.1).abs() < 1e-3 && (g as f32 - h.2).abs() < 1e-3);
+                }
+                (None, None) => {}
+                // Within rounding of an edge either answer is fine.
+                (Some((_, b, g, _)), None) => {
+                    assert!(b.min(g).min(1.0 - b - g) < 1e-4, "missed {v:?} {ray:?}")
+                }
+                (None, Some(h)) => {
+                    assert!(h.1.min(h.2).min(1.0 - h.1 - h.2) < 1e-4, "false hit {h:?}")
+                }
+            }
+        }
+        assert!(hits > 1000, "{hits}");
+    }
+
+    #[test]
+    fn edges_and_vertices_are_hit() {
+        let v = [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let points = [
+            v[0],
+            v[1],
+            v[2],
+            0.5 * (v[0] + v[1]),
+            0.5 * (v[1] + v[2]),
+            0.5 * (v[2] + v[0]),
+        ];
+        for p in points {
+            let origin = p + Vec3::new(0.0, 0.0, 5.0);
+            let ray = Ray::unbounded(origin, -Vec3::Z, 0.0);
+            let hit =
+                intersect_triangle(&ray, v[0], v[1], v[2]).unwrap_or_else(|| panic!("missed {p}"));
+            check_hit(&ray, v, hit);
+            assert!((hit.0 - 5.0).abs() < 1e-6);
+        }
+        // Just outside an edge misses.
+        let ray = Ray::unbounded(Vec3::new(0.0, -1.001, 5.0), -Vec3::Z, 0.0);
+        assert!(intersect_triangle(&ray, v[0], v[1], v[2]).is_none());
+    }
+
+    #[test]
+    fn shared_edges_of_a_closed_mesh_leave_no_cracks() {
+        // An octahedron: every ray from inside must hit at least one face.
+        let p = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+            .map(|v| v * 1.7 + Vec3::new(0.1, 0.2, 0.3));
+        let faces = [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        let mut rng = Rng(99);
+        let center = Vec3::new(0.1, 0.2, 0.3);
+        for i in 0..50_000 {
+            // Aim at points on edges (and vertices) of the mesh from random inside points.
+            let f = faces[i % 8];
+            let s = rng.next();
+            let target = if i % 7 == 0 {
+                p[f[0]]
+            } else {
+                p[f[0]].lerp(p[f[1]], s)
+            };
+            let origin = center + rng.vec() * 0.3;
+            let ray = Ray::unbounded(origin, (target - origin).normalize(), 0.0);
+            let hit = faces
+                .iter()
+                .any(|f| intersect_triangle(&ray, p[f[0]], p[f[1]], p[f[2]]).is_some());
+            assert!(hit, "crack: {ray:?}");
+        }
+    }
+
+    #[test]
+    fn tmin_and_tmax_are_honoured() {
+        let v = [
+            Vec3::new(-1.0, -1.0, 3.0),
+            Vec3::new(1.0, -1.0, 3.0),
+            Vec3::new(0.0, 1.0, 3.0),
+        ];
+        let ray = |tmin, tmax| Ray::new(Vec3::ZERO, Vec3::Z, tmin, tmax);
+        assert!(intersect_triangle(&ray(0.0, 3.0), v[0], v[1], v[2]).is_some());
+        assert!(intersect_triangle(&ray(3.0, 4.0), v[0], v[1], v[2]).is_some());
+        assert!(intersect_triangle(&ray(0.0, 2.99), v[0], v[1], v[2]).is_none());
+        assert!(intersect_triangle(&ray(3.01, 9.0), v[0], v[1], v[2]).is_none());
+        // Behind the origin.
+        let back = Ray::unbounded(Vec3::ZERO, -Vec3::Z, 0.0);
+        assert!(intersect_triangle(&back, v[0], v[1], v[2]).is_none());
+    }
+
+    #[test]
+    fn degenerate_and_parallel_return_none() {
+        let ray = Ray::unbounded(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, 0.0);
+        // Collinear vertices.
+        let (a, b, c) = (
+            Vec3::ZERO,
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(2.0, 2.0, 0.0),
+        );
+        assert!(intersect_triangle(&ray, a, b, c).is_none());
+        // All vertices equal.
+        assert!(intersect_triangle(&ray, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO).is_none());
+        let through = Ray::unbounded(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z, 0.0);
+        assert!(intersect_triangle(&through, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO).is_none());
+        // A ray in the triangle's plane (parallel), also one crossing its interior.
+        let v = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let in_plane = Ray::unbounded(Vec3::new(-1.0, 0.25, 0.0), Vec3::X, 0.0);
+        assert!(intersect_triangle(&in_plane, v[0], v[1], v[2]).is_none());
+        let above = Ray::unbounded(Vec3::new(-1.0, 0.25, 0.5), Vec3::X, 0.0);
+        assert!(intersect_triangle(&above, v[0], v[1], v[2]).is_none());
+        // A zero direction.
+        let zero = Ray::unbounded(Vec3::new(0.2, 0.2, 0.0), Vec3::ZERO, 0.0);
+        assert!(intersect_triangle(&zero, v[0], v[1], v[2]).is_none());
+    }
+
+    #[test]
+    fn non_unit_direction_gives_parameter_t() {
+        let v = [
+            Vec3::new(-1.0, -1.0, 4.0),
+            Vec3::new(1.0, -1.0, 4.0),
+            Vec3::new(0.0, 1.0, 4.0),
+        ];
+        let ray = Ray::unbounded(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 0.0);
+        let (t, _, _) = intersect_triangle(&ray, v[0], v[1], v[2]).unwrap();
+        assert!((t - 2.0).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,126 @@
+//! The grading library: exercises and how they are run, property checks, golden cases and
+//! snapshot comparison. A lab crate's `cargo test`, the reference's CI run and `raylab grade`
+//! all go through [`run_exercise`], so they judge student code the same way.
+
+mod golden;
+mod property;
+mod snapshot;
+
+pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
+pub use property::for_all;
+pub use snapshot::{PixelTolerance, SnapshotReport, compare_snapshot, write_failure_images};
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::pipeline::Pipeline;
+
+/// One exercise of a lab: what it is called, what it is worth, and its check.
+pub struct Exercise<S: ?Sized> {
+    /// Exercise number as in the docs, e.g. `"2.2"`.
+    pub id: &'static str,
+    /// The student function the exercise is about.
+    pub function: &'static str,
+    /// One-line description.
+    pub title: &'static str,
+    /// Points it is worth.
+    pub points: u32,
+    /// The check: `Ok` when the student's code is right, otherwise what is wrong.
+    pub check: fn(&Arc<S>, &LabContext) -> Result<(), String>,
+}
+
+/// Where a lab's data lives and what the rest of the pipeline is.
+#[derive(Clone)]
+pub struct LabContext {
+    /// Lab number.
+    pub lab: u32,
+    /// The lab crate's directory (holding `golden/` and `snapshots/`).
+    pub lab_dir: PathBuf,
+    /// Where failing checks write their images.
+    pub failure_dir: PathBuf,
+    /// The pipeline for everything that is not this lab (the reference, where present).
+    pub base: Pipeline,
+}
+
+impl LabContext {
+    /// The context of lab `lab` whose crate lives in `lab_dir` (its `CARGO_MANIFEST_DIR`).
+    /// Failure images go to `$CARGO_TARGET_DIR/raylab-failures/labNN` (default target dir:
+    /// `target/` at the workspace root).
+    pub fn new(lab: u32, lab_dir: &Path, base: Pipeline) -> Self {
+        let target = std::env::var_os("CARGO_TARGET_DIR")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| lab_dir.join("../../target"));
+        Self {
+            lab,
+            lab_dir: lab_dir.to_path_buf(),
+            failure_dir: target.join("raylab-failures").join(format!("lab{lab:02}")),
+            base,
+        }
+    }
+
+    /// Path of a golden-case file of this lab.
+    pub fn golden_path(&self, name: &str) -> PathBuf {
+        self.lab_dir.join("golden").join(name)
+    }
+
+    /// Path of a snapshot image of this lab.
+    pub fn snapshot_path(&self, name: &str) -> PathBuf {
+        self.lab_dir.join("snapshots").join(name)
+    }
+}
+
+/// Runs one exercise's check on `subject`, turning panics (`todo!()`, index out of bounds …)
+/// into a failure. The error message names the exercise, the function to fix, and the docs.
+pub fn run_exercise<S: ?Sized>(
+    exercise: &Exercise<S>,
+    subject: &Arc<S>,
+    ctx: &LabContext,
+) -> Result<(), String> {
+    let lab = ctx.lab;
+    let place = format!(
+        "Exercise {} — `{}` ({}) in labs/lab{lab:02}/src/lib.rs",
+        exercise.id, exercise.function, exercise.title
+    );
+    let docs = format!(
+        "see docs/lab{lab:02}.md, Exercise {}",
+        exercise.id
+    );
+    let outcome = match crate::catch_quietly(&place, || (exercise.check)(subject, ctx)) {
+        Ok(result) => result,
+        Err(panic) => Err(format!("panicked: {}", panic.message)),
+    };
+    match outcome {
+        Ok(()) => Ok(()),
+        Err(reason) => match unfinished_exercise(&reason) {
+            Some(other) if other == exercise.id => Err(format!(
+                "{place} is not implemented yet.\n({docs})"
+            )),
+            Some(other) => Err(format!(
+                "{place} cannot be checked until Exercise {other} is done (it is not implemented yet: {reason}).\n({docs})"
+            )),
+            None if reason.contains("panicked") => Err(format!("{place} failed: {reason}\n({docs})")),
+            None => Err(format!("{place} is wrong:\n{reason}\n({docs})")),
+        },
+    }
+}
+
+/// The exercise named by a `todo!("Exercise N.M: …")` message, if `message` holds one.
+fn unfinished_exercise(message: &str) -> Option<&str> {
+    let rest = &message[message.find("not yet implemented: Exercise ")? + 30..];
+    let end = rest.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(rest.len());
+    Some(rest[..end].trim_end_matches('.'))
+}
+
+/// [`run_exercise`] for a `#[test]`: panics with the failure message.
+pub fn assert_exercise<S: ?Sized>(exercises: &[Exercise<S>], id: &str, subject: &Arc<S>, ctx: &LabContext) {
+    let exercise = exercises
+        .iter()
+        .find(|e| e.id == id)
+        .unwrap_or_else(|| panic!("no exercise {id} in lab {}", ctx.lab));
+    if let Err(message) = run_exercise(exercise, subject, ctx) {
+        // Print the message and unwind without the panic hook: the test fails with the message
+        // alone, without a backtrace into the grading library.
+        println!("{message}");
+        std::panic::resume_unwind(Box::new(message));
+    }
+}

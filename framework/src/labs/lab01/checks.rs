@@ -1,0 +1,254 @@
+//! Lab 01's exercises and their checks.
+
+use std::sync::Arc;
+
+use glam::{UVec2, Vec2, Vec3};
+use proptest::prelude::*;
+
+use super::{CameraBasis, CameraRays};
+use crate::grading::{
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec2, compare_vec3,
+    for_all,
+};
+use crate::labs::strategies::{point, resolution, unit_vector};
+use crate::pipeline::{Pipeline, View};
+use crate::render::{RenderSettings, render};
+
+/// Golden file of Exercise 1.1.
+pub const GOLDEN_IMAGE_PLANE: &str = "image_plane_coords.json";
+/// Golden file of Exercise 1.2.
+pub const GOLDEN_BASIS: &str = "camera_basis.json";
+/// Golden file of Exercise 1.3.
+pub const GOLDEN_FOV: &str = "field_of_view.json";
+/// Golden file of Exercise 1.4.
+pub const GOLDEN_DIRECTION: &str = "ray_direction.json";
+/// Snapshot of Exercise 1.6 (the built-in default scene in flat colours).
+pub const SNAPSHOT_DEFAULT: &str = "default-base-colour";
+/// Size and sampling of lab 01's snapshots.
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
+    width: 160,
+    height: 120,
+    samples_per_pixel: 1,
+    seed: 1,
+    progress: false,
+};
+
+/// Input of Exercise 1.1.
+pub type ImagePlaneInput = (Vec2, UVec2);
+/// Input of Exercise 1.2: eye, look-at point, up.
+pub type BasisInput = (Vec3, Vec3, Vec3);
+/// Input of Exercise 1.4: basis, focal distance, image-plane point.
+pub type DirectionInput = (CameraBasis, f32, Vec2);
+
+/// The exercises of lab 01, in order.
+pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
+    vec![
+        Exercise {
+            id: "1.1",
+            function: "image_plane_coords",
+            title: "pixel to image-plane coordinates",
+            points: 2,
+            check: exercise_1_1,
+        },
+        Exercise {
+            id: "1.2",
+            function: "camera_basis",
+            title: "the camera basis",
+            points: 2,
+            check: exercise_1_2,
+        },
+        Exercise {
+            id: "1.3",
+            function: "field_of_view",
+            title: "field of view from focal distance",
+            points: 1,
+            check: exercise_1_3,
+        },
+        Exercise {
+            id: "1.4",
+            function: "ray_direction",
+            title: "direction of the ray through an image-plane point",
+            points: 2,
+            check: exercise_1_4,
+        },
+        Exercise {
+            id: "1.5",
+            function: "camera_ray",
+            title: "the camera ray",
+            points: 1,
+            check: exercise_1_5,
+        },
+        Exercise {
+            id: "1.6",
+            function: "CameraRays (all of it)",
+            title: "the default scene seen through your camera",
+            points: 2,
+            check: exercise_1_6,
+        },
+    ]
+}
+
+/// A camera setup whose eye, look-at and up are well apart.
+pub fn basis_input() -> impl Strategy<Value = BasisInput> + Clone {
+    (point(10.0), point(10.0), unit_vector()).prop_filter(
+        "look-at away from eye and up not along the view",
+        |(e, l, u)| {
+            let v = *l - *e;
+            v.length() > 0.1 && v.normalize().cross(*u).length() > 0.1
+        },
+    )
+}
+
+fn exercise_1_1(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
+    // Invariants: the image centre is the origin; the corners are at (±W/2H, ±1/2), y up.
+    for_all(200, resolution(), |res| {
+        let (w, h) = (res.x as f32, res.y as f32);
+        let centre = s.image_plane_coords(Vec2::new(w / 2.0, h / 2.0), res);
+        compare_vec2("the image centre", centre, Vec2::ZERO, 1e-5, 0.0)?;
+        let top_left = s.image_plane_coords(Vec2::ZERO, res);
+        compare_vec2(
+            "the top-left corner (raster 0,0)",
+            top_left,
+            Vec2::new(-w / (2.0 * h), 0.5),
+            1e-5,
+            1e-5,
+        )?;
+        let bottom_right = s.image_plane_coords(Vec2::new(w, h), res);
+        compare_vec2(
+            "the bottom-right corner (raster W,H)",
+            bottom_right,
+            Vec2::new(w / (2.0 * h), -0.5),
+            1e-5,
+            1e-5,
+        )
+    })?;
+    let golden: GoldenFile<ImagePlaneInput, Vec2> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_IMAGE_PLANE)).map_err(|e| e.to_string())?;
+    for case in &golden.cases {
+        let (raster, res) = case.input;
+        let got = s.image_plane_coords(raster, res);
+        compare_vec2(
+            &format!("image_plane_coords({raster}, {res})"),
+            got,
+            case.expected,
+            1e-5,
+            1e-5,
+        )?;
+    }
+    Ok(())
+}
+
+fn exercise_1_2(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
+    for_all(300, basis_input(), |(eye, look_at, up)| {
+        let b = s.camera_basis(eye, look_at, up);
+        for (name, v) in [("ip_xaxis", b.ip_xaxis), ("ip_yaxis", b.ip_yaxis), ("ip_normal", b.ip_normal)] {
+            compare_f32(&format!("the length of {name} {v}"), v.length(), 1.0, 1e-4, 0.0)?;
+        }
+        compare_f32("ip_xaxis · ip_yaxis", b.ip_xaxis.dot(b.ip_yaxis), 0.0, 1e-4, 0.0)?;
+        compare_f32("ip_xaxis · ip_normal", b.ip_xaxis.dot(b.ip_normal), 0.0, 1e-4, 0.0)?;
+        compare_f32("ip_xaxis · up", b.ip_xaxis.dot(up), 0.0, 1e-4, 0.0)?;
+        compare_vec3(
+            "ip_normal (it must point from the eye to the look-at point)",
+            b.ip_normal,
+            (look_at - eye).normalize(),
+            1e-4,
+            0.0,
+        )?;
+        if b.ip_yaxis.dot(up) <= 0.0 {
+            return Err(format!("ip_yaxis {} points away from up {up}", b.ip_yaxis));
+        }
+        Ok(())
+    })?;
+    let golden: GoldenFile<BasisInput, CameraBasis> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_BASIS)).map_err(|e| e.to_string())?;
+    for case in &golden.cases {
+        let (eye, look_at, up) = case.input;
+        let b = s.camera_basis(eye, look_at, up);
+        let call = format!("camera_basis({eye}, {look_at}, {up})");
+        compare_vec3(&format!("ip_xaxis of {call}"), b.ip_xaxis, case.expected.ip_xaxis, 1e-4, 0.0)?;
+        compare_vec3(&format!("ip_yaxis of {call}"), b.ip_yaxis, case.expected.ip_yaxis, 1e-4, 0.0)?;
+        compare_vec3(&format!("ip_normal of {call}"), b.ip_normal, case.expected.ip_normal, 1e-4, 0.0)?;
+    }
+    Ok(())
+}
+
+fn exercise_1_3(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
+    // d = ½ sees the image plane (height 1) under 90°.
+    compare_f32("field_of_view(0.5) (degrees)", s.field_of_view(0.5), 90.0, 1e-3, 0.0)?;
+    for_all(100, (0.05f32..10.0, 0.05f32..10.0), |(a, b)| {
+        let (near, far) = (a.min(b), a.max(b));
+        if far - near > 1e-3 && s.field_of_view(far) >= s.field_of_view(near) {
+            return Err("a longer focal distance must give a narrower field of view".into());
+        }
+        Ok(())
+    })?;
+    let golden: GoldenFile<f32, f32> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_FOV)).map_err(|e| e.to_string())?;
+    for case in &golden.cases {
+        compare_f32(
+            &format!("field_of_view({}) (degrees)", case.input),
+            s.field_of_view(case.input),
+            case.expected,
+            1e-3,
+            1e-5,
+        )?;
+    }
+    Ok(())
+}
+
+fn exercise_1_4(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
+    let golden: GoldenFile<DirectionInput, Vec3> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_DIRECTION)).map_err(|e| e.to_string())?;
+    for case in &golden.cases {
+        let (basis, d, ip) = case.input;
+        let got = s.ray_direction(&basis, d, ip);
+        let call = format!("ray_direction(basis, d = {d}, ip = {ip})");
+        compare_f32(&format!("the length of {call} = {got}"), got.length(), 1.0, 1e-4, 0.0)?;
+        compare_vec3(&call, got, case.expected, 1e-4, 0.0)?;
+    }
+    Ok(())
+}
+
+fn exercise_1_5(s: &Arc<dyn CameraRays>, _ctx: &LabContext) -> Result<(), String> {
+    for_all(100, (point(10.0), unit_vector()), |(eye, dir)| {
+        let r = s.camera_ray(eye, dir);
+        compare_vec3("the ray origin (the eye)", r.origin, eye, 0.0, 0.0)?;
+        compare_vec3("the ray direction", r.direction, dir, 1e-6, 0.0)?;
+        if !(0.0..=1e-3).contains(&r.tmin) {
+            return Err(format!("tmin is {}; a camera ray starts at the eye, tmin = 0", r.tmin));
+        }
+        if !(r.tmax >= 1e30) {
+            return Err(format!("tmax is {}; a camera ray is unbounded, tmax = ∞", r.tmax));
+        }
+        Ok(())
+    })
+}
+
+/// The pipeline of Exercise 1.6 and its snapshot: the student's camera, everything else from
+/// `base`, flat colours.
+pub fn camera_pipeline(student: Arc<dyn CameraRays>, base: &Pipeline) -> Pipeline {
+    Pipeline {
+        camera: student,
+        lab: 1,
+        view: View::BaseColour,
+        ..base.clone()
+    }
+}
+
+/// Renders the default scene as Exercise 1.6 does.
+pub fn render_snapshot(pipeline: &Pipeline) -> Result<crate::film::Film, crate::Error> {
+    let scene = crate::scene::builtin_scene("default")?;
+    render(&scene, pipeline, &SNAPSHOT_SETTINGS)
+}
+
+fn exercise_1_6(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
+    let film = render_snapshot(&camera_pipeline(s.clone(), &ctx.base)).map_err(|e| e.to_string())?;
+    // Flat colours: exact up to rounding, except silhouette pixels whose ray may fall on either
+    // side of an edge.
+    let tol = PixelTolerance {
+        abs: 1e-3,
+        rel: 0.0,
+        max_outlier_fraction: 0.005,
+    };
+    ctx.check_snapshot(SNAPSHOT_DEFAULT, &film, &tol)
+}

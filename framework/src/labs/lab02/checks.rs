@@ -1,0 +1,561 @@
+//! Lab 02's exercises and their checks.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use proptest::prelude::*;
+
+use super::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
+use crate::film::Film;
+use crate::geometry::BuiltinIntersection;
+use crate::grading::{
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
+};
+use crate::labs::strategies::{point, unit_vector};
+use crate::math::Ray;
+use crate::pipeline::{Pipeline, View};
+use crate::render::{RenderSettings, render};
+use crate::scene::{DirectionalLight, MaterialId, Plane, PointLight, Sphere, builtin_scene};
+
+/// Golden file of Exercise 2.1.
+pub const GOLDEN_PLANE: &str = "intersect_plane.json";
+/// Golden file of Exercise 2.2.
+pub const GOLDEN_TRIANGLE: &str = "intersect_triangle.json";
+/// Golden file of Exercise 2.3.
+pub const GOLDEN_SPHERE: &str = "intersect_sphere.json";
+/// Golden file of Exercise 2.4.
+pub const GOLDEN_POINT_LIGHT: &str = "sample_point_light.json";
+/// Golden file of Exercise 2.6.
+pub const GOLDEN_LAMBERTIAN: &str = "shade_lambertian.json";
+/// Size and sampling of lab 02's snapshots.
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
+    width: 160,
+    height: 120,
+    samples_per_pixel: 1,
+    seed: 2,
+    progress: false,
+};
+
+/// Which student function a snapshot exercises; the rest of the pipeline is the base.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Exercise 2.1.
+    Plane,
+    /// Exercise 2.2.
+    Triangle,
+    /// Exercise 2.3.
+    Sphere,
+    /// Exercise 2.4.
+    PointLight,
+    /// Exercise 2.5.
+    DirectionalLight,
+    /// Exercise 2.6.
+    Lambertian,
+}
+
+impl Part {
+    /// Every part, with its snapshot's name, scene and view (parts that share a scene and a
+    /// view share the snapshot: the reference renders it the same way).
+    pub const ALL: [(Part, &'static str, &'static str, View); 6] = [
+        (Part::Plane, "default-normals", "default", View::Normals),
+        (Part::Triangle, "default-normals", "default", View::Normals),
+        (Part::Sphere, "default-normals", "default", View::Normals),
+        (Part::PointLight, "cornell-shaded", "cornell", View::Shaded),
+        (Part::DirectionalLight, "default-shaded", "default", View::Shaded),
+        (Part::Lambertian, "default-shaded", "default", View::Shaded),
+    ];
+}
+
+/// Input of the intersection golden cases: ray origin, direction, tmin, tmax, primitive.
+pub type RayInput = (Vec3, Vec3, f32, f32);
+/// Input of Exercise 2.4: light position, intensity, surface point.
+pub type PointLightInput = (Vec3, Vec3, Vec3);
+/// Input of Exercise 2.6: ρ_d, normal, light samples (direction, radiance).
+pub type LambertianInput = (Vec3, Vec3, Vec<(Vec3, Vec3)>);
+
+/// The exercises of lab 02, in order.
+pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
+    vec![
+        Exercise {
+            id: "2.1",
+            function: "intersect_plane",
+            title: "ray–plane intersection",
+            points: 2,
+            check: exercise_2_1,
+        },
+        Exercise {
+            id: "2.2",
+            function: "intersect_triangle",
+            title: "ray–triangle intersection",
+            points: 3,
+            check: exercise_2_2,
+        },
+        Exercise {
+            id: "2.3",
+            function: "intersect_sphere",
+            title: "ray–sphere intersection",
+            points: 3,
+            check: exercise_2_3,
+        },
+        Exercise {
+            id: "2.4",
+            function: "sample_point_light",
+            title: "point light and the inverse-square law",
+            points: 2,
+            check: exercise_2_4,
+        },
+        Exercise {
+            id: "2.5",
+            function: "sample_directional_light",
+            title: "directional light",
+            points: 1,
+            check: exercise_2_5,
+        },
+        Exercise {
+            id: "2.6",
+            function: "shade_lambertian",
+            title: "Lambertian shading",
+            points: 3,
+            check: exercise_2_6,
+        },
+    ]
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inputs
+
+/// A ray over `[tmin, tmax]`.
+pub fn ray(r: &RayInput) -> Ray {
+    Ray::new(r.0, r.1, r.2, r.3)
+}
+
+/// A random plane through a point near the origin.
+pub fn plane_strategy() -> impl Strategy<Value = Plane> + Clone {
+    (point(3.0), unit_vector()).prop_map(|(p, n)| Plane::new(p, n, MaterialId(0)))
+}
+
+/// A random, not too thin triangle.
+pub fn triangle_strategy() -> impl Strategy<Value = [Vec3; 3]> + Clone {
+    (point(3.0), point(3.0), point(3.0)).prop_map(|(a, b, c)| [a, b, c]).prop_filter(
+        "not degenerate",
+        |[a, b, c]| {
+            let n = (*b - *a).cross(*c - *a).length();
+            n > 0.5 && n > 0.05 * ((*b - *a).length_squared() + (*c - *a).length_squared())
+        },
+    )
+}
+
+/// A random sphere.
+pub fn sphere_strategy() -> impl Strategy<Value = Sphere> + Clone {
+    (point(3.0), 0.2f32..3.0).prop_map(|(center, radius)| Sphere {
+        center,
+        radius,
+        material: MaterialId(0),
+    })
+}
+
+/// A random ray from a point in the box `[-8, 8]³`, aimed near `target` (within `spread`),
+/// with random tmin/tmax (mostly `[0, ∞)`-like, sometimes tight).
+pub fn ray_towards(target: Vec3, spread: f32) -> impl Strategy<Value = RayInput> {
+    (point(8.0), point(spread), 0u8..4, 0.0f32..12.0, 0.0f32..12.0).prop_filter_map(
+        "origin away from target",
+        move |(o, jitter, kind, a, b)| {
+            let d = (target + jitter - o).try_normalize()?;
+            let (tmin, tmax) = match kind {
+                0 => (0.0, f32::MAX),
+                1 => (a.min(b), a.max(b)),
+                2 => (a, f32::MAX),
+                _ => (1e-4, a.max(b)),
+            };
+            Some((o, d, tmin, tmax))
+        },
+    )
+}
+
+fn triangle_point(t: &[Vec3; 3], beta: f32, gamma: f32) -> Vec3 {
+    (1.0 - beta - gamma) * t[0] + beta * t[1] + gamma * t[2]
+}
+
+// ---------------------------------------------------------------------------------------------
+// Comparisons
+
+fn compare_surface_hit(call: &str, got: Option<SurfaceHit>, expected: Option<SurfaceHit>) -> Result<(), String> {
+    match (got, expected) {
+        (None, None) => Ok(()),
+        (Some(g), None) => Err(format!(
+            "{call} returned a hit at t = {} but the ray misses (or the hit is outside [tmin, tmax])",
+            g.distance
+        )),
+        (None, Some(e)) => Err(format!("{call} returned no hit; expected a hit at t = {}", e.distance)),
+        (Some(g), Some(e)) => {
+            compare_f32(&format!("t of {call}"), g.distance, e.distance, 1e-3, 1e-3)?;
+            compare_vec3(&format!("the normal of {call}"), g.normal, e.normal, 2e-3, 0.0)
+        }
+    }
+}
+
+fn compare_triangle_hit(call: &str, got: Option<TriangleHit>, expected: Option<TriangleHit>) -> Result<(), String> {
+    match (got, expected) {
+        (None, None) => Ok(()),
+        (Some(g), None) => Err(format!(
+            "{call} returned a hit at t = {} (β = {}, γ = {}) but the ray misses the triangle or the hit is outside [tmin, tmax]",
+            g.distance, g.beta, g.gamma
+        )),
+        (None, Some(e)) => Err(format!(
+            "{call} returned no hit; expected a hit at t = {} (β = {}, γ = {})",
+            e.distance, e.beta, e.gamma
+        )),
+        (Some(g), Some(e)) => {
+            compare_f32(&format!("t of {call}"), g.distance, e.distance, 1e-3, 1e-3)?;
+            compare_f32(&format!("β of {call}"), g.beta, e.beta, 1e-3, 0.0)?;
+            compare_f32(&format!("γ of {call}"), g.gamma, e.gamma, 1e-3, 0.0)?;
+            compare_vec3(&format!("the normal of {call}"), g.normal, e.normal, 2e-3, 0.0)
+        }
+    }
+}
+
+fn load<I, O>(ctx: &LabContext, name: &str) -> Result<GoldenFile<I, O>, String>
+where
+    I: serde::Serialize + serde::de::DeserializeOwned,
+    O: serde::Serialize + serde::de::DeserializeOwned,
+{
+    GoldenFile::load(&ctx.golden_path(name)).map_err(|e| e.to_string())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Snapshots
+
+struct MixedIntersection {
+    plane: Arc<dyn Intersection>,
+    triangle: Arc<dyn Intersection>,
+    sphere: Arc<dyn Intersection>,
+}
+
+impl Intersection for MixedIntersection {
+    fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {
+        self.plane.intersect_plane(ray, plane)
+    }
+    fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit> {
+        self.triangle.intersect_triangle(ray, v0, v1, v2)
+    }
+    fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit> {
+        self.sphere.intersect_sphere(ray, sphere)
+    }
+}
+
+struct MixedShading {
+    point: Arc<dyn Shading>,
+    directional: Arc<dyn Shading>,
+    lambertian: Arc<dyn Shading>,
+}
+
+impl Shading for MixedShading {
+    fn sample_point_light(&self, light: &PointLight, position: Vec3) -> LightSample {
+        self.point.sample_point_light(light, position)
+    }
+    fn sample_directional_light(&self, light: &DirectionalLight, position: Vec3) -> LightSample {
+        self.directional.sample_directional_light(light, position)
+    }
+    fn shade_lambertian(&self, rho_d: Vec3, normal: Vec3, lights: &[LightSample]) -> Vec3 {
+        self.lambertian.shade_lambertian(rho_d, normal, lights)
+    }
+}
+
+/// The pipeline of one part's snapshot: `student` for that part only, `base` for the rest.
+pub fn part_pipeline(part: Part, student: &Arc<dyn Lab02>, base: &Pipeline, view: View) -> Pipeline {
+    let isect: Arc<dyn Intersection> = student.clone();
+    let shade: Arc<dyn Shading> = student.clone();
+    let base_isect: Arc<dyn Intersection> = base
+        .intersection
+        .clone()
+        .unwrap_or_else(|| Arc::new(BuiltinIntersection));
+    let pick_i = |p: Part| if p == part { isect.clone() } else { base_isect.clone() };
+    let pick_s = |p: Part| if p == part { shade.clone() } else { base.shading.clone() };
+    Pipeline {
+        intersection: Some(Arc::new(MixedIntersection {
+            plane: pick_i(Part::Plane),
+            triangle: pick_i(Part::Triangle),
+            sphere: pick_i(Part::Sphere),
+        })),
+        shading: Arc::new(MixedShading {
+            point: pick_s(Part::PointLight),
+            directional: pick_s(Part::DirectionalLight),
+            lambertian: pick_s(Part::Lambertian),
+        }),
+        lab: 2,
+        view,
+        ..base.clone()
+    }
+}
+
+/// Renders one part's snapshot scene through `pipeline`.
+pub fn render_part(part: Part, pipeline: &Pipeline) -> Result<Film, crate::Error> {
+    let (_, _, scene, _) = Part::ALL.iter().find(|p| p.0 == part).expect("every part is listed");
+    render(&builtin_scene(scene)?, pipeline, &SNAPSHOT_SETTINGS)
+}
+
+fn check_part_snapshot(part: Part, s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    let (_, name, _, view) = *Part::ALL.iter().find(|p| p.0 == part).expect("every part is listed");
+    let film = render_part(part, &part_pipeline(part, s, &ctx.base, view)).map_err(|e| e.to_string())?;
+    let tol = PixelTolerance {
+        abs: 2e-3,
+        rel: 2e-3,
+        max_outlier_fraction: 0.005,
+    };
+    ctx.check_snapshot(name, &film, &tol)
+}
+
+// ---------------------------------------------------------------------------------------------
+// The exercises
+
+fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    // A ray aimed at a point of the plane hits it there, unless that point is outside [tmin, tmax].
+    let strategy = (plane_strategy(), point(3.0), point(8.0)).prop_filter_map(
+        "origin off the plane, ray not grazing",
+        |(plane, q, o)| {
+            let target = q - (q.dot(plane.normal) + plane.d) * plane.normal;
+            let d = (target - o).try_normalize()?;
+            (d.dot(plane.normal).abs() > 0.05 && (target - o).length() > 0.05).then_some((plane, o, target, d))
+        },
+    );
+    for_all(300, strategy, |(plane, o, target, d)| {
+        let t = (target - o).length();
+        let call = |r: &Ray| format!("intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {})", r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d);
+        let r = Ray::new(o, d, 0.0, f32::INFINITY);
+        let hit = s.intersect_plane(&r, &plane);
+        let expected = Some(SurfaceHit { distance: t, normal: plane.normal });
+        compare_surface_hit(&call(&r), hit, expected)?;
+        let r = Ray::new(o, d, t + 0.01, f32::INFINITY);
+        compare_surface_hit(&format!("{} (the hit is before tmin)", call(&r)), s.intersect_plane(&r, &plane), None)?;
+        let r = Ray::new(o, d, 0.0, t - 0.01);
+        compare_surface_hit(&format!("{} (the hit is beyond tmax)", call(&r)), s.intersect_plane(&r, &plane), None)?;
+        let r = Ray::new(o, -d, 0.0, f32::INFINITY);
+        compare_surface_hit(&format!("{} (the plane is behind the ray)", call(&r)), s.intersect_plane(&r, &plane), None)?;
+        // A ray parallel to the plane never hits it (up to rounding: tmax keeps the far-away
+        // "hit" that a rounded ω·n ≈ 1e-8 produces out of range).
+        let parallel = plane.tangent;
+        let r = Ray::new(o, parallel, 0.0, 1e5);
+        compare_surface_hit(&format!("{} (parallel to the plane)", call(&r)), s.intersect_plane(&r, &plane), None)
+    })?;
+    let golden: GoldenFile<(RayInput, Plane), Option<SurfaceHit>> = load(ctx, GOLDEN_PLANE)?;
+    for case in &golden.cases {
+        let (r, plane) = &case.input;
+        let r = ray(r);
+        compare_surface_hit(
+            &format!("intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {})", r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d),
+            s.intersect_plane(&r, plane),
+            case.expected,
+        )?;
+    }
+    check_part_snapshot(Part::Plane, s, ctx)
+}
+
+fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    let inside = (triangle_strategy(), 0.02f32..0.96, 0.02f32..0.96, point(8.0)).prop_filter_map(
+        "point inside, origin off the plane",
+        |(t, b, g, o)| {
+            let (b, g) = if b + g > 0.98 { (0.98 - b, 0.98 - g) } else { (b, g) };
+            if b < 0.01 || g < 0.01 {
+                return None;
+            }
+            let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+            let p = triangle_point(&t, b, g);
+            let d = (p - o).try_normalize()?;
+            (d.dot(n).abs() > 0.1 && (p - o).length() > 0.1).then_some((t, b, g, o, d))
+        },
+    );
+    for_all(300, inside, |(t, b, g, o, d)| {
+        let dist = (triangle_point(&t, b, g) - o).length();
+        let normal = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+        let call = |r: &Ray| format!("intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {})", r.origin, r.direction, r.tmin, r.tmax, t[0], t[1], t[2]);
+        let r = Ray::new(o, d, 0.0, f32::INFINITY);
+        let expected = TriangleHit { distance: dist, beta: b, gamma: g, normal };
+        compare_triangle_hit(&call(&r), s.intersect_triangle(&r, t[0], t[1], t[2]), Some(expected))?;
+        let r = Ray::new(o, d, dist + 0.01, f32::INFINITY);
+        compare_triangle_hit(&format!("{} (the hit is before tmin)", call(&r)), s.intersect_triangle(&r, t[0], t[1], t[2]), None)?;
+        let r = Ray::new(o, d, 0.0, dist - 0.01);
+        compare_triangle_hit(&format!("{} (the hit is beyond tmax)", call(&r)), s.intersect_triangle(&r, t[0], t[1], t[2]), None)?;
+        let r = Ray::new(o, -d, 0.0, f32::INFINITY);
+        compare_triangle_hit(&format!("{} (the triangle is behind the ray)", call(&r)), s.intersect_triangle(&r, t[0], t[1], t[2]), None)
+    })?;
+    // Points in the triangle's plane but outside it (β < 0, γ < 0 or β + γ > 1) are missed.
+    let outside = (triangle_strategy(), -1.0f32..2.0, -1.0f32..2.0, point(8.0)).prop_filter_map(
+        "point clearly outside, origin off the plane",
+        |(t, b, g, o)| {
+            let clearly_out = b < -0.05 || g < -0.05 || b + g > 1.05;
+            let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+            let p = triangle_point(&t, b, g);
+            let d = (p - o).try_normalize()?;
+            (clearly_out && d.dot(n).abs() > 0.1).then_some((t, b, g, o, d))
+        },
+    );
+    for_all(300, outside, |(t, b, g, o, d)| {
+        let r = Ray::new(o, d, 0.0, f32::INFINITY);
+        compare_triangle_hit(
+            &format!("intersect_triangle(ray from {o} along {d}, v0 = {}, v1 = {}, v2 = {}) (the ray passes the plane at β = {b}, γ = {g}, outside the triangle)", t[0], t[1], t[2]),
+            s.intersect_triangle(&r, t[0], t[1], t[2]),
+            None,
+        )
+    })?;
+    let golden: GoldenFile<(RayInput, [Vec3; 3]), Option<TriangleHit>> = load(ctx, GOLDEN_TRIANGLE)?;
+    for case in &golden.cases {
+        let (r, t) = &case.input;
+        let r = ray(r);
+        compare_triangle_hit(
+            &format!("intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {})", r.origin, r.direction, r.tmin, r.tmax, t[0], t[1], t[2]),
+            s.intersect_triangle(&r, t[0], t[1], t[2]),
+            case.expected,
+        )?;
+    }
+    check_part_snapshot(Part::Triangle, s, ctx)
+}
+
+/// The roots of `|o + t·d − c|² = r²` in f64, nearest first (`None` when the ray misses).
+fn sphere_roots(o: Vec3, d: Vec3, sphere: &Sphere) -> Option<(f32, f32)> {
+    let oc = (o - sphere.center).as_dvec3();
+    let d = d.as_dvec3();
+    let a = d.dot(d);
+    let b = oc.dot(d);
+    let c = oc.dot(oc) - (sphere.radius as f64).powi(2);
+    let disc = b * b - a * c;
+    (disc >= 0.0).then(|| {
+        let s = disc.sqrt();
+        (((-b - s) / a) as f32, ((-b + s) / a) as f32)
+    })
+}
+
+fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    let strategy = (sphere_strategy(), point(1.0), point(8.0), 0.0f32..1.0).prop_filter_map(
+        "a ray that clearly crosses the sphere",
+        |(sphere, offset, o, inside)| {
+            // Aim at a point within 0.8 r of the centre, from outside or (1 in 4) from inside.
+            let target = sphere.center + 0.8 * sphere.radius * offset.clamp_length_max(1.0);
+            let o = if inside < 0.25 { sphere.center + 0.5 * sphere.radius * offset } else { o };
+            let d = (target - o).try_normalize().or_else(|| (o - sphere.center).try_normalize())?;
+            let outside = (o - sphere.center).length() > sphere.radius * 1.05;
+            let inside = (o - sphere.center).length() < sphere.radius * 0.95;
+            (outside || inside).then_some((sphere, o, d))
+        },
+    );
+    for_all(300, strategy, |(sphere, o, d)| {
+        let call = |r: &Ray| format!("intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})", r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius);
+        let Some((near, far)) = sphere_roots(o, d, &sphere) else {
+            return Ok(());
+        };
+        let normal_at = |t: f32| (o + t * d - sphere.center) / sphere.radius;
+        let hit = |t: f32| Some(SurfaceHit { distance: t, normal: normal_at(t) });
+        let r = Ray::new(o, d, 0.0, f32::INFINITY);
+        let first = if near >= 0.0 { hit(near) } else if far >= 0.0 { hit(far) } else { None };
+        let what = if near >= 0.0 { "(the near root)" } else { "(the ray starts inside: the far root)" };
+        compare_surface_hit(&format!("{} {what}", call(&r)), s.intersect_sphere(&r, &sphere), first)?;
+        if near > 0.05 && far - near > 0.1 {
+            let r = Ray::new(o, d, near + 0.01, f32::INFINITY);
+            compare_surface_hit(&format!("{} (tmin is past the near root: the far root)", call(&r)), s.intersect_sphere(&r, &sphere), hit(far))?;
+            let r = Ray::new(o, d, 0.0, near - 0.01);
+            compare_surface_hit(&format!("{} (both roots beyond tmax)", call(&r)), s.intersect_sphere(&r, &sphere), None)?;
+        }
+        Ok(())
+    })?;
+    let golden: GoldenFile<(RayInput, Sphere), Option<SurfaceHit>> = load(ctx, GOLDEN_SPHERE)?;
+    for case in &golden.cases {
+        let (r, sphere) = &case.input;
+        let r = ray(r);
+        compare_surface_hit(
+            &format!("intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})", r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius),
+            s.intersect_sphere(&r, sphere),
+            case.expected,
+        )?;
+    }
+    check_part_snapshot(Part::Sphere, s, ctx)
+}
+
+fn compare_light_sample(call: &str, got: LightSample, expected: LightSample) -> Result<(), String> {
+    compare_vec3(&format!("the direction of {call}"), got.direction, expected.direction, 1e-4, 0.0)?;
+    if expected.distance.is_infinite() {
+        if got.distance != f32::INFINITY {
+            return Err(format!("the distance of {call} is {}; a directional light is infinitely far away", got.distance));
+        }
+    } else {
+        compare_f32(&format!("the distance of {call}"), got.distance, expected.distance, 1e-4, 1e-4)?;
+    }
+    compare_vec3(&format!("the radiance of {call}"), got.radiance, expected.radiance, 1e-6, 1e-4)
+}
+
+fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    let strategy = (point(5.0), (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0), point(5.0))
+        .prop_filter("light away from the point", |(l, _, p)| (*l - *p).length() > 0.1);
+    for_all(300, strategy, |(position, (r, g, b), p)| {
+        let light = PointLight { position, intensity: Vec3::new(r, g, b) };
+        let got = s.sample_point_light(&light, p);
+        let dist = (position - p).length();
+        let expected = LightSample {
+            direction: (position - p) / dist,
+            distance: dist,
+            radiance: light.intensity / (dist * dist),
+        };
+        compare_light_sample(&format!("sample_point_light(light at {position} of intensity {}, point {p})", light.intensity), got, expected)
+    })?;
+    let golden: GoldenFile<PointLightInput, LightSample> = load(ctx, GOLDEN_POINT_LIGHT)?;
+    for case in &golden.cases {
+        let (position, intensity, p) = case.input;
+        let light = PointLight { position, intensity };
+        compare_light_sample(
+            &format!("sample_point_light(light at {position} of intensity {intensity}, point {p})"),
+            s.sample_point_light(&light, p),
+            case.expected,
+        )?;
+    }
+    check_part_snapshot(Part::PointLight, s, ctx)
+}
+
+fn exercise_2_5(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    for_all(300, (unit_vector(), (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0), point(5.0)), |(direction, (r, g, b), p)| {
+        let light = DirectionalLight { direction, emission: Vec3::new(r, g, b) };
+        let expected = LightSample { direction: -direction, distance: f32::INFINITY, radiance: light.emission };
+        compare_light_sample(
+            &format!("sample_directional_light(light along {direction} of emission {}, point {p})", light.emission),
+            s.sample_directional_light(&light, p),
+            expected,
+        )
+    })?;
+    check_part_snapshot(Part::DirectionalLight, s, ctx)
+}
+
+/// Light samples for the Lambertian golden cases and properties.
+pub fn lambertian_strategy() -> impl Strategy<Value = LambertianInput> {
+    let colour = (0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0).prop_map(|(r, g, b)| Vec3::new(r, g, b));
+    let radiance = (0.0f32..5.0, 0.0f32..5.0, 0.0f32..5.0).prop_map(|(r, g, b)| Vec3::new(r, g, b));
+    (colour, unit_vector(), prop::collection::vec((unit_vector(), radiance), 0..4))
+}
+
+fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
+    lights
+        .iter()
+        .map(|&(direction, radiance)| LightSample { direction, distance: 1.0, radiance })
+        .collect()
+}
+
+fn exercise_2_6(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    let pi = std::f32::consts::PI;
+    for_all(300, lambertian_strategy(), |(rho, n, lights)| {
+        let call = format!("shade_lambertian(ρ_d = {rho}, n = {n}, lights = {lights:?})");
+        let got = s.shade_lambertian(rho, n, &samples_of(&lights));
+        let expected: Vec3 = lights
+            .iter()
+            .map(|&(w, l)| rho / pi * l * n.dot(w).max(0.0))
+            .sum();
+        compare_vec3(&call, got, expected, 1e-5, 1e-4)
+    })?;
+    let golden: GoldenFile<LambertianInput, Vec3> = load(ctx, GOLDEN_LAMBERTIAN)?;
+    for case in &golden.cases {
+        let (rho, n, lights) = &case.input;
+        compare_vec3(
+            &format!("shade_lambertian(ρ_d = {rho}, n = {n}, lights = {lights:?})"),
+            s.shade_lambertian(*rho, *n, &samples_of(lights)),
+            case.expected,
+            1e-5,
+            1e-4,
+        )?;
+    }
+    check_part_snapshot(Part::Lambertian, s, ctx)
+}

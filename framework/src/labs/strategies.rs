@@ -1,0 +1,44 @@
+//! Input generators shared by the labs' property checks and golden-case generators.
+
+use glam::{UVec2, Vec2, Vec3};
+use proptest::prelude::*;
+
+/// A point with coordinates in `[-range, range]`.
+pub fn point(range: f32) -> impl Strategy<Value = Vec3> + Clone {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// A unit vector (normalized point of the unit cube, away from the origin).
+pub fn unit_vector() -> impl Strategy<Value = Vec3> + Clone {
+    point(1.0)
+        .prop_filter("not too short", |v| v.length() > 0.1)
+        .prop_map(Vec3::normalize)
+}
+
+/// An image resolution between 1×1 and 4096×4096.
+pub fn resolution() -> impl Strategy<Value = UVec2> + Clone {
+    (1u32..4096, 1u32..4096).prop_map(|(w, h)| UVec2::new(w, h))
+}
+
+/// A raster position inside an image of the given resolution.
+pub fn raster_in(res: UVec2) -> impl Strategy<Value = Vec2> + Clone {
+    (0.0..res.x as f32, 0.0..res.y as f32).prop_map(|(x, y)| Vec2::new(x, y))
+}
+
+/// A deterministic stream of inputs from a strategy, for golden-case generation.
+pub fn samples<S: Strategy>(strategy: S, count: usize, seed: u8) -> Vec<S::Value> {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    let mut runner = TestRunner::new_with_rng(
+        Config::default(),
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]),
+    );
+    (0..count)
+        .map(|_| {
+            strategy
+                .new_tree(&mut runner)
+                .expect("strategies used for golden data do not reject everything")
+                .current()
+        })
+        .collect()
+}

@@ -1,0 +1,25 @@
+//! # raylab framework
+//!
+//! Everything in a rendering course that is not the lesson: math, scene loading, the BVH,
+//! sampling, film and image output, deterministic parallel rendering, the lab contracts (one
+//! module per lab, the traits students implement), the [`Pipeline`](pipeline::Pipeline) that
+//! composes them, and the grading library that checks a lab against the reference.
+//!
+//! See `docs/architecture.md` for the map of the crates and how data flows between them.
+
+pub mod accel;
+mod error;
+pub mod film;
+pub mod geometry;
+pub mod grading;
+pub mod labs;
+pub mod math;
+mod panic;
+pub mod pipeline;
+pub mod render;
+pub mod sampling;
+pub mod scene;
+
+pub use error::{Error, PanicError};
+pub use panic::catch_quietly;
+pub use glam;

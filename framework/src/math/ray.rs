@@ -1,0 +1,46 @@
+use glam::Vec3;
+
+/// A ray `r(t) = origin + t·direction`, valid for `tmin ≤ t ≤ tmax`.
+///
+/// `direction` is unit length for every ray the framework creates; intersection routines may
+/// rely on it (their `t` is then the Euclidean distance along the ray).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: Vec3,
+    /// Unit direction of travel.
+    pub direction: Vec3,
+    /// Smallest accepted ray parameter (distance).
+    pub tmin: f32,
+    /// Largest accepted ray parameter; closest-hit queries shrink it as they find hits.
+    pub tmax: f32,
+}
+
+impl Ray {
+    /// A ray over `[tmin, tmax]`.
+    pub fn new(origin: Vec3, direction: Vec3, tmin: f32, tmax: f32) -> Self {
+        Self {
+            origin,
+            direction,
+            tmin,
+            tmax,
+        }
+    }
+
+    /// A ray over `[tmin, ∞)`.
+    pub fn unbounded(origin: Vec3, direction: Vec3, tmin: f32) -> Self {
+        Self::new(origin, direction, tmin, f32::INFINITY)
+    }
+
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + t * self.direction
+    }
+
+    /// Whether `t` lies in the ray's valid interval.
+    #[inline]
+    pub fn accepts(&self, t: f32) -> bool {
+        t >= self.tmin && t <= self.tmax
+    }
+}

@@ -1,0 +1,215 @@
+//! Scenes: geometry (planes, spheres, triangle meshes), materials, lights and the camera, loaded
+//! from OBJ/MTL files, from a scene file, or from the embedded scenes; and the scene-level ray
+//! queries `trace_to_closest` / `trace_to_any` of the DTU `RayTracer`.
+
+mod builtin;
+mod camera;
+mod file;
+mod light;
+mod material;
+mod obj;
+mod shapes;
+mod texture;
+mod trace;
+
+pub use builtin::{BUILTIN_SCENES, builtin_scene};
+pub use camera::CameraSetup;
+pub use file::{load_scene_file, parse_scene_str};
+pub use light::{AreaLight, DirectionalLight, Light, PointLight};
+pub use material::{IllumModel, Material, MaterialId};
+pub use obj::{ObjData, load_obj, load_obj_str};
+pub use shapes::{Mesh, Plane, Sphere};
+pub use texture::Texture;
+
+use glam::Vec3;
+
+use crate::Error;
+use crate::accel::Bvh;
+
+/// A scene ready to render: geometry with its acceleration structures, materials, lights and
+/// camera. Build it with [`Scene::new`], [`load_scene_file`] or [`builtin_scene`].
+#[derive(Debug)]
+pub struct Scene {
+    /// Name shown in reports (file name or built-in scene name).
+    pub name: String,
+    /// The camera.
+    pub camera: CameraSetup,
+    /// Colour of rays that hit nothing.
+    pub background: Vec3,
+    /// All materials; geometry refers to them by [`MaterialId`].
+    pub materials: Vec<Material>,
+    /// Light sources, including one [`AreaLight`] for all emissive triangles.
+    pub lights: Vec<Light>,
+    /// Infinite planes (tested one by one: they have no bounds).
+    pub planes: Vec<Plane>,
+    /// Spheres (in their own BVH).
+    pub spheres: Vec<Sphere>,
+    /// All triangles of all meshes, merged into one mesh (in a BVH).
+    pub mesh: Mesh,
+    pub(crate) triangle_bvh: Bvh,
+    pub(crate) sphere_bvh: Bvh,
+}
+
+/// The parts of a scene before it is checked and its BVHs are built.
+#[derive(Clone, Debug, Default)]
+pub struct SceneDescription {
+    /// Name shown in reports.
+    pub name: String,
+    /// The camera; a scene without one is rejected.
+    pub camera: Option<CameraSetup>,
+    /// Colour of rays that hit nothing.
+    pub background: Vec3,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// Point and directional lights (area lights are found from emissive materials).
+    pub lights: Vec<Light>,
+    /// Planes.
+    pub planes: Vec<Plane>,
+    /// Spheres.
+    pub spheres: Vec<Sphere>,
+    /// Triangles.
+    pub mesh: Mesh,
+}
+
+impl Scene {
+    /// Checks a description (finite numbers, valid material references, a camera) and builds
+    /// the acceleration structures.
+    pub fn new(desc: SceneDescription) -> Result<Self, Error> {
+        let SceneDescription {
+            name,
+            camera,
+            background,
+            materials,
+            mut lights,
+            planes,
+            spheres,
+            mesh,
+        } = desc;
+        let camera = camera.ok_or_else(|| Error::Scene {
+            scene: name.clone(),
+            reason: "the scene has no camera; expected a [camera] table with eye, look_at, up and focal_distance".into(),
+        })?;
+        validate(&name, &camera, &materials, &lights, &planes, &spheres, &mesh)?;
+        let triangle_bvh = Bvh::build(
+            &(0..mesh.faces.len())
+                .map(|f| crate::math::Aabb::from_points(mesh.triangle(f)))
+                .collect::<Vec<_>>(),
+        );
+        let sphere_bvh = Bvh::build(&spheres.iter().map(Sphere::bounds).collect::<Vec<_>>());
+        let emissive: Vec<u32> = (0..mesh.faces.len() as u32)
+            .filter(|&f| materials[mesh.face_materials[f as usize].0 as usize].is_emissive())
+            .collect();
+        if !emissive.is_empty() {
+            let area = emissive
+                .iter()
+                .map(|&f| {
+                    let [a, b, c] = mesh.triangle(f as usize);
+                    0.5 * (b - a).cross(c - a).length()
+                })
+                .sum();
+            lights.push(Light::Area(AreaLight {
+                faces: emissive,
+                area,
+            }));
+        }
+        Ok(Self {
+            name,
+            camera,
+            background,
+            materials,
+            lights,
+            planes,
+            spheres,
+            mesh,
+            triangle_bvh,
+            sphere_bvh,
+        })
+    }
+
+    /// The material with the given id.
+    #[inline]
+    pub fn material(&self, id: crate::scene::MaterialId) -> &Material {
+        &self.materials[id.0 as usize]
+    }
+}
+
+fn validate(
+    name: &str,
+    camera: &CameraSetup,
+    materials: &[Material],
+    lights: &[Light],
+    planes: &[Plane],
+    spheres: &[Sphere],
+    mesh: &Mesh,
+) -> Result<(), Error> {
+    let bad = |reason: String| Error::Scene {
+        scene: name.to_string(),
+        reason,
+    };
+    let finite = |v: Vec3| v.is_finite();
+    if !(finite(camera.eye) && finite(camera.look_at) && finite(camera.up)) {
+        return Err(bad(format!("camera has a non-finite vector: {camera:?}")));
+    }
+    if !(camera.focal_distance.is_finite() && camera.focal_distance > 0.0) {
+        return Err(bad(format!(
+            "camera focal_distance is {}; expected a positive number",
+            camera.focal_distance
+        )));
+    }
+    let view = camera.look_at - camera.eye;
+    if view.length_squared() == 0.0 {
+        return Err(bad("camera eye and look_at are the same point".into()));
+    }
+    if view.cross(camera.up).length_squared() <= 1e-12 * view.length_squared() * camera.up.length_squared() {
+        return Err(bad(format!(
+            "camera up {} is zero or parallel to the view direction {}",
+            camera.up, view
+        )));
+    }
+    let check_material = |what: String, id: MaterialId| {
+        if (id.0 as usize) < materials.len() {
+            Ok(())
+        } else {
+            Err(bad(format!("{what} refers to material #{} but the scene has {}", id.0, materials.len())))
+        }
+    };
+    for (i, p) in planes.iter().enumerate() {
+        if !(p.normal.is_finite() && p.d.is_finite()) || p.normal.length_squared() == 0.0 {
+            return Err(bad(format!("plane #{i} has a non-finite or zero normal/offset")));
+        }
+        check_material(format!("plane #{i}"), p.material)?;
+    }
+    for (i, s) in spheres.iter().enumerate() {
+        if !(s.center.is_finite() && s.radius.is_finite() && s.radius > 0.0) {
+            return Err(bad(format!(
+                "sphere #{i} has centre {} and radius {}; expected finite numbers and a positive radius",
+                s.center, s.radius
+            )));
+        }
+        check_material(format!("sphere #{i}"), s.material)?;
+    }
+    for (i, p) in mesh.positions.iter().enumerate() {
+        if !p.is_finite() {
+            return Err(bad(format!("vertex #{i} is {p}; expected finite coordinates")));
+        }
+    }
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if face.iter().any(|&i| i as usize >= mesh.positions.len()) {
+            return Err(bad(format!("triangle #{f} refers to a missing vertex: {face:?}")));
+        }
+        check_material(format!("triangle #{f}"), mesh.face_materials[f])?;
+    }
+    for (i, l) in lights.iter().enumerate() {
+        let ok = match l {
+            Light::Point(p) => p.position.is_finite() && p.intensity.is_finite(),
+            Light::Directional(d) => {
+                d.direction.is_finite() && d.direction.length_squared() > 0.0 && d.emission.is_finite()
+            }
+            Light::Area(_) => true,
+        };
+        if !ok {
+            return Err(bad(format!("light #{i} has a non-finite or zero vector: {l:?}")));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,63 @@
+//! `raylab golden`: regenerate every lab's golden cases and snapshots from the reference.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use clap::Args;
+use framework::Error;
+use framework::grading::LabContext;
+use framework::labs::{lab01, lab02};
+
+/// Options of `raylab golden`.
+#[derive(Args, Debug)]
+pub struct GoldenArgs {
+    /// Only this lab (default: all).
+    #[arg(long)]
+    pub lab: Option<u32>,
+    /// The raylab workspace (default: found from the current directory upwards).
+    #[arg(long)]
+    pub root: Option<PathBuf>,
+}
+
+/// The workspace root: the nearest ancestor of the current directory with `labs/` and
+/// `Cargo.toml`.
+fn find_root() -> Result<PathBuf, Error> {
+    let cwd = std::env::current_dir().map_err(|e| Error::io(".", e))?;
+    cwd.ancestors()
+        .find(|d| d.join("Cargo.toml").is_file() && d.join("labs").is_dir())
+        .map(Path::to_path_buf)
+        .ok_or_else(|| Error::Invalid {
+            what: format!("directory {}", cwd.display()),
+            reason: "not inside a raylab workspace (no Cargo.toml with labs/ beside it); pass --root".into(),
+        })
+}
+
+/// Runs `raylab golden`.
+pub fn run(args: &GoldenArgs) -> Result<(), Error> {
+    let root = match &args.root {
+        Some(r) => r.clone(),
+        None => find_root()?,
+    };
+    let labs: Vec<u32> = match args.lab {
+        Some(l) => vec![l],
+        None => (1..=reference::LAST_LAB).collect(),
+    };
+    for lab in labs {
+        let dir = root.join("labs").join(format!("lab{lab:02}"));
+        let ctx = LabContext::new(lab, &dir, reference::pipeline(lab));
+        let written = match lab {
+            1 => lab01::generate_golden(&(Arc::new(reference::lab01::Lab01) as Arc<dyn lab01::CameraRays>), &ctx)?,
+            2 => lab02::generate_golden(&(Arc::new(reference::lab02::Lab02) as Arc<dyn lab02::Lab02>), &ctx)?,
+            _ => {
+                return Err(Error::Invalid {
+                    what: format!("--lab {lab}"),
+                    reason: format!("expected a lab from 1 to {}", reference::LAST_LAB),
+                });
+            }
+        };
+        for path in written {
+            println!("{}", path.display());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,42 @@
+//! `raylab`: render scenes through the reference or a student's pipeline, and regenerate the
+//! labs' golden data from the reference.
+
+mod golden;
+mod render;
+mod students;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// raylab — a ray tracing course in labs.
+#[derive(Parser)]
+#[command(name = "raylab", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a PNG (or an EXR) and print the path of the image.
+    Render(render::RenderArgs),
+    /// Regenerate the labs' golden cases and snapshot images from the reference solution.
+    Golden(golden::GoldenArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => render::run(&render::RenderArgs::default()),
+        Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Golden(args)) => golden::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! `raylab render`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use framework::Error;
+use framework::film::{ToneMap, write_exr, write_png};
+use framework::pipeline::View;
+use framework::render::{RenderSettings, render};
+use framework::scene::{BUILTIN_SCENES, Scene, builtin_scene, load_scene_file};
+
+/// Whose code renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum PipelineChoice {
+    /// The reference solution for every lab.
+    #[default]
+    Reference,
+    /// Your code for the lab given by --lab, the reference for the others.
+    Student,
+}
+
+/// What the image shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum ViewChoice {
+    /// Full shading.
+    #[default]
+    Shaded,
+    /// Diffuse colour of the surface hit.
+    BaseColour,
+    /// Shading normals as colours.
+    Normals,
+}
+
+/// Options of `raylab render`.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene: a built-in name (default, cornell, …), a scene file (.toml) or an OBJ file.
+    #[arg(long, short, default_value = "default")]
+    pub scene: String,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 384)]
+    pub height: u32,
+    /// Samples per pixel (1 traces through pixel centres).
+    #[arg(long, default_value_t = 1)]
+    pub spp: u32,
+    /// Random seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Output image: .png (tone mapped, sRGB) or .exr (linear float radiance).
+    #[arg(long, short, default_value = "out/render.png")]
+    pub output: PathBuf,
+    /// Tone map for PNG output: clamp[:EXPOSURE] or reinhard[:KEY[:WHITE]].
+    #[arg(long, default_value = "clamp")]
+    pub tonemap: String,
+    /// Whose code renders.
+    #[arg(long, value_enum, default_value_t = PipelineChoice::Reference)]
+    pub pipeline: PipelineChoice,
+    /// The lab whose features (and, with --pipeline student, whose code) to use; default: the
+    /// last lab.
+    #[arg(long)]
+    pub lab: Option<u32>,
+    /// What the image shows.
+    #[arg(long, value_enum, default_value_t = ViewChoice::Shaded)]
+    pub view: ViewChoice,
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        Self {
+            scene: "default".into(),
+            width: 512,
+            height: 384,
+            spp: 1,
+            seed: 0,
+            output: "out/render.png".into(),
+            tonemap: "clamp".into(),
+            pipeline: PipelineChoice::Reference,
+            lab: None,
+            view: ViewChoice::Shaded,
+        }
+    }
+}
+
+/// Loads a scene by built-in name or path.
+pub fn load_scene(spec: &str) -> Result<Scene, Error> {
+    if BUILTIN_SCENES.contains(&spec) {
+        return builtin_scene(spec);
+    }
+    let path = Path::new(spec);
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("toml") => load_scene_file(path),
+        Some("obj") => Err(Error::Invalid {
+            what: format!("scene '{spec}'"),
+            reason: "an OBJ file needs a camera: write a scene file (.toml) with a [[meshes]] entry for it (docs/scene-format.md)".into(),
+        }),
+        _ => Err(Error::Invalid {
+            what: format!("scene '{spec}'"),
+            reason: format!(
+                "expected a built-in scene ({}) or a scene file ending in .toml",
+                BUILTIN_SCENES.join(", ")
+            ),
+        }),
+    }
+}
+
+/// Runs `raylab render`.
+pub fn run(args: &RenderArgs) -> Result<(), Error> {
+    let tonemap: ToneMap = args.tonemap.parse()?;
+    let lab = args.lab.unwrap_or(reference::LAST_LAB);
+    if lab == 0 || lab > reference::LAST_LAB {
+        return Err(Error::Invalid {
+            what: format!("--lab {lab}"),
+            reason: format!("expected a lab from 1 to {}", reference::LAST_LAB),
+        });
+    }
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        samples_per_pixel: args.spp,
+        seed: args.seed,
+        progress: true,
+    };
+    settings.validate()?;
+    let ext = args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png" | "exr")) {
+        return Err(Error::Invalid {
+            what: format!("output '{}'", args.output.display()),
+            reason: "expected a file name ending in .png or .exr".into(),
+        });
+    }
+    let scene = load_scene(&args.scene)?;
+    let mut pipeline = reference::pipeline(lab);
+    if args.pipeline == PipelineChoice::Student {
+        pipeline = crate::students::with_student_lab(pipeline, lab)?;
+    }
+    pipeline.view = match args.view {
+        ViewChoice::Shaded => View::Shaded,
+        ViewChoice::BaseColour => View::BaseColour,
+        ViewChoice::Normals => View::Normals,
+    };
+    let start = Instant::now();
+    let film = render(&scene, &pipeline, &settings)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let bad = film.non_finite_count();
+    if bad > 0 {
+        eprintln!("warning: {bad} pixels are NaN or infinite (shown black in PNG output)");
+    }
+    match ext.as_deref() {
+        Some("exr") => write_exr(&film, &args.output)?,
+        _ => write_png(&film, &args.output, tonemap)?,
+    }
+    eprintln!(
+        "rendered '{}' ({}×{}, {} spp, lab {lab}, {:?} pipeline) in {seconds:.2} s",
+        scene.name, args.width, args.height, args.spp, args.pipeline
+    );
+    println!("{}", args.output.display());
+    Ok(())
+}

@@ -1,0 +1,181 @@
+//! Lab 01 variants.
+
+use framework::glam::{UVec2, Vec2, Vec3};
+use framework::labs::lab01::{CameraBasis, CameraRays};
+use framework::math::Ray;
+use reference::lab01::Lab01 as Reference;
+
+use super::Verdict;
+
+type Coords = fn(Vec2, UVec2) -> Vec2;
+type Basis = fn(Vec3, Vec3, Vec3) -> CameraBasis;
+type Fov = fn(f32) -> f32;
+type Direction = fn(&CameraBasis, f32, Vec2) -> Vec3;
+type CamRay = fn(Vec3, Vec3) -> Ray;
+
+/// The reference camera with some functions replaced.
+#[derive(Clone, Copy)]
+pub struct Variant {
+    /// What the variant does.
+    pub name: &'static str,
+    /// Mistake or alternative.
+    pub verdict: Verdict,
+    coords: Option<Coords>,
+    basis: Option<Basis>,
+    fov: Option<Fov>,
+    direction: Option<Direction>,
+    ray: Option<CamRay>,
+}
+
+const NONE: Variant = Variant {
+    name: "",
+    verdict: Verdict::Accept,
+    coords: None,
+    basis: None,
+    fov: None,
+    direction: None,
+    ray: None,
+};
+
+impl CameraRays for Variant {
+    fn image_plane_coords(&self, raster: Vec2, resolution: UVec2) -> Vec2 {
+        self.coords
+            .map_or_else(|| Reference.image_plane_coords(raster, resolution), |f| f(raster, resolution))
+    }
+    fn camera_basis(&self, eye: Vec3, look_at: Vec3, up: Vec3) -> CameraBasis {
+        self.basis
+            .map_or_else(|| Reference.camera_basis(eye, look_at, up), |f| f(eye, look_at, up))
+    }
+    fn field_of_view(&self, d: f32) -> f32 {
+        self.fov.map_or_else(|| Reference.field_of_view(d), |f| f(d))
+    }
+    fn ray_direction(&self, basis: &CameraBasis, d: f32, ip: Vec2) -> Vec3 {
+        self.direction
+            .map_or_else(|| Reference.ray_direction(basis, d, ip), |f| f(basis, d, ip))
+    }
+    fn camera_ray(&self, eye: Vec3, direction: Vec3) -> Ray {
+        self.ray.map_or_else(|| Reference.camera_ray(eye, direction), |f| f(eye, direction))
+    }
+}
+
+/// Every lab 01 variant.
+pub fn variants() -> Vec<Variant> {
+    vec![
+        Variant {
+            name: "x divided by the width (squashes the image to a square)",
+            verdict: Verdict::Reject("1.1"),
+            coords: Some(|r, res| {
+                let (w, h) = (res.x as f32, res.y as f32);
+                Vec2::new((r.x - 0.5 * w) / w, (0.5 * h - r.y) / h)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "y not flipped (image upside down)",
+            verdict: Verdict::Reject("1.1"),
+            coords: Some(|r, res| {
+                let (w, h) = (res.x as f32, res.y as f32);
+                Vec2::new((r.x - 0.5 * w) / h, (r.y - 0.5 * h) / h)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "image plane from -1 to 1 (two units high)",
+            verdict: Verdict::Reject("1.1"),
+            coords: Some(|r, res| {
+                let (w, h) = (res.x as f32, res.y as f32);
+                Vec2::new(2.0 * (r.x - 0.5 * w) / h, 2.0 * (0.5 * h - r.y) / h)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "x axis as up × view (mirrored image)",
+            verdict: Verdict::Reject("1.2"),
+            basis: Some(|e, l, u| {
+                let n = (l - e).normalize();
+                let x = u.cross(n).normalize();
+                CameraBasis { ip_xaxis: x, ip_yaxis: n.cross(x), ip_normal: n }
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "x axis not normalized",
+            verdict: Verdict::Reject("1.2"),
+            basis: Some(|e, l, u| {
+                let n = (l - e).normalize();
+                let x = n.cross(u);
+                CameraBasis { ip_xaxis: x, ip_yaxis: x.cross(n), ip_normal: n }
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "field of view in radians",
+            verdict: Verdict::Reject("1.3"),
+            fov: Some(|d| 2.0 * (1.0 / (2.0 * d)).atan()),
+            ..NONE
+        },
+        Variant {
+            name: "field of view without the factor 2 (half angle)",
+            verdict: Verdict::Reject("1.3"),
+            fov: Some(|d| (1.0 / (2.0 * d)).atan().to_degrees()),
+            ..NONE
+        },
+        Variant {
+            name: "ray direction not normalized",
+            verdict: Verdict::Reject("1.4"),
+            direction: Some(|b, d, ip| ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + d * b.ip_normal),
+            ..NONE
+        },
+        Variant {
+            name: "ray direction ignores the focal distance",
+            verdict: Verdict::Reject("1.4"),
+            direction: Some(|b, _d, ip| (ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + b.ip_normal).normalize()),
+            ..NONE
+        },
+        Variant {
+            name: "camera ray from the origin instead of the eye",
+            verdict: Verdict::Reject("1.5"),
+            ray: Some(|_e, d| Ray::new(Vec3::ZERO, d, 0.0, f32::INFINITY)),
+            ..NONE
+        },
+        Variant {
+            name: "camera ray with tmax = 1 (clips the scene)",
+            verdict: Verdict::Reject("1.5"),
+            ray: Some(|e, d| Ray::new(e, d, 0.0, 1.0)),
+            ..NONE
+        },
+        // Correct alternatives.
+        Variant {
+            name: "image-plane coordinates from a pixel size and the lower-left corner (DTU style)",
+            verdict: Verdict::Accept,
+            coords: Some(|r, res| {
+                let pixel = 1.0 / res.y as f32;
+                let lower_left = Vec2::new(-0.5 * res.x as f32 * pixel, -0.5);
+                let flipped = Vec2::new(r.x, res.y as f32 - r.y);
+                lower_left + flipped * pixel
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "basis by Gram–Schmidt on up",
+            verdict: Verdict::Accept,
+            basis: Some(|e, l, u| {
+                let n = (l - e).normalize();
+                let y = (u - u.dot(n) * n).normalize();
+                CameraBasis { ip_xaxis: n.cross(y), ip_yaxis: y, ip_normal: n }
+            }),
+            fov: Some(|d| 2.0f32.to_degrees() * 1.0f32.atan2(2.0 * d)),
+            ..NONE
+        },
+        Variant {
+            name: "camera ray with a small tmin and tmax = f32::MAX",
+            verdict: Verdict::Accept,
+            ray: Some(|e, d| Ray::new(e, d, 1e-4, f32::MAX)),
+            direction: Some(|b, d, ip| {
+                let v = ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + d * b.ip_normal;
+                v / v.length()
+            }),
+            ..NONE
+        },
+    ]
+}
