@@ -21,5 +21,5 @@ pub mod sampling;
 pub mod scene;
 
 pub use error::{Error, PanicError};
-pub use panic::catch_quietly;
 pub use glam;
+pub use panic::catch_quietly;

@@ -70,7 +70,11 @@ impl RenderSettings {
 
 /// Renders `scene` through `pipeline`. A panic in a pipeline component (an unfinished
 /// exercise, say) is returned as [`Error::Panic`].
-pub fn render(scene: &Scene, pipeline: &Pipeline, settings: &RenderSettings) -> Result<Film, Error> {
+pub fn render(
+    scene: &Scene,
+    pipeline: &Pipeline,
+    settings: &RenderSettings,
+) -> Result<Film, Error> {
     settings.validate()?;
     let resolution = UVec2::new(settings.width, settings.height);
     let tiles: Vec<(u32, u32)> = (0..settings.height.div_ceil(TILE_SIZE))
@@ -78,8 +82,10 @@ pub fn render(scene: &Scene, pipeline: &Pipeline, settings: &RenderSettings) -> 
         .collect();
     let bar = if settings.progress {
         indicatif::ProgressBar::new(tiles.len() as u64).with_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} tiles, {elapsed} (eta {eta})")
-                .expect("the template is valid"),
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} tiles, {elapsed} (eta {eta})",
+            )
+            .expect("the template is valid"),
         )
     } else {
         indicatif::ProgressBar::hidden()

@@ -4,7 +4,10 @@ use framework::render::{RenderSettings, render};
 use framework::scene::builtin_scene;
 
 fn render_on(threads: usize, scene: &str) -> framework::film::Film {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
     let scene = builtin_scene(scene).unwrap();
     let settings = RenderSettings {
         width: 96,
@@ -13,7 +16,8 @@ fn render_on(threads: usize, scene: &str) -> framework::film::Film {
         seed: 42,
         progress: false,
     };
-    pool.install(|| render(&scene, &reference::pipeline(reference::LAST_LAB), &settings)).unwrap()
+    pool.install(|| render(&scene, &reference::pipeline(reference::LAST_LAB), &settings))
+        .unwrap()
 }
 
 #[test]
@@ -30,11 +34,24 @@ fn one_and_two_threads_give_identical_images() {
 
 #[test]
 fn another_seed_gives_another_image() {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
     let scene = builtin_scene("default").unwrap();
-    let mut settings = RenderSettings { width: 48, height: 36, samples_per_pixel: 4, seed: 1, progress: false };
-    let a = pool.install(|| render(&scene, &reference::pipeline(2), &settings)).unwrap();
+    let mut settings = RenderSettings {
+        width: 48,
+        height: 36,
+        samples_per_pixel: 4,
+        seed: 1,
+        progress: false,
+    };
+    let a = pool
+        .install(|| render(&scene, &reference::pipeline(2), &settings))
+        .unwrap();
     settings.seed = 2;
-    let b = pool.install(|| render(&scene, &reference::pipeline(2), &settings)).unwrap();
+    let b = pool
+        .install(|| render(&scene, &reference::pipeline(2), &settings))
+        .unwrap();
     assert!(a != b, "the seed has no effect on a 4-spp render");
 }

@@ -22,28 +22,39 @@ fn judge<S: ?Sized>(
         match verdict {
             Verdict::Reject(id) => {
                 wrong += 1;
-                let r = &results.iter().find(|(e, _)| *e == id).expect("known exercise").1;
+                let r = &results
+                    .iter()
+                    .find(|(e, _)| *e == id)
+                    .expect("known exercise")
+                    .1;
                 match r {
                     Err(message) => {
                         rejected += 1;
                         let first = message.lines().nth(1).unwrap_or_default();
                         println!("lab{lab:02} rejects  [{id}] {name}: {first}");
                     }
-                    Ok(()) => problems.push(format!("lab {lab}: exercise {id} accepts the mistake '{name}'")),
+                    Ok(()) => problems.push(format!(
+                        "lab {lab}: exercise {id} accepts the mistake '{name}'"
+                    )),
                 }
             }
             Verdict::Accept => {
                 for (id, r) in &results {
                     match r {
                         Ok(()) => {}
-                        Err(m) => problems.push(format!("lab {lab}: exercise {id} rejects the correct '{name}':\n{m}")),
+                        Err(m) => problems.push(format!(
+                            "lab {lab}: exercise {id} rejects the correct '{name}':\n{m}"
+                        )),
                     }
                 }
                 println!("lab{lab:02} accepts  {name}");
             }
         }
     }
-    println!("lab{lab:02}: {rejected}/{wrong} mistakes rejected ({:.0}%)", 100.0 * rejected as f64 / wrong.max(1) as f64);
+    println!(
+        "lab{lab:02}: {rejected}/{wrong} mistakes rejected ({:.0}%)",
+        100.0 * rejected as f64 / wrong.max(1) as f64
+    );
     problems
 }
 

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use framework::labs::{lab01, lab02};
 use raylab_tests::{context, run_all};
 
-fn assert_all_pass<S: ?Sized>(results: Vec<(&str, Result<(), String>)>) {
+fn assert_all_pass(results: Vec<(&str, Result<(), String>)>) {
     for (id, r) in results {
         if let Err(message) = r {
             panic!("the reference fails exercise {id}:\n{message}");
@@ -14,7 +14,10 @@ fn assert_all_pass<S: ?Sized>(results: Vec<(&str, Result<(), String>)>) {
     }
 }
 
-fn assert_all_fail_cleanly<S: ?Sized>(exercises: &[framework::grading::Exercise<S>], results: Vec<(&str, Result<(), String>)>) {
+fn assert_all_fail_cleanly<S: ?Sized>(
+    exercises: &[framework::grading::Exercise<S>],
+    results: Vec<(&str, Result<(), String>)>,
+) {
     assert_eq!(exercises.len(), results.len());
     for (exercise, (id, r)) in exercises.iter().zip(results) {
         let message = r.expect_err(&format!("the stub passes exercise {id}"));
@@ -27,13 +30,13 @@ fn assert_all_fail_cleanly<S: ?Sized>(exercises: &[framework::grading::Exercise<
 #[test]
 fn reference_passes_lab01() {
     let subject: Arc<dyn lab01::CameraRays> = Arc::new(reference::lab01::Lab01);
-    assert_all_pass::<dyn lab01::CameraRays>(run_all(&lab01::checks::exercises(), &subject, &context(1)));
+    assert_all_pass(run_all(&lab01::checks::exercises(), &subject, &context(1)));
 }
 
 #[test]
 fn reference_passes_lab02() {
     let subject: Arc<dyn lab02::Lab02> = Arc::new(reference::lab02::Lab02);
-    assert_all_pass::<dyn lab02::Lab02>(run_all(&lab02::checks::exercises(), &subject, &context(2)));
+    assert_all_pass(run_all(&lab02::checks::exercises(), &subject, &context(2)));
 }
 
 #[test]

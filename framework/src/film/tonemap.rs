@@ -69,7 +69,9 @@ pub fn log_average_luminance(pixels: &[Vec3]) -> f32 {
         .iter()
         .map(|&c| luminance(c.max(Vec3::ZERO)))
         .filter(|l| l.is_finite())
-        .fold((0.0f64, 0usize), |(s, n), l| (s + (DELTA + l as f64).ln(), n + 1));
+        .fold((0.0f64, 0usize), |(s, n), l| {
+            (s + (DELTA + l as f64).ln(), n + 1)
+        });
     if n == 0 {
         0.0
     } else {
@@ -119,7 +121,8 @@ impl FromStr for ToneMap {
             }),
             ("reinhard", [k, w]) if k.is_finite() => Ok(ToneMap::Reinhard { key: *k, white: *w }),
             _ => Err(invalid(
-                "expected clamp[:EXPOSURE] or reinhard[:KEY[:WHITE]], e.g. reinhard:0.18:2.0".into(),
+                "expected clamp[:EXPOSURE] or reinhard[:KEY[:WHITE]], e.g. reinhard:0.18:2.0"
+                    .into(),
             )),
         }
     }
@@ -160,10 +163,16 @@ mod tests {
 
     #[test]
     fn parses_and_rejects() {
-        assert_eq!("clamp".parse::<ToneMap>().unwrap(), ToneMap::Clamp { exposure: 1.0 });
+        assert_eq!(
+            "clamp".parse::<ToneMap>().unwrap(),
+            ToneMap::Clamp { exposure: 1.0 }
+        );
         assert_eq!(
             "reinhard:0.5:2".parse::<ToneMap>().unwrap(),
-            ToneMap::Reinhard { key: 0.5, white: 2.0 }
+            ToneMap::Reinhard {
+                key: 0.5,
+                white: 2.0
+            }
         );
         let err = "reinhard:-1".parse::<ToneMap>().unwrap_err().to_string();
         assert!(err.contains("'-1'"), "{err}");

@@ -74,8 +74,17 @@ pub fn compare_f32(what: &str, got: f32, expected: f32, abs: f32, rel: f32) -> R
 }
 
 /// [`compare_f32`] per component.
-pub fn compare_vec2(what: &str, got: Vec2, expected: Vec2, abs: f32, rel: f32) -> Result<(), String> {
-    let close = (got - expected).abs().cmple(Vec2::splat(abs) + rel * expected.abs()).all();
+pub fn compare_vec2(
+    what: &str,
+    got: Vec2,
+    expected: Vec2,
+    abs: f32,
+    rel: f32,
+) -> Result<(), String> {
+    let close = (got - expected)
+        .abs()
+        .cmple(Vec2::splat(abs) + rel * expected.abs())
+        .all();
     if close {
         Ok(())
     } else {
@@ -84,8 +93,17 @@ pub fn compare_vec2(what: &str, got: Vec2, expected: Vec2, abs: f32, rel: f32) -
 }
 
 /// [`compare_f32`] per component.
-pub fn compare_vec3(what: &str, got: Vec3, expected: Vec3, abs: f32, rel: f32) -> Result<(), String> {
-    let close = (got - expected).abs().cmple(Vec3::splat(abs) + rel * expected.abs()).all();
+pub fn compare_vec3(
+    what: &str,
+    got: Vec3,
+    expected: Vec3,
+    abs: f32,
+    rel: f32,
+) -> Result<(), String> {
+    let close = (got - expected)
+        .abs()
+        .cmple(Vec3::splat(abs) + rel * expected.abs())
+        .all();
     if close {
         Ok(())
     } else {

@@ -81,10 +81,7 @@ pub fn run_exercise<S: ?Sized>(
         "Exercise {} — `{}` ({}) in labs/lab{lab:02}/src/lib.rs",
         exercise.id, exercise.function, exercise.title
     );
-    let docs = format!(
-        "see docs/lab{lab:02}.md, Exercise {}",
-        exercise.id
-    );
+    let docs = format!("see docs/lab{lab:02}.md, Exercise {}", exercise.id);
     let outcome = match crate::catch_quietly(&place, || (exercise.check)(subject, ctx)) {
         Ok(result) => result,
         Err(panic) => Err(format!("panicked: {}", panic.message)),
@@ -92,13 +89,15 @@ pub fn run_exercise<S: ?Sized>(
     match outcome {
         Ok(()) => Ok(()),
         Err(reason) => match unfinished_exercise(&reason) {
-            Some(other) if other == exercise.id => Err(format!(
-                "{place} is not implemented yet.\n({docs})"
-            )),
+            Some(other) if other == exercise.id => {
+                Err(format!("{place} is not implemented yet.\n({docs})"))
+            }
             Some(other) => Err(format!(
                 "{place} cannot be checked until Exercise {other} is done (it is not implemented yet: {reason}).\n({docs})"
             )),
-            None if reason.contains("panicked") => Err(format!("{place} failed: {reason}\n({docs})")),
+            None if reason.contains("panicked") => {
+                Err(format!("{place} failed: {reason}\n({docs})"))
+            }
             None => Err(format!("{place} is wrong:\n{reason}\n({docs})")),
         },
     }
@@ -107,12 +106,19 @@ pub fn run_exercise<S: ?Sized>(
 /// The exercise named by a `todo!("Exercise N.M: …")` message, if `message` holds one.
 fn unfinished_exercise(message: &str) -> Option<&str> {
     let rest = &message[message.find("not yet implemented: Exercise ")? + 30..];
-    let end = rest.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(rest.len());
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(rest.len());
     Some(rest[..end].trim_end_matches('.'))
 }
 
 /// [`run_exercise`] for a `#[test]`: panics with the failure message.
-pub fn assert_exercise<S: ?Sized>(exercises: &[Exercise<S>], id: &str, subject: &Arc<S>, ctx: &LabContext) {
+pub fn assert_exercise<S: ?Sized>(
+    exercises: &[Exercise<S>],
+    id: &str,
+    subject: &Arc<S>,
+    ctx: &LabContext,
+) {
     let exercise = exercises
         .iter()
         .find(|e| e.id == id)

@@ -23,7 +23,7 @@ where
     let mut runner = TestRunner::new_with_rng(config, rng);
     runner
         .run(&strategy, |input| {
-            property(input).map_err(|e| TestCaseError::fail(e))
+            property(input).map_err(TestCaseError::fail)
         })
         .map_err(|e| match e {
             proptest::test_runner::TestError::Fail(reason, input) => {

@@ -36,7 +36,8 @@ pub struct SnapshotReport {
 impl SnapshotReport {
     /// Whether the render passes under `tol`.
     pub fn passes(&self, tol: &PixelTolerance) -> bool {
-        self.non_finite == 0 && self.outliers as f32 <= tol.max_outlier_fraction * self.pixels as f32
+        self.non_finite == 0
+            && self.outliers as f32 <= tol.max_outlier_fraction * self.pixels as f32
     }
 }
 
@@ -55,7 +56,8 @@ pub fn compare_snapshot(render: &Film, reference: &Film, tol: &PixelTolerance) -
     };
     for (&got, &expected) in render.pixels.iter().zip(&reference.pixels) {
         let diff = (got - expected).abs().max_element();
-        if !(pixel_error(got, expected, tol) <= 1.0) {
+        let within = pixel_error(got, expected, tol) <= 1.0; // false for NaN
+        if !within {
             report.outliers += 1;
         }
         if diff.is_finite() {
@@ -83,7 +85,13 @@ pub fn write_failure_images(
         pixels: render
             .pixels
             .iter()
-            .map(|p| if p.is_finite() { *p } else { Vec3::new(1.0, 0.0, 1.0) })
+            .map(|p| {
+                if p.is_finite() {
+                    *p
+                } else {
+                    Vec3::new(1.0, 0.0, 1.0)
+                }
+            })
             .collect(),
         ..render.clone()
     };
@@ -118,7 +126,12 @@ pub fn write_failure_images(
 impl LabContext {
     /// Compares `render` with the lab's snapshot `name` (`snapshots/<name>.exr`); on failure
     /// writes the student, reference and difference images and names them in the message.
-    pub fn check_snapshot(&self, name: &str, render: &Film, tol: &PixelTolerance) -> Result<(), String> {
+    pub fn check_snapshot(
+        &self,
+        name: &str,
+        render: &Film,
+        tol: &PixelTolerance,
+    ) -> Result<(), String> {
         let path = self.snapshot_path(&format!("{name}.exr"));
         let reference = crate::film::read_exr(&path).map_err(|e| {
             format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")

@@ -88,7 +88,13 @@ impl Aabb {
     /// Slab test: the parameter interval `[t0, t1]` over which the ray
     /// `origin + t·dir` (given as `1/dir`) is inside the box, clipped to `[tmin, tmax]`.
     #[inline]
-    pub fn intersect(&self, origin: Vec3, inv_dir: Vec3, tmin: f32, tmax: f32) -> Option<(f32, f32)> {
+    pub fn intersect(
+        &self,
+        origin: Vec3,
+        inv_dir: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(f32, f32)> {
         let t0 = (self.min - origin) * inv_dir;
         let t1 = (self.max - origin) * inv_dir;
         let near = t0.min(t1).max_element().max(tmin);

@@ -41,7 +41,13 @@ mod tests {
 
     #[test]
     fn basis_is_orthonormal_and_right_handed() {
-        for w in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::Z, Vec3::new(0.3, -0.5, 0.8).normalize()] {
+        for w in [
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+        ] {
             let b = Onb::from_w(w);
             assert!((b.u.length() - 1.0).abs() < 1e-5);
             assert!((b.v.length() - 1.0).abs() < 1e-5);

@@ -89,7 +89,9 @@ impl Scene {
             scene: name.clone(),
             reason: "the scene has no camera; expected a [camera] table with eye, look_at, up and focal_distance".into(),
         })?;
-        validate(&name, &camera, &materials, &lights, &planes, &spheres, &mesh)?;
+        validate(
+            &name, &camera, &materials, &lights, &planes, &spheres, &mesh,
+        )?;
         let triangle_bvh = Bvh::build(
             &(0..mesh.faces.len())
                 .map(|f| crate::math::Aabb::from_points(mesh.triangle(f)))
@@ -160,7 +162,9 @@ fn validate(
     if view.length_squared() == 0.0 {
         return Err(bad("camera eye and look_at are the same point".into()));
     }
-    if view.cross(camera.up).length_squared() <= 1e-12 * view.length_squared() * camera.up.length_squared() {
+    if view.cross(camera.up).length_squared()
+        <= 1e-12 * view.length_squared() * camera.up.length_squared()
+    {
         return Err(bad(format!(
             "camera up {} is zero or parallel to the view direction {}",
             camera.up, view
@@ -170,12 +174,18 @@ fn validate(
         if (id.0 as usize) < materials.len() {
             Ok(())
         } else {
-            Err(bad(format!("{what} refers to material #{} but the scene has {}", id.0, materials.len())))
+            Err(bad(format!(
+                "{what} refers to material #{} but the scene has {}",
+                id.0,
+                materials.len()
+            )))
         }
     };
     for (i, p) in planes.iter().enumerate() {
         if !(p.normal.is_finite() && p.d.is_finite()) || p.normal.length_squared() == 0.0 {
-            return Err(bad(format!("plane #{i} has a non-finite or zero normal/offset")));
+            return Err(bad(format!(
+                "plane #{i} has a non-finite or zero normal/offset"
+            )));
         }
         check_material(format!("plane #{i}"), p.material)?;
     }
@@ -190,12 +200,16 @@ fn validate(
     }
     for (i, p) in mesh.positions.iter().enumerate() {
         if !p.is_finite() {
-            return Err(bad(format!("vertex #{i} is {p}; expected finite coordinates")));
+            return Err(bad(format!(
+                "vertex #{i} is {p}; expected finite coordinates"
+            )));
         }
     }
     for (f, face) in mesh.faces.iter().enumerate() {
         if face.iter().any(|&i| i as usize >= mesh.positions.len()) {
-            return Err(bad(format!("triangle #{f} refers to a missing vertex: {face:?}")));
+            return Err(bad(format!(
+                "triangle #{f} refers to a missing vertex: {face:?}"
+            )));
         }
         check_material(format!("triangle #{f}"), mesh.face_materials[f])?;
     }
@@ -203,12 +217,16 @@ fn validate(
         let ok = match l {
             Light::Point(p) => p.position.is_finite() && p.intensity.is_finite(),
             Light::Directional(d) => {
-                d.direction.is_finite() && d.direction.length_squared() > 0.0 && d.emission.is_finite()
+                d.direction.is_finite()
+                    && d.direction.length_squared() > 0.0
+                    && d.emission.is_finite()
             }
             Light::Area(_) => true,
         };
         if !ok {
-            return Err(bad(format!("light #{i} has a non-finite or zero vector: {l:?}")));
+            return Err(bad(format!(
+                "light #{i} has a non-finite or zero vector: {l:?}"
+            )));
         }
     }
     Ok(())

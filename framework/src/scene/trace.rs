@@ -100,7 +100,9 @@ impl Scene {
             .iter()
             .any(|p| isect.intersect_plane(ray, p).is_some())
             || self.sphere_bvh.any_hit(ray, |i, r| {
-                isect.intersect_sphere(r, &self.spheres[i as usize]).is_some()
+                isect
+                    .intersect_sphere(r, &self.spheres[i as usize])
+                    .is_some()
             })
             || self.triangle_bvh.any_hit(ray, |f, r| {
                 let [v0, v1, v2] = self.mesh.triangle(f as usize);

@@ -18,7 +18,11 @@ fn subject() -> Arc<dyn CameraRays> {
 }
 
 fn check(id: &str) {
-    let ctx = LabContext::new(1, Path::new(env!("CARGO_MANIFEST_DIR")), reference::pipeline(1));
+    let ctx = LabContext::new(
+        1,
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        reference::pipeline(1),
+    );
     assert_exercise(&checks::exercises(), id, &subject(), &ctx);
 }
 

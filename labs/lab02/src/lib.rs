@@ -55,13 +55,7 @@ impl Intersection for Student {
     /// accept the hit only if the point is inside and `t` is in `[tmin, tmax]`.
     ///
     /// Return `t`, `β`, `γ`, and the unit normal `normalize(e1 × e2)`.
-    fn intersect_triangle(
-        &self,
-        ray: &Ray,
-        v0: Vec3,
-        v1: Vec3,
-        v2: Vec3,
-    ) -> Option<TriangleHit> {
+    fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit> {
         todo!("Exercise 2.2: intersect_triangle (docs/lab02.md, Exercise 2.2)")
     }
 

@@ -19,7 +19,11 @@ fn subject() -> Arc<dyn Lab02> {
 }
 
 fn check(id: &str) {
-    let ctx = LabContext::new(2, Path::new(env!("CARGO_MANIFEST_DIR")), reference::pipeline(2));
+    let ctx = LabContext::new(
+        2,
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        reference::pipeline(2),
+    );
     assert_exercise(&checks::exercises(), id, &subject(), &ctx);
 }
 

@@ -28,7 +28,9 @@ fn find_root() -> Result<PathBuf, Error> {
         .map(Path::to_path_buf)
         .ok_or_else(|| Error::Invalid {
             what: format!("directory {}", cwd.display()),
-            reason: "not inside a raylab workspace (no Cargo.toml with labs/ beside it); pass --root".into(),
+            reason:
+                "not inside a raylab workspace (no Cargo.toml with labs/ beside it); pass --root"
+                    .into(),
         })
 }
 
@@ -46,8 +48,14 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
         let dir = root.join("labs").join(format!("lab{lab:02}"));
         let ctx = LabContext::new(lab, &dir, reference::pipeline(lab));
         let written = match lab {
-            1 => lab01::generate_golden(&(Arc::new(reference::lab01::Lab01) as Arc<dyn lab01::CameraRays>), &ctx)?,
-            2 => lab02::generate_golden(&(Arc::new(reference::lab02::Lab02) as Arc<dyn lab02::Lab02>), &ctx)?,
+            1 => lab01::generate_golden(
+                &(Arc::new(reference::lab01::Lab01) as Arc<dyn lab01::CameraRays>),
+                &ctx,
+            )?,
+            2 => lab02::generate_golden(
+                &(Arc::new(reference::lab02::Lab02) as Arc<dyn lab02::Lab02>),
+                &ctx,
+            )?,
             _ => {
                 return Err(Error::Invalid {
                     what: format!("--lab {lab}"),

@@ -125,7 +125,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         progress: true,
     };
     settings.validate()?;
-    let ext = args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("png" | "exr")) {
         return Err(Error::Invalid {
             what: format!("output '{}'", args.output.display()),

@@ -39,22 +39,32 @@ const NONE: Variant = Variant {
 
 impl CameraRays for Variant {
     fn image_plane_coords(&self, raster: Vec2, resolution: UVec2) -> Vec2 {
-        self.coords
-            .map_or_else(|| Reference.image_plane_coords(raster, resolution), |f| f(raster, resolution))
+        self.coords.map_or_else(
+            || Reference.image_plane_coords(raster, resolution),
+            |f| f(raster, resolution),
+        )
     }
     fn camera_basis(&self, eye: Vec3, look_at: Vec3, up: Vec3) -> CameraBasis {
-        self.basis
-            .map_or_else(|| Reference.camera_basis(eye, look_at, up), |f| f(eye, look_at, up))
+        self.basis.map_or_else(
+            || Reference.camera_basis(eye, look_at, up),
+            |f| f(eye, look_at, up),
+        )
     }
     fn field_of_view(&self, d: f32) -> f32 {
-        self.fov.map_or_else(|| Reference.field_of_view(d), |f| f(d))
+        self.fov
+            .map_or_else(|| Reference.field_of_view(d), |f| f(d))
     }
     fn ray_direction(&self, basis: &CameraBasis, d: f32, ip: Vec2) -> Vec3 {
-        self.direction
-            .map_or_else(|| Reference.ray_direction(basis, d, ip), |f| f(basis, d, ip))
+        self.direction.map_or_else(
+            || Reference.ray_direction(basis, d, ip),
+            |f| f(basis, d, ip),
+        )
     }
     fn camera_ray(&self, eye: Vec3, direction: Vec3) -> Ray {
-        self.ray.map_or_else(|| Reference.camera_ray(eye, direction), |f| f(eye, direction))
+        self.ray.map_or_else(
+            || Reference.camera_ray(eye, direction),
+            |f| f(eye, direction),
+        )
     }
 }
 
@@ -94,7 +104,11 @@ pub fn variants() -> Vec<Variant> {
             basis: Some(|e, l, u| {
                 let n = (l - e).normalize();
                 let x = u.cross(n).normalize();
-                CameraBasis { ip_xaxis: x, ip_yaxis: n.cross(x), ip_normal: n }
+                CameraBasis {
+                    ip_xaxis: x,
+                    ip_yaxis: n.cross(x),
+                    ip_normal: n,
+                }
             }),
             ..NONE
         },
@@ -104,7 +118,11 @@ pub fn variants() -> Vec<Variant> {
             basis: Some(|e, l, u| {
                 let n = (l - e).normalize();
                 let x = n.cross(u);
-                CameraBasis { ip_xaxis: x, ip_yaxis: x.cross(n), ip_normal: n }
+                CameraBasis {
+                    ip_xaxis: x,
+                    ip_yaxis: x.cross(n),
+                    ip_normal: n,
+                }
             }),
             ..NONE
         },
@@ -129,7 +147,9 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "ray direction ignores the focal distance",
             verdict: Verdict::Reject("1.4"),
-            direction: Some(|b, _d, ip| (ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + b.ip_normal).normalize()),
+            direction: Some(|b, _d, ip| {
+                (ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + b.ip_normal).normalize()
+            }),
             ..NONE
         },
         Variant {
@@ -162,7 +182,11 @@ pub fn variants() -> Vec<Variant> {
             basis: Some(|e, l, u| {
                 let n = (l - e).normalize();
                 let y = (u - u.dot(n) * n).normalize();
-                CameraBasis { ip_xaxis: n.cross(y), ip_yaxis: y, ip_normal: n }
+                CameraBasis {
+                    ip_xaxis: n.cross(y),
+                    ip_yaxis: y,
+                    ip_normal: n,
+                }
             }),
             fov: Some(|d| 2.0f32.to_degrees() * 1.0f32.atan2(2.0 * d)),
             ..NONE

@@ -45,33 +45,51 @@ const NONE: Variant = Variant {
 
 impl Intersection for Variant {
     fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {
-        self.plane.map_or_else(|| Reference.intersect_plane(ray, plane), |f| f(ray, plane))
+        self.plane
+            .map_or_else(|| Reference.intersect_plane(ray, plane), |f| f(ray, plane))
     }
     fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit> {
-        self.triangle
-            .map_or_else(|| Reference.intersect_triangle(ray, v0, v1, v2), |f| f(ray, v0, v1, v2))
+        self.triangle.map_or_else(
+            || Reference.intersect_triangle(ray, v0, v1, v2),
+            |f| f(ray, v0, v1, v2),
+        )
     }
     fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit> {
-        self.sphere.map_or_else(|| Reference.intersect_sphere(ray, sphere), |f| f(ray, sphere))
+        self.sphere.map_or_else(
+            || Reference.intersect_sphere(ray, sphere),
+            |f| f(ray, sphere),
+        )
     }
 }
 
 impl Shading for Variant {
     fn sample_point_light(&self, light: &PointLight, p: Vec3) -> LightSample {
-        self.point.map_or_else(|| Reference.sample_point_light(light, p), |f| f(light, p))
+        self.point
+            .map_or_else(|| Reference.sample_point_light(light, p), |f| f(light, p))
     }
     fn sample_directional_light(&self, light: &DirectionalLight, p: Vec3) -> LightSample {
-        self.directional
-            .map_or_else(|| Reference.sample_directional_light(light, p), |f| f(light, p))
+        self.directional.map_or_else(
+            || Reference.sample_directional_light(light, p),
+            |f| f(light, p),
+        )
     }
     fn shade_lambertian(&self, rho: Vec3, n: Vec3, lights: &[LightSample]) -> Vec3 {
-        self.lambertian
-            .map_or_else(|| Reference.shade_lambertian(rho, n, lights), |f| f(rho, n, lights))
+        self.lambertian.map_or_else(
+            || Reference.shade_lambertian(rho, n, lights),
+            |f| f(rho, n, lights),
+        )
     }
 }
 
 /// Möller–Trumbore without the range checks selected by the flags (for the mutants).
-fn triangle_with(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3, check_sum: bool, check_tmin: bool) -> Option<TriangleHit> {
+fn triangle_with(
+    ray: &Ray,
+    v0: Vec3,
+    v1: Vec3,
+    v2: Vec3,
+    check_sum: bool,
+    check_tmin: bool,
+) -> Option<TriangleHit> {
     let (e1, e2) = (v1 - v0, v2 - v0);
     let p = ray.direction.cross(e2);
     let det = e1.dot(p);
@@ -85,7 +103,12 @@ fn triangle_with(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3, check_sum: bool, check
     let t = e2.dot(q) / det;
     let inside = beta >= 0.0 && gamma >= 0.0 && (!check_sum || beta + gamma <= 1.0);
     let in_range = t <= ray.tmax && (!check_tmin || t >= ray.tmin);
-    (inside && in_range).then(|| TriangleHit { distance: t, beta, gamma, normal: e1.cross(e2).normalize() })
+    (inside && in_range).then(|| TriangleHit {
+        distance: t,
+        beta,
+        gamma,
+        normal: e1.cross(e2).normalize(),
+    })
 }
 
 fn sphere_roots(ray: &Ray, s: &Sphere) -> Option<(f32, f32)> {
@@ -97,7 +120,10 @@ fn sphere_roots(ray: &Ray, s: &Sphere) -> Option<(f32, f32)> {
 }
 
 fn sphere_hit(ray: &Ray, s: &Sphere, t: f32) -> SurfaceHit {
-    SurfaceHit { distance: t, normal: (ray.at(t) - s.center) / s.radius }
+    SurfaceHit {
+        distance: t,
+        normal: (ray.at(t) - s.center) / s.radius,
+    }
 }
 
 /// Every lab 02 variant.
@@ -108,7 +134,10 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("2.1"),
             plane: Some(|ray, plane| {
                 let t = -(ray.origin.dot(plane.normal) + plane.d) / ray.direction.dot(plane.normal);
-                (t.is_finite() && t <= ray.tmax).then_some(SurfaceHit { distance: t, normal: plane.normal })
+                (t.is_finite() && t <= ray.tmax).then_some(SurfaceHit {
+                    distance: t,
+                    normal: plane.normal,
+                })
             }),
             ..NONE
         },
@@ -117,7 +146,10 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("2.1"),
             plane: Some(|ray, plane| {
                 let t = (ray.origin.dot(plane.normal) + plane.d) / ray.direction.dot(plane.normal);
-                ray.accepts(t).then_some(SurfaceHit { distance: t, normal: plane.normal })
+                ray.accepts(t).then_some(SurfaceHit {
+                    distance: t,
+                    normal: plane.normal,
+                })
             }),
             ..NONE
         },
@@ -137,7 +169,13 @@ pub fn variants() -> Vec<Variant> {
             name: "triangle: β and γ swapped",
             verdict: Verdict::Reject("2.2"),
             triangle: Some(|r, a, b, c| {
-                Reference.intersect_triangle(r, a, b, c).map(|h| TriangleHit { beta: h.gamma, gamma: h.beta, ..h })
+                Reference
+                    .intersect_triangle(r, a, b, c)
+                    .map(|h| TriangleHit {
+                        beta: h.gamma,
+                        gamma: h.beta,
+                        ..h
+                    })
             }),
             ..NONE
         },
@@ -145,7 +183,12 @@ pub fn variants() -> Vec<Variant> {
             name: "triangle: normal not normalized",
             verdict: Verdict::Reject("2.2"),
             triangle: Some(|r, a, b, c| {
-                Reference.intersect_triangle(r, a, b, c).map(|h| TriangleHit { normal: (b - a).cross(c - a), ..h })
+                Reference
+                    .intersect_triangle(r, a, b, c)
+                    .map(|h| TriangleHit {
+                        normal: (b - a).cross(c - a),
+                        ..h
+                    })
             }),
             ..NONE
         },
@@ -171,14 +214,20 @@ pub fn variants() -> Vec<Variant> {
             name: "sphere: normal points inwards",
             verdict: Verdict::Reject("2.3"),
             sphere: Some(|ray, s| {
-                Reference.intersect_sphere(ray, s).map(|h| SurfaceHit { normal: -h.normal, ..h })
+                Reference.intersect_sphere(ray, s).map(|h| SurfaceHit {
+                    normal: -h.normal,
+                    ..h
+                })
             }),
             ..NONE
         },
         Variant {
             name: "point light: no inverse-square law",
             verdict: Verdict::Reject("2.4"),
-            point: Some(|l, p| LightSample { radiance: l.intensity, ..Reference.sample_point_light(l, p) }),
+            point: Some(|l, p| LightSample {
+                radiance: l.intensity,
+                ..Reference.sample_point_light(l, p)
+            }),
             ..NONE
         },
         Variant {
@@ -186,7 +235,10 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("2.4"),
             point: Some(|l, p| {
                 let s = Reference.sample_point_light(l, p);
-                LightSample { radiance: l.intensity / s.distance, ..s }
+                LightSample {
+                    radiance: l.intensity / s.distance,
+                    ..s
+                }
             }),
             ..NONE
         },
@@ -195,33 +247,54 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("2.4"),
             point: Some(|l, p| {
                 let s = Reference.sample_point_light(l, p);
-                LightSample { direction: -s.direction, ..s }
+                LightSample {
+                    direction: -s.direction,
+                    ..s
+                }
             }),
             ..NONE
         },
         Variant {
             name: "directional light: direction not reversed",
             verdict: Verdict::Reject("2.5"),
-            directional: Some(|l, _p| LightSample { direction: l.direction, distance: f32::INFINITY, radiance: l.emission }),
+            directional: Some(|l, _p| LightSample {
+                direction: l.direction,
+                distance: f32::INFINITY,
+                radiance: l.emission,
+            }),
             ..NONE
         },
         Variant {
             name: "Lambertian: missing 1/π",
             verdict: Verdict::Reject("2.6"),
-            lambertian: Some(|rho, n, lights| lights.iter().map(|l| rho * l.radiance * n.dot(l.direction).max(0.0)).sum()),
+            lambertian: Some(|rho, n, lights| {
+                lights
+                    .iter()
+                    .map(|l| rho * l.radiance * n.dot(l.direction).max(0.0))
+                    .sum()
+            }),
             ..NONE
         },
         Variant {
             name: "Lambertian: cosine not clamped (light from below subtracts)",
             verdict: Verdict::Reject("2.6"),
-            lambertian: Some(|rho, n, lights| lights.iter().map(|l| rho / PI * l.radiance * n.dot(l.direction)).sum()),
+            lambertian: Some(|rho, n, lights| {
+                lights
+                    .iter()
+                    .map(|l| rho / PI * l.radiance * n.dot(l.direction))
+                    .sum()
+            }),
             ..NONE
         },
         Variant {
             name: "Lambertian: no cosine",
             verdict: Verdict::Reject("2.6"),
             lambertian: Some(|rho, n, lights| {
-                lights.iter().filter(|l| n.dot(l.direction) > 0.0).map(|l| rho / PI * l.radiance).sum()
+                lights
+                    .iter()
+                    .filter(|l| n.dot(l.direction) > 0.0)
+                    .map(|l| rho / PI * l.radiance)
+                    .sum()
             }),
             ..NONE
         },
@@ -266,14 +339,20 @@ pub fn variants() -> Vec<Variant> {
                     return None;
                 }
                 let thc = (r2 - d2).sqrt();
-                [tca - thc, tca + thc].into_iter().find(|&t| ray.accepts(t)).map(|t| sphere_hit(ray, s, t))
+                [tca - thc, tca + thc]
+                    .into_iter()
+                    .find(|&t| ray.accepts(t))
+                    .map(|t| sphere_hit(ray, s, t))
             }),
             plane: Some(|ray, plane| {
                 // Through a point of the plane: t = (p0 − o)·n / (ω·n).
                 let p0 = -plane.d * plane.normal;
                 let dn = ray.direction.dot(plane.normal);
                 let t = (p0 - ray.origin).dot(plane.normal) / dn;
-                (dn != 0.0 && ray.accepts(t)).then_some(SurfaceHit { distance: t, normal: plane.normal })
+                (dn != 0.0 && ray.accepts(t)).then_some(SurfaceHit {
+                    distance: t,
+                    normal: plane.normal,
+                })
             }),
             ..NONE
         },
@@ -283,10 +362,17 @@ pub fn variants() -> Vec<Variant> {
             point: Some(|l, p| {
                 let v = l.position - p;
                 let r2 = v.length_squared();
-                LightSample { direction: v / r2.sqrt(), distance: r2.sqrt(), radiance: l.intensity * r2.recip() }
+                LightSample {
+                    direction: v / r2.sqrt(),
+                    distance: r2.sqrt(),
+                    radiance: l.intensity * r2.recip(),
+                }
             }),
             lambertian: Some(|rho, n, lights| {
-                let irradiance: Vec3 = lights.iter().map(|l| l.radiance * n.dot(l.direction).max(0.0)).sum();
+                let irradiance: Vec3 = lights
+                    .iter()
+                    .map(|l| l.radiance * n.dot(l.direction).max(0.0))
+                    .sum();
                 rho * irradiance * std::f32::consts::FRAC_1_PI
             }),
             ..NONE

@@ -141,11 +141,33 @@ fn exercise_1_1(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
 fn exercise_1_2(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
     for_all(300, basis_input(), |(eye, look_at, up)| {
         let b = s.camera_basis(eye, look_at, up);
-        for (name, v) in [("ip_xaxis", b.ip_xaxis), ("ip_yaxis", b.ip_yaxis), ("ip_normal", b.ip_normal)] {
-            compare_f32(&format!("the length of {name} {v}"), v.length(), 1.0, 1e-4, 0.0)?;
+        for (name, v) in [
+            ("ip_xaxis", b.ip_xaxis),
+            ("ip_yaxis", b.ip_yaxis),
+            ("ip_normal", b.ip_normal),
+        ] {
+            compare_f32(
+                &format!("the length of {name} {v}"),
+                v.length(),
+                1.0,
+                1e-4,
+                0.0,
+            )?;
         }
-        compare_f32("ip_xaxis · ip_yaxis", b.ip_xaxis.dot(b.ip_yaxis), 0.0, 1e-4, 0.0)?;
-        compare_f32("ip_xaxis · ip_normal", b.ip_xaxis.dot(b.ip_normal), 0.0, 1e-4, 0.0)?;
+        compare_f32(
+            "ip_xaxis · ip_yaxis",
+            b.ip_xaxis.dot(b.ip_yaxis),
+            0.0,
+            1e-4,
+            0.0,
+        )?;
+        compare_f32(
+            "ip_xaxis · ip_normal",
+            b.ip_xaxis.dot(b.ip_normal),
+            0.0,
+            1e-4,
+            0.0,
+        )?;
         compare_f32("ip_xaxis · up", b.ip_xaxis.dot(up), 0.0, 1e-4, 0.0)?;
         compare_vec3(
             "ip_normal (it must point from the eye to the look-at point)",
@@ -165,16 +187,40 @@ fn exercise_1_2(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
         let (eye, look_at, up) = case.input;
         let b = s.camera_basis(eye, look_at, up);
         let call = format!("camera_basis({eye}, {look_at}, {up})");
-        compare_vec3(&format!("ip_xaxis of {call}"), b.ip_xaxis, case.expected.ip_xaxis, 1e-4, 0.0)?;
-        compare_vec3(&format!("ip_yaxis of {call}"), b.ip_yaxis, case.expected.ip_yaxis, 1e-4, 0.0)?;
-        compare_vec3(&format!("ip_normal of {call}"), b.ip_normal, case.expected.ip_normal, 1e-4, 0.0)?;
+        compare_vec3(
+            &format!("ip_xaxis of {call}"),
+            b.ip_xaxis,
+            case.expected.ip_xaxis,
+            1e-4,
+            0.0,
+        )?;
+        compare_vec3(
+            &format!("ip_yaxis of {call}"),
+            b.ip_yaxis,
+            case.expected.ip_yaxis,
+            1e-4,
+            0.0,
+        )?;
+        compare_vec3(
+            &format!("ip_normal of {call}"),
+            b.ip_normal,
+            case.expected.ip_normal,
+            1e-4,
+            0.0,
+        )?;
     }
     Ok(())
 }
 
 fn exercise_1_3(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
     // d = ½ sees the image plane (height 1) under 90°.
-    compare_f32("field_of_view(0.5) (degrees)", s.field_of_view(0.5), 90.0, 1e-3, 0.0)?;
+    compare_f32(
+        "field_of_view(0.5) (degrees)",
+        s.field_of_view(0.5),
+        90.0,
+        1e-3,
+        0.0,
+    )?;
     for_all(100, (0.05f32..10.0, 0.05f32..10.0), |(a, b)| {
         let (near, far) = (a.min(b), a.max(b));
         if far - near > 1e-3 && s.field_of_view(far) >= s.field_of_view(near) {
@@ -203,7 +249,13 @@ fn exercise_1_4(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
         let (basis, d, ip) = case.input;
         let got = s.ray_direction(&basis, d, ip);
         let call = format!("ray_direction(basis, d = {d}, ip = {ip})");
-        compare_f32(&format!("the length of {call} = {got}"), got.length(), 1.0, 1e-4, 0.0)?;
+        compare_f32(
+            &format!("the length of {call} = {got}"),
+            got.length(),
+            1.0,
+            1e-4,
+            0.0,
+        )?;
         compare_vec3(&call, got, case.expected, 1e-4, 0.0)?;
     }
     Ok(())
@@ -215,10 +267,17 @@ fn exercise_1_5(s: &Arc<dyn CameraRays>, _ctx: &LabContext) -> Result<(), String
         compare_vec3("the ray origin (the eye)", r.origin, eye, 0.0, 0.0)?;
         compare_vec3("the ray direction", r.direction, dir, 1e-6, 0.0)?;
         if !(0.0..=1e-3).contains(&r.tmin) {
-            return Err(format!("tmin is {}; a camera ray starts at the eye, tmin = 0", r.tmin));
+            return Err(format!(
+                "tmin is {}; a camera ray starts at the eye, tmin = 0",
+                r.tmin
+            ));
         }
-        if !(r.tmax >= 1e30) {
-            return Err(format!("tmax is {}; a camera ray is unbounded, tmax = ∞", r.tmax));
+        let unbounded = r.tmax >= 1e30; // false for NaN
+        if !unbounded {
+            return Err(format!(
+                "tmax is {}; a camera ray is unbounded, tmax = ∞",
+                r.tmax
+            ));
         }
         Ok(())
     })
@@ -242,7 +301,8 @@ pub fn render_snapshot(pipeline: &Pipeline) -> Result<crate::film::Film, crate::
 }
 
 fn exercise_1_6(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
-    let film = render_snapshot(&camera_pipeline(s.clone(), &ctx.base)).map_err(|e| e.to_string())?;
+    let film =
+        render_snapshot(&camera_pipeline(s.clone(), &ctx.base)).map_err(|e| e.to_string())?;
     // Flat colours: exact up to rounding, except silhouette pixels whose ray may fall on either
     // side of an edge.
     let tol = PixelTolerance {

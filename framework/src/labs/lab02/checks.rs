@@ -61,7 +61,12 @@ impl Part {
         (Part::Triangle, "default-normals", "default", View::Normals),
         (Part::Sphere, "default-normals", "default", View::Normals),
         (Part::PointLight, "cornell-shaded", "cornell", View::Shaded),
-        (Part::DirectionalLight, "default-shaded", "default", View::Shaded),
+        (
+            Part::DirectionalLight,
+            "default-shaded",
+            "default",
+            View::Shaded,
+        ),
         (Part::Lambertian, "default-shaded", "default", View::Shaded),
     ];
 }
@@ -136,13 +141,12 @@ pub fn plane_strategy() -> impl Strategy<Value = Plane> + Clone {
 
 /// A random, not too thin triangle.
 pub fn triangle_strategy() -> impl Strategy<Value = [Vec3; 3]> + Clone {
-    (point(3.0), point(3.0), point(3.0)).prop_map(|(a, b, c)| [a, b, c]).prop_filter(
-        "not degenerate",
-        |[a, b, c]| {
+    (point(3.0), point(3.0), point(3.0))
+        .prop_map(|(a, b, c)| [a, b, c])
+        .prop_filter("not degenerate", |[a, b, c]| {
             let n = (*b - *a).cross(*c - *a).length();
             n > 0.5 && n > 0.05 * ((*b - *a).length_squared() + (*c - *a).length_squared())
-        },
-    )
+        })
 }
 
 /// A random sphere.
@@ -157,9 +161,14 @@ pub fn sphere_strategy() -> impl Strategy<Value = Sphere> + Clone {
 /// A random ray from a point in the box `[-8, 8]³`, aimed near `target` (within `spread`),
 /// with random tmin/tmax (mostly `[0, ∞)`-like, sometimes tight).
 pub fn ray_towards(target: Vec3, spread: f32) -> impl Strategy<Value = RayInput> {
-    (point(8.0), point(spread), 0u8..4, 0.0f32..12.0, 0.0f32..12.0).prop_filter_map(
-        "origin away from target",
-        move |(o, jitter, kind, a, b)| {
+    (
+        point(8.0),
+        point(spread),
+        0u8..4,
+        0.0f32..12.0,
+        0.0f32..12.0,
+    )
+        .prop_filter_map("origin away from target", move |(o, jitter, kind, a, b)| {
             let d = (target + jitter - o).try_normalize()?;
             let (tmin, tmax) = match kind {
                 0 => (0.0, f32::MAX),
@@ -168,8 +177,7 @@ pub fn ray_towards(target: Vec3, spread: f32) -> impl Strategy<Value = RayInput>
                 _ => (1e-4, a.max(b)),
             };
             Some((o, d, tmin, tmax))
-        },
-    )
+        })
 }
 
 fn triangle_point(t: &[Vec3; 3], beta: f32, gamma: f32) -> Vec3 {
@@ -179,22 +187,39 @@ fn triangle_point(t: &[Vec3; 3], beta: f32, gamma: f32) -> Vec3 {
 // ---------------------------------------------------------------------------------------------
 // Comparisons
 
-fn compare_surface_hit(call: &str, got: Option<SurfaceHit>, expected: Option<SurfaceHit>) -> Result<(), String> {
+fn compare_surface_hit(
+    call: &str,
+    got: Option<SurfaceHit>,
+    expected: Option<SurfaceHit>,
+) -> Result<(), String> {
     match (got, expected) {
         (None, None) => Ok(()),
         (Some(g), None) => Err(format!(
             "{call} returned a hit at t = {} but the ray misses (or the hit is outside [tmin, tmax])",
             g.distance
         )),
-        (None, Some(e)) => Err(format!("{call} returned no hit; expected a hit at t = {}", e.distance)),
+        (None, Some(e)) => Err(format!(
+            "{call} returned no hit; expected a hit at t = {}",
+            e.distance
+        )),
         (Some(g), Some(e)) => {
             compare_f32(&format!("t of {call}"), g.distance, e.distance, 1e-3, 1e-3)?;
-            compare_vec3(&format!("the normal of {call}"), g.normal, e.normal, 2e-3, 0.0)
+            compare_vec3(
+                &format!("the normal of {call}"),
+                g.normal,
+                e.normal,
+                2e-3,
+                0.0,
+            )
         }
     }
 }
 
-fn compare_triangle_hit(call: &str, got: Option<TriangleHit>, expected: Option<TriangleHit>) -> Result<(), String> {
+fn compare_triangle_hit(
+    call: &str,
+    got: Option<TriangleHit>,
+    expected: Option<TriangleHit>,
+) -> Result<(), String> {
     match (got, expected) {
         (None, None) => Ok(()),
         (Some(g), None) => Err(format!(
@@ -209,7 +234,13 @@ fn compare_triangle_hit(call: &str, got: Option<TriangleHit>, expected: Option<T
             compare_f32(&format!("t of {call}"), g.distance, e.distance, 1e-3, 1e-3)?;
             compare_f32(&format!("β of {call}"), g.beta, e.beta, 1e-3, 0.0)?;
             compare_f32(&format!("γ of {call}"), g.gamma, e.gamma, 1e-3, 0.0)?;
-            compare_vec3(&format!("the normal of {call}"), g.normal, e.normal, 2e-3, 0.0)
+            compare_vec3(
+                &format!("the normal of {call}"),
+                g.normal,
+                e.normal,
+                2e-3,
+                0.0,
+            )
         }
     }
 }
@@ -262,15 +293,32 @@ impl Shading for MixedShading {
 }
 
 /// The pipeline of one part's snapshot: `student` for that part only, `base` for the rest.
-pub fn part_pipeline(part: Part, student: &Arc<dyn Lab02>, base: &Pipeline, view: View) -> Pipeline {
+pub fn part_pipeline(
+    part: Part,
+    student: &Arc<dyn Lab02>,
+    base: &Pipeline,
+    view: View,
+) -> Pipeline {
     let isect: Arc<dyn Intersection> = student.clone();
     let shade: Arc<dyn Shading> = student.clone();
     let base_isect: Arc<dyn Intersection> = base
         .intersection
         .clone()
         .unwrap_or_else(|| Arc::new(BuiltinIntersection));
-    let pick_i = |p: Part| if p == part { isect.clone() } else { base_isect.clone() };
-    let pick_s = |p: Part| if p == part { shade.clone() } else { base.shading.clone() };
+    let pick_i = |p: Part| {
+        if p == part {
+            isect.clone()
+        } else {
+            base_isect.clone()
+        }
+    };
+    let pick_s = |p: Part| {
+        if p == part {
+            shade.clone()
+        } else {
+            base.shading.clone()
+        }
+    };
     Pipeline {
         intersection: Some(Arc::new(MixedIntersection {
             plane: pick_i(Part::Plane),
@@ -290,13 +338,20 @@ pub fn part_pipeline(part: Part, student: &Arc<dyn Lab02>, base: &Pipeline, view
 
 /// Renders one part's snapshot scene through `pipeline`.
 pub fn render_part(part: Part, pipeline: &Pipeline) -> Result<Film, crate::Error> {
-    let (_, _, scene, _) = Part::ALL.iter().find(|p| p.0 == part).expect("every part is listed");
+    let (_, _, scene, _) = Part::ALL
+        .iter()
+        .find(|p| p.0 == part)
+        .expect("every part is listed");
     render(&builtin_scene(scene)?, pipeline, &SNAPSHOT_SETTINGS)
 }
 
 fn check_part_snapshot(part: Part, s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    let (_, name, _, view) = *Part::ALL.iter().find(|p| p.0 == part).expect("every part is listed");
-    let film = render_part(part, &part_pipeline(part, s, &ctx.base, view)).map_err(|e| e.to_string())?;
+    let (_, name, _, view) = *Part::ALL
+        .iter()
+        .find(|p| p.0 == part)
+        .expect("every part is listed");
+    let film =
+        render_part(part, &part_pipeline(part, s, &ctx.base, view)).map_err(|e| e.to_string())?;
     let tol = PixelTolerance {
         abs: 2e-3,
         rel: 2e-3,
@@ -315,34 +370,62 @@ fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
         |(plane, q, o)| {
             let target = q - (q.dot(plane.normal) + plane.d) * plane.normal;
             let d = (target - o).try_normalize()?;
-            (d.dot(plane.normal).abs() > 0.05 && (target - o).length() > 0.05).then_some((plane, o, target, d))
+            (d.dot(plane.normal).abs() > 0.05 && (target - o).length() > 0.05)
+                .then_some((plane, o, target, d))
         },
     );
     for_all(300, strategy, |(plane, o, target, d)| {
         let t = (target - o).length();
-        let call = |r: &Ray| format!("intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {})", r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d);
+        let call = |r: &Ray| {
+            format!(
+                "intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {})",
+                r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d
+            )
+        };
         let r = Ray::new(o, d, 0.0, f32::INFINITY);
         let hit = s.intersect_plane(&r, &plane);
-        let expected = Some(SurfaceHit { distance: t, normal: plane.normal });
+        let expected = Some(SurfaceHit {
+            distance: t,
+            normal: plane.normal,
+        });
         compare_surface_hit(&call(&r), hit, expected)?;
         let r = Ray::new(o, d, t + 0.01, f32::INFINITY);
-        compare_surface_hit(&format!("{} (the hit is before tmin)", call(&r)), s.intersect_plane(&r, &plane), None)?;
+        compare_surface_hit(
+            &format!("{} (the hit is before tmin)", call(&r)),
+            s.intersect_plane(&r, &plane),
+            None,
+        )?;
         let r = Ray::new(o, d, 0.0, t - 0.01);
-        compare_surface_hit(&format!("{} (the hit is beyond tmax)", call(&r)), s.intersect_plane(&r, &plane), None)?;
+        compare_surface_hit(
+            &format!("{} (the hit is beyond tmax)", call(&r)),
+            s.intersect_plane(&r, &plane),
+            None,
+        )?;
         let r = Ray::new(o, -d, 0.0, f32::INFINITY);
-        compare_surface_hit(&format!("{} (the plane is behind the ray)", call(&r)), s.intersect_plane(&r, &plane), None)?;
+        compare_surface_hit(
+            &format!("{} (the plane is behind the ray)", call(&r)),
+            s.intersect_plane(&r, &plane),
+            None,
+        )?;
         // A ray parallel to the plane never hits it (up to rounding: tmax keeps the far-away
         // "hit" that a rounded ω·n ≈ 1e-8 produces out of range).
         let parallel = plane.tangent;
         let r = Ray::new(o, parallel, 0.0, 1e5);
-        compare_surface_hit(&format!("{} (parallel to the plane)", call(&r)), s.intersect_plane(&r, &plane), None)
+        compare_surface_hit(
+            &format!("{} (parallel to the plane)", call(&r)),
+            s.intersect_plane(&r, &plane),
+            None,
+        )
     })?;
     let golden: GoldenFile<(RayInput, Plane), Option<SurfaceHit>> = load(ctx, GOLDEN_PLANE)?;
     for case in &golden.cases {
         let (r, plane) = &case.input;
         let r = ray(r);
         compare_surface_hit(
-            &format!("intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {})", r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d),
+            &format!(
+                "intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {})",
+                r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d
+            ),
             s.intersect_plane(&r, plane),
             case.expected,
         )?;
@@ -351,10 +434,18 @@ fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
 }
 
 fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    let inside = (triangle_strategy(), 0.02f32..0.96, 0.02f32..0.96, point(8.0)).prop_filter_map(
-        "point inside, origin off the plane",
-        |(t, b, g, o)| {
-            let (b, g) = if b + g > 0.98 { (0.98 - b, 0.98 - g) } else { (b, g) };
+    let inside = (
+        triangle_strategy(),
+        0.02f32..0.96,
+        0.02f32..0.96,
+        point(8.0),
+    )
+        .prop_filter_map("point inside, origin off the plane", |(t, b, g, o)| {
+            let (b, g) = if b + g > 0.98 {
+                (0.98 - b, 0.98 - g)
+            } else {
+                (b, g)
+            };
             if b < 0.01 || g < 0.01 {
                 return None;
             }
@@ -362,21 +453,46 @@ fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             let p = triangle_point(&t, b, g);
             let d = (p - o).try_normalize()?;
             (d.dot(n).abs() > 0.1 && (p - o).length() > 0.1).then_some((t, b, g, o, d))
-        },
-    );
+        });
     for_all(300, inside, |(t, b, g, o, d)| {
         let dist = (triangle_point(&t, b, g) - o).length();
         let normal = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
-        let call = |r: &Ray| format!("intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {})", r.origin, r.direction, r.tmin, r.tmax, t[0], t[1], t[2]);
+        let call = |r: &Ray| {
+            format!(
+                "intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {})",
+                r.origin, r.direction, r.tmin, r.tmax, t[0], t[1], t[2]
+            )
+        };
         let r = Ray::new(o, d, 0.0, f32::INFINITY);
-        let expected = TriangleHit { distance: dist, beta: b, gamma: g, normal };
-        compare_triangle_hit(&call(&r), s.intersect_triangle(&r, t[0], t[1], t[2]), Some(expected))?;
+        let expected = TriangleHit {
+            distance: dist,
+            beta: b,
+            gamma: g,
+            normal,
+        };
+        compare_triangle_hit(
+            &call(&r),
+            s.intersect_triangle(&r, t[0], t[1], t[2]),
+            Some(expected),
+        )?;
         let r = Ray::new(o, d, dist + 0.01, f32::INFINITY);
-        compare_triangle_hit(&format!("{} (the hit is before tmin)", call(&r)), s.intersect_triangle(&r, t[0], t[1], t[2]), None)?;
+        compare_triangle_hit(
+            &format!("{} (the hit is before tmin)", call(&r)),
+            s.intersect_triangle(&r, t[0], t[1], t[2]),
+            None,
+        )?;
         let r = Ray::new(o, d, 0.0, dist - 0.01);
-        compare_triangle_hit(&format!("{} (the hit is beyond tmax)", call(&r)), s.intersect_triangle(&r, t[0], t[1], t[2]), None)?;
+        compare_triangle_hit(
+            &format!("{} (the hit is beyond tmax)", call(&r)),
+            s.intersect_triangle(&r, t[0], t[1], t[2]),
+            None,
+        )?;
         let r = Ray::new(o, -d, 0.0, f32::INFINITY);
-        compare_triangle_hit(&format!("{} (the triangle is behind the ray)", call(&r)), s.intersect_triangle(&r, t[0], t[1], t[2]), None)
+        compare_triangle_hit(
+            &format!("{} (the triangle is behind the ray)", call(&r)),
+            s.intersect_triangle(&r, t[0], t[1], t[2]),
+            None,
+        )
     })?;
     // Points in the triangle's plane but outside it (β < 0, γ < 0 or β + γ > 1) are missed.
     let outside = (triangle_strategy(), -1.0f32..2.0, -1.0f32..2.0, point(8.0)).prop_filter_map(
@@ -392,17 +508,24 @@ fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
     for_all(300, outside, |(t, b, g, o, d)| {
         let r = Ray::new(o, d, 0.0, f32::INFINITY);
         compare_triangle_hit(
-            &format!("intersect_triangle(ray from {o} along {d}, v0 = {}, v1 = {}, v2 = {}) (the ray passes the plane at β = {b}, γ = {g}, outside the triangle)", t[0], t[1], t[2]),
+            &format!(
+                "intersect_triangle(ray from {o} along {d}, v0 = {}, v1 = {}, v2 = {}) (the ray passes the plane at β = {b}, γ = {g}, outside the triangle)",
+                t[0], t[1], t[2]
+            ),
             s.intersect_triangle(&r, t[0], t[1], t[2]),
             None,
         )
     })?;
-    let golden: GoldenFile<(RayInput, [Vec3; 3]), Option<TriangleHit>> = load(ctx, GOLDEN_TRIANGLE)?;
+    let golden: GoldenFile<(RayInput, [Vec3; 3]), Option<TriangleHit>> =
+        load(ctx, GOLDEN_TRIANGLE)?;
     for case in &golden.cases {
         let (r, t) = &case.input;
         let r = ray(r);
         compare_triangle_hit(
-            &format!("intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {})", r.origin, r.direction, r.tmin, r.tmax, t[0], t[1], t[2]),
+            &format!(
+                "intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {})",
+                r.origin, r.direction, r.tmin, r.tmax, t[0], t[1], t[2]
+            ),
             s.intersect_triangle(&r, t[0], t[1], t[2]),
             case.expected,
         )?;
@@ -430,29 +553,67 @@ fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
         |(sphere, offset, o, inside)| {
             // Aim at a point within 0.8 r of the centre, from outside or (1 in 4) from inside.
             let target = sphere.center + 0.8 * sphere.radius * offset.clamp_length_max(1.0);
-            let o = if inside < 0.25 { sphere.center + 0.5 * sphere.radius * offset } else { o };
-            let d = (target - o).try_normalize().or_else(|| (o - sphere.center).try_normalize())?;
+            let o = if inside < 0.25 {
+                sphere.center + 0.5 * sphere.radius * offset
+            } else {
+                o
+            };
+            let d = (target - o)
+                .try_normalize()
+                .or_else(|| (o - sphere.center).try_normalize())?;
             let outside = (o - sphere.center).length() > sphere.radius * 1.05;
             let inside = (o - sphere.center).length() < sphere.radius * 0.95;
             (outside || inside).then_some((sphere, o, d))
         },
     );
     for_all(300, strategy, |(sphere, o, d)| {
-        let call = |r: &Ray| format!("intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})", r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius);
+        let call = |r: &Ray| {
+            format!(
+                "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})",
+                r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius
+            )
+        };
         let Some((near, far)) = sphere_roots(o, d, &sphere) else {
             return Ok(());
         };
         let normal_at = |t: f32| (o + t * d - sphere.center) / sphere.radius;
-        let hit = |t: f32| Some(SurfaceHit { distance: t, normal: normal_at(t) });
+        let hit = |t: f32| {
+            Some(SurfaceHit {
+                distance: t,
+                normal: normal_at(t),
+            })
+        };
         let r = Ray::new(o, d, 0.0, f32::INFINITY);
-        let first = if near >= 0.0 { hit(near) } else if far >= 0.0 { hit(far) } else { None };
-        let what = if near >= 0.0 { "(the near root)" } else { "(the ray starts inside: the far root)" };
-        compare_surface_hit(&format!("{} {what}", call(&r)), s.intersect_sphere(&r, &sphere), first)?;
+        let first = if near >= 0.0 {
+            hit(near)
+        } else if far >= 0.0 {
+            hit(far)
+        } else {
+            None
+        };
+        let what = if near >= 0.0 {
+            "(the near root)"
+        } else {
+            "(the ray starts inside: the far root)"
+        };
+        compare_surface_hit(
+            &format!("{} {what}", call(&r)),
+            s.intersect_sphere(&r, &sphere),
+            first,
+        )?;
         if near > 0.05 && far - near > 0.1 {
             let r = Ray::new(o, d, near + 0.01, f32::INFINITY);
-            compare_surface_hit(&format!("{} (tmin is past the near root: the far root)", call(&r)), s.intersect_sphere(&r, &sphere), hit(far))?;
+            compare_surface_hit(
+                &format!("{} (tmin is past the near root: the far root)", call(&r)),
+                s.intersect_sphere(&r, &sphere),
+                hit(far),
+            )?;
             let r = Ray::new(o, d, 0.0, near - 0.01);
-            compare_surface_hit(&format!("{} (both roots beyond tmax)", call(&r)), s.intersect_sphere(&r, &sphere), None)?;
+            compare_surface_hit(
+                &format!("{} (both roots beyond tmax)", call(&r)),
+                s.intersect_sphere(&r, &sphere),
+                None,
+            )?;
         }
         Ok(())
     })?;
@@ -461,7 +622,10 @@ fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
         let (r, sphere) = &case.input;
         let r = ray(r);
         compare_surface_hit(
-            &format!("intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})", r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius),
+            &format!(
+                "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})",
+                r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius
+            ),
             s.intersect_sphere(&r, sphere),
             case.expected,
         )?;
@@ -470,22 +634,52 @@ fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
 }
 
 fn compare_light_sample(call: &str, got: LightSample, expected: LightSample) -> Result<(), String> {
-    compare_vec3(&format!("the direction of {call}"), got.direction, expected.direction, 1e-4, 0.0)?;
+    compare_vec3(
+        &format!("the direction of {call}"),
+        got.direction,
+        expected.direction,
+        1e-4,
+        0.0,
+    )?;
     if expected.distance.is_infinite() {
         if got.distance != f32::INFINITY {
-            return Err(format!("the distance of {call} is {}; a directional light is infinitely far away", got.distance));
+            return Err(format!(
+                "the distance of {call} is {}; a directional light is infinitely far away",
+                got.distance
+            ));
         }
     } else {
-        compare_f32(&format!("the distance of {call}"), got.distance, expected.distance, 1e-4, 1e-4)?;
+        compare_f32(
+            &format!("the distance of {call}"),
+            got.distance,
+            expected.distance,
+            1e-4,
+            1e-4,
+        )?;
     }
-    compare_vec3(&format!("the radiance of {call}"), got.radiance, expected.radiance, 1e-6, 1e-4)
+    compare_vec3(
+        &format!("the radiance of {call}"),
+        got.radiance,
+        expected.radiance,
+        1e-6,
+        1e-4,
+    )
 }
 
 fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    let strategy = (point(5.0), (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0), point(5.0))
-        .prop_filter("light away from the point", |(l, _, p)| (*l - *p).length() > 0.1);
+    let strategy = (
+        point(5.0),
+        (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0),
+        point(5.0),
+    )
+        .prop_filter("light away from the point", |(l, _, p)| {
+            (*l - *p).length() > 0.1
+        });
     for_all(300, strategy, |(position, (r, g, b), p)| {
-        let light = PointLight { position, intensity: Vec3::new(r, g, b) };
+        let light = PointLight {
+            position,
+            intensity: Vec3::new(r, g, b),
+        };
         let got = s.sample_point_light(&light, p);
         let dist = (position - p).length();
         let expected = LightSample {
@@ -493,12 +687,22 @@ fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             distance: dist,
             radiance: light.intensity / (dist * dist),
         };
-        compare_light_sample(&format!("sample_point_light(light at {position} of intensity {}, point {p})", light.intensity), got, expected)
+        compare_light_sample(
+            &format!(
+                "sample_point_light(light at {position} of intensity {}, point {p})",
+                light.intensity
+            ),
+            got,
+            expected,
+        )
     })?;
     let golden: GoldenFile<PointLightInput, LightSample> = load(ctx, GOLDEN_POINT_LIGHT)?;
     for case in &golden.cases {
         let (position, intensity, p) = case.input;
-        let light = PointLight { position, intensity };
+        let light = PointLight {
+            position,
+            intensity,
+        };
         compare_light_sample(
             &format!("sample_point_light(light at {position} of intensity {intensity}, point {p})"),
             s.sample_point_light(&light, p),
@@ -509,15 +713,33 @@ fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
 }
 
 fn exercise_2_5(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    for_all(300, (unit_vector(), (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0), point(5.0)), |(direction, (r, g, b), p)| {
-        let light = DirectionalLight { direction, emission: Vec3::new(r, g, b) };
-        let expected = LightSample { direction: -direction, distance: f32::INFINITY, radiance: light.emission };
-        compare_light_sample(
-            &format!("sample_directional_light(light along {direction} of emission {}, point {p})", light.emission),
-            s.sample_directional_light(&light, p),
-            expected,
-        )
-    })?;
+    for_all(
+        300,
+        (
+            unit_vector(),
+            (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0),
+            point(5.0),
+        ),
+        |(direction, (r, g, b), p)| {
+            let light = DirectionalLight {
+                direction,
+                emission: Vec3::new(r, g, b),
+            };
+            let expected = LightSample {
+                direction: -direction,
+                distance: f32::INFINITY,
+                radiance: light.emission,
+            };
+            compare_light_sample(
+                &format!(
+                    "sample_directional_light(light along {direction} of emission {}, point {p})",
+                    light.emission
+                ),
+                s.sample_directional_light(&light, p),
+                expected,
+            )
+        },
+    )?;
     check_part_snapshot(Part::DirectionalLight, s, ctx)
 }
 
@@ -525,13 +747,21 @@ fn exercise_2_5(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
 pub fn lambertian_strategy() -> impl Strategy<Value = LambertianInput> {
     let colour = (0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0).prop_map(|(r, g, b)| Vec3::new(r, g, b));
     let radiance = (0.0f32..5.0, 0.0f32..5.0, 0.0f32..5.0).prop_map(|(r, g, b)| Vec3::new(r, g, b));
-    (colour, unit_vector(), prop::collection::vec((unit_vector(), radiance), 0..4))
+    (
+        colour,
+        unit_vector(),
+        prop::collection::vec((unit_vector(), radiance), 0..4),
+    )
 }
 
 fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
     lights
         .iter()
-        .map(|&(direction, radiance)| LightSample { direction, distance: 1.0, radiance })
+        .map(|&(direction, radiance)| LightSample {
+            direction,
+            distance: 1.0,
+            radiance,
+        })
         .collect()
 }
 

@@ -43,7 +43,10 @@ fn triangle_is_clear(r: &RayInput, t: &[Vec3; 3]) -> bool {
     let q = s.cross(e1);
     let gamma = d.dot(q) / det;
     let dist = e2.dot(q) / det;
-    [beta, gamma, 1.0 - beta - gamma].iter().all(|w| w.abs() > MARGIN) && clear_of_limits(dist, r)
+    [beta, gamma, 1.0 - beta - gamma]
+        .iter()
+        .all(|w| w.abs() > MARGIN)
+        && clear_of_limits(dist, r)
 }
 
 fn sphere_is_clear(r: &RayInput, s: &Sphere) -> bool {
@@ -62,7 +65,10 @@ fn sphere_is_clear(r: &RayInput, s: &Sphere) -> bool {
 }
 
 /// Writes lab 02's golden cases and snapshots from `reference` into the lab's directory.
-pub fn generate_golden(reference: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<Vec<PathBuf>, Error> {
+pub fn generate_golden(
+    reference: &Arc<dyn Lab02>,
+    ctx: &LabContext,
+) -> Result<Vec<PathBuf>, Error> {
     let r = reference.as_ref();
     let mut written = Vec::new();
 
@@ -80,7 +86,8 @@ pub fn generate_golden(reference: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<V
     written.push(path);
 
     let triangles: Vec<(RayInput, [Vec3; 3])> = samples(
-        triangle_strategy().prop_flat_map(|t| (ray_towards((t[0] + t[1] + t[2]) / 3.0, 2.0), Just(t))),
+        triangle_strategy()
+            .prop_flat_map(|t| (ray_towards((t[0] + t[1] + t[2]) / 3.0, 2.0), Just(t))),
         600,
         22,
     )
@@ -89,7 +96,10 @@ pub fn generate_golden(reference: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<V
     .take(128)
     .collect();
     let path = ctx.golden_path(GOLDEN_TRIANGLE);
-    GoldenFile::record("2.2", &triangles, |(ri, t)| r.intersect_triangle(&ray(ri), t[0], t[1], t[2])).save(&path)?;
+    GoldenFile::record("2.2", &triangles, |(ri, t)| {
+        r.intersect_triangle(&ray(ri), t[0], t[1], t[2])
+    })
+    .save(&path)?;
     written.push(path);
 
     let spheres: Vec<(RayInput, Sphere)> = samples(
@@ -106,7 +116,8 @@ pub fn generate_golden(reference: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<V
     written.push(path);
 
     let lights: Vec<PointLightInput> = samples(
-        (point(5.0), point(50.0), point(5.0)).prop_filter("apart", |(l, _, p)| (*l - *p).length() > 0.1),
+        (point(5.0), point(50.0), point(5.0))
+            .prop_filter("apart", |(l, _, p)| (*l - *p).length() > 0.1),
         64,
         24,
     )
@@ -115,7 +126,13 @@ pub fn generate_golden(reference: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<V
     .collect();
     let path = ctx.golden_path(GOLDEN_POINT_LIGHT);
     GoldenFile::record("2.4", &lights, |&(position, intensity, p)| {
-        r.sample_point_light(&PointLight { position, intensity }, p)
+        r.sample_point_light(
+            &PointLight {
+                position,
+                intensity,
+            },
+            p,
+        )
     })
     .save(&path)?;
     written.push(path);

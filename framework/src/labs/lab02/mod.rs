@@ -54,8 +54,7 @@ pub trait Intersection: Send + Sync {
     fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit>;
 
     /// Exercise 2.2 — ray–triangle intersection with barycentric coordinates.
-    fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3)
-    -> Option<TriangleHit>;
+    fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit>;
 
     /// Exercise 2.3 — ray–sphere intersection: the nearest root in `[tmin, tmax]`.
     fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit>;

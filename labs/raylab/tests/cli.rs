@@ -1,0 +1,105 @@
+//! The command line, end to end.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn raylab(args: &[&str], dir: &std::path::Path) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("raylab runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("raylab-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn render_without_arguments_writes_the_default_scene_as_png() {
+    let dir = scratch("default");
+    let (ok, stdout, stderr) = raylab(&[], &dir);
+    assert!(ok, "{stderr}");
+    let path = dir.join(stdout.trim());
+    let img = image::open(&path).expect("a PNG was written").to_rgb8();
+    assert_eq!(img.dimensions(), (512, 384));
+    // Not a blank image: the sky, the ground and the objects differ.
+    let distinct: std::collections::HashSet<_> = img.pixels().map(|p| p.0).collect();
+    assert!(
+        distinct.len() > 100,
+        "only {} distinct colours",
+        distinct.len()
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn exr_output_holds_linear_radiance() {
+    let dir = scratch("exr");
+    let (ok, stdout, stderr) = raylab(
+        &[
+            "render", "-s", "cornell", "--width", "40", "--height", "30", "-o", "c.exr",
+        ],
+        &dir,
+    );
+    assert!(ok, "{stderr}");
+    let film = framework::film::read_exr(&dir.join(stdout.trim())).unwrap();
+    assert_eq!((film.width, film.height), (40, 30));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn bad_input_is_a_clear_error_not_a_panic() {
+    let dir = scratch("bad");
+    std::fs::write(dir.join("nocam.toml"), "[materials.white]\ndiffuse = [0.8, 0.8, 0.8]\n\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\n").unwrap();
+    std::fs::write(dir.join("broken.toml"), "[camera]\neye = [0, 0\n").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "--width", "0"], "image width 0"),
+        (&["render", "-s", "missing.toml"], "missing.toml"),
+        (&["render", "-s", "nocam.toml"], "camera"),
+        (&["render", "-s", "broken.toml"], "broken.toml"),
+        (&["render", "-s", "nosuchscene"], "nosuchscene"),
+        (&["render", "--tonemap", "gamma"], "gamma"),
+        (&["render", "--lab", "99"], "99"),
+        (&["render", "-o", "image.bmp"], "image.bmp"),
+    ];
+    for (args, needle) in cases {
+        let (ok, _, stderr) = raylab(args, &dir);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(
+            stderr.contains("error:") && stderr.contains(needle),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn student_pipeline_on_stubs_names_the_unfinished_exercise() {
+    let dir = scratch("student");
+    let (ok, _, stderr) = raylab(
+        &[
+            "render",
+            "--lab",
+            "1",
+            "--pipeline",
+            "student",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        &dir,
+    );
+    assert!(!ok);
+    assert!(stderr.contains("Exercise 1."), "{stderr}");
+    std::fs::remove_dir_all(dir).ok();
+}
