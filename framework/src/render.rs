@@ -103,11 +103,8 @@ pub fn render(
     })?;
     bar.finish_and_clear();
     let mut film = Film::new(settings.width, settings.height);
-    for (&(tx, ty), pixels) in tiles.iter().zip(rendered) {
-        for (x, y, value) in pixels {
-            let _ = (tx, ty);
-            film.set(x, y, value);
-        }
+    for (x, y, value) in rendered.into_iter().flatten() {
+        film.set(x, y, value);
     }
     Ok(film)
 }

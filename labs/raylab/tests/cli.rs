@@ -103,3 +103,32 @@ fn student_pipeline_on_stubs_names_the_unfinished_exercise() {
     assert!(stderr.contains("Exercise 1."), "{stderr}");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn rayon_num_threads_does_not_change_the_image() {
+    let dir = scratch("threads");
+    let mut outputs = Vec::new();
+    for threads in ["1", "2"] {
+        let name = format!("t{threads}.exr");
+        let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .args([
+                "render", "-s", "cornell", "--width", "64", "--height", "48", "--spp", "4",
+                "--seed", "9", "-o", &name,
+            ])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        outputs.push(framework::film::read_exr(&dir.join(&name)).unwrap());
+    }
+    assert!(
+        outputs[0] == outputs[1],
+        "RAYON_NUM_THREADS=1 and =2 give different images"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
