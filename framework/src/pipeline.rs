@@ -7,10 +7,10 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::labs::{lab01, lab02};
+use crate::labs::{lab01, lab02, lab03, lab04, lab07};
 use crate::math::{Hit, Ray};
 use crate::sampling::Rng;
-use crate::scene::{Light, Scene};
+use crate::scene::{AreaLight, IllumModel, Light, Scene};
 
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -24,7 +24,8 @@ pub enum View {
     Normals,
 }
 
-/// The components of a render, one slot per lab contract.
+/// The components of a render, one slot per lab contract, and the integrator that calls them
+/// (the DTU `RayTracer` and shaders).
 #[derive(Clone)]
 pub struct Pipeline {
     /// Lab 01: pixel to camera ray.
@@ -34,11 +35,22 @@ pub struct Pipeline {
     pub intersection: Option<Arc<dyn lab02::Intersection>>,
     /// Lab 02, lights and Lambertian shading.
     pub shading: Arc<dyn lab02::Shading>,
-    /// The highest lab whose features the integrator uses (1: flat colour, 2: Lambertian
-    /// shading from point and directional lights without shadows).
+    /// Lab 03, shadow rays and area-light sampling.
+    pub shadows: Arc<dyn lab03::Shadows>,
+    /// Lab 04, reflection, refraction and Phong shading.
+    pub reflection: Arc<dyn lab04::Reflection>,
+    /// Lab 07, pixel subdivision.
+    pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
+    /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision.
     pub lab: u32,
     /// What to show.
     pub view: View,
+    /// Area lights are sampled with `n × n` stratified samples per shading point (lab 03).
+    pub area_light_samples: u32,
+    /// Reflected and refracted rays stop after this many bounces (lab 04).
+    pub max_depth: u32,
 }
 
 /// A camera prepared for one render: the basis computed once through the pipeline.
@@ -83,35 +95,166 @@ impl Pipeline {
         }
     }
 
-    /// Radiance arriving along `ray` (the DTU `RayTracer::compute_pixel` body).
-    pub fn radiance(&self, scene: &Scene, ray: &Ray, _rng: &mut Rng) -> Vec3 {
-        let Some(hit) = self.trace_to_closest(scene, ray) else {
-            return scene.background;
-        };
-        let material = scene.material(hit.material);
-        match self.view {
-            View::Normals => 0.5 * (hit.shading_normal + Vec3::ONE),
-            View::BaseColour => material.diffuse,
-            View::Shaded if self.lab < 2 => material.diffuse,
-            View::Shaded => material.emission + self.shade_direct(scene, &hit),
+    /// Whether anything blocks `ray`, through the lab 02 slot.
+    pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
+        match &self.intersection {
+            Some(isect) => scene.trace_to_any_with(ray, isect.as_ref()),
+            None => scene.trace_to_any(ray),
         }
     }
 
-    /// Lambertian reflection of the point and directional lights at a hit (lab 02).
-    fn shade_direct(&self, scene: &Scene, hit: &Hit) -> Vec3 {
-        let samples: Vec<lab02::LightSample> = scene
-            .lights
-            .iter()
-            .filter_map(|light| match light {
-                Light::Point(p) => Some(self.shading.sample_point_light(p, hit.position)),
-                Light::Directional(d) => {
-                    Some(self.shading.sample_directional_light(d, hit.position))
-                }
-                Light::Area(_) => None,
-            })
-            .collect();
+    /// Radiance arriving along a camera ray (the DTU `RayTracer::compute_pixel` body).
+    pub fn radiance(&self, scene: &Scene, ray: &Ray, rng: &mut Rng) -> Vec3 {
+        self.radiance_at(scene, ray, 0, 1.0, rng)
+    }
+
+    /// Radiance along `ray` after `depth` bounces, travelling in a medium of index `ior`.
+    fn radiance_at(&self, scene: &Scene, ray: &Ray, depth: u32, ior: f32, rng: &mut Rng) -> Vec3 {
+        let Some(mut hit) = self.trace_to_closest(scene, ray) else {
+            return scene.background;
+        };
+        hit.trace_depth = depth;
+        hit.ior = ior;
+        let material = scene.material(hit.material);
+        match self.view {
+            View::Normals => return 0.5 * (hit.shading_normal + Vec3::ONE),
+            View::BaseColour => return material.diffuse,
+            View::Shaded if self.lab < 2 => return material.diffuse,
+            View::Shaded => {}
+        }
+        let emitted = material.emission;
+        if self.lab < 4 {
+            return emitted + self.shade_lambertian(scene, &hit, rng);
+        }
+        match material.illum {
+            IllumModel::Mirror => emitted + self.trace_reflected(scene, ray, &hit, rng),
+            IllumModel::Transparent | IllumModel::AbsorbingVolume => {
+                emitted + self.trace_refracted(scene, ray, &hit, material.ior, rng)
+            }
+            IllumModel::Glossy | IllumModel::GlossyVolume => {
+                // The worksheet's glossy shader: a little Phong and mirror, mostly refraction
+                // (lab 10 replaces the weights by the Fresnel reflectance).
+                emitted
+                    + 0.1 * self.shade_phong(scene, ray, &hit, rng)
+                    + 0.1 * self.trace_reflected(scene, ray, &hit, rng)
+                    + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
+            }
+            IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, rng),
+            IllumModel::Lambertian => emitted + self.shade_lambertian(scene, &hit, rng),
+        }
+    }
+
+    /// Radiance along the mirror direction (black past the depth limit).
+    fn trace_reflected(&self, scene: &Scene, ray: &Ray, hit: &Hit, rng: &mut Rng) -> Vec3 {
+        if hit.trace_depth >= self.max_depth {
+            return Vec3::ZERO;
+        }
+        let reflected = self.reflection.reflected_ray(ray, hit);
+        self.radiance_at(scene, &reflected, hit.trace_depth + 1, hit.ior, rng)
+    }
+
+    /// Radiance along the refracted direction, or the reflected one under total internal
+    /// reflection (black past the depth limit).
+    fn trace_refracted(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        material_ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        if hit.trace_depth >= self.max_depth {
+            return Vec3::ZERO;
+        }
+        match self.reflection.refracted_ray(ray, hit, material_ior) {
+            Some((refracted, ior)) => {
+                self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng)
+            }
+            None => self.trace_reflected(scene, ray, hit, rng),
+        }
+    }
+
+    /// Lambertian reflection of every light at a hit (labs 02 and 03).
+    fn shade_lambertian(&self, scene: &Scene, hit: &Hit, rng: &mut Rng) -> Vec3 {
+        let lights = self.light_samples(scene, hit, rng);
         let material = scene.material(hit.material);
         self.shading
-            .shade_lambertian(material.diffuse, hit.shading_normal, &samples)
+            .shade_lambertian(material.diffuse, hit.shading_normal, &lights)
+    }
+
+    /// Phong reflection of every light at a hit (lab 04).
+    fn shade_phong(&self, scene: &Scene, ray: &Ray, hit: &Hit, rng: &mut Rng) -> Vec3 {
+        let lights = self.light_samples(scene, hit, rng);
+        let m = scene.material(hit.material);
+        self.reflection.shade_phong(
+            m.diffuse,
+            m.specular,
+            m.shininess,
+            hit.shading_normal,
+            -ray.direction,
+            &lights,
+        )
+    }
+
+    /// The light arriving at a hit: one sample per point and directional light, and (from
+    /// lab 03 on) `n × n` stratified samples per area light; from lab 03 on, samples whose
+    /// shadow ray is blocked are dropped.
+    pub fn light_samples(
+        &self,
+        scene: &Scene,
+        hit: &Hit,
+        rng: &mut Rng,
+    ) -> Vec<lab02::LightSample> {
+        let shadows = self.lab >= 3;
+        let mut samples = Vec::new();
+        for light in &scene.lights {
+            match light {
+                Light::Point(p) => samples.push(self.shading.sample_point_light(p, hit.position)),
+                Light::Directional(d) => {
+                    samples.push(self.shading.sample_directional_light(d, hit.position))
+                }
+                Light::Area(area) if shadows => {
+                    self.sample_area_light(scene, area, hit, rng, &mut samples)
+                }
+                Light::Area(_) => {}
+            }
+        }
+        if shadows {
+            samples.retain(|s| {
+                let shadow_ray = self.shadows.shadow_ray(hit.position, s);
+                !self.trace_to_any(scene, &shadow_ray)
+            });
+        }
+        samples
+    }
+
+    /// Appends the `n × n` stratified samples of an area light (Exercises 3.2–3.4), each
+    /// carrying `1/n²` of the estimate.
+    fn sample_area_light(
+        &self,
+        scene: &Scene,
+        area: &AreaLight,
+        hit: &Hit,
+        rng: &mut Rng,
+        out: &mut Vec<lab02::LightSample>,
+    ) {
+        let n = self.area_light_samples.max(1);
+        let weight = 1.0 / (n * n) as f32;
+        let pdf_area = 1.0 / area.area;
+        for u in self.shadows.stratified_samples(n, rng) {
+            let (i, ux) = area.pick_face(u.x);
+            let face = area.faces[i] as usize;
+            let triangle = scene.mesh.triangle(face);
+            let point = self.shadows.sample_triangle(triangle, Vec2::new(ux, u.y));
+            let normal = (triangle[1] - triangle[0])
+                .cross(triangle[2] - triangle[0])
+                .normalize();
+            let emission = scene.material(scene.mesh.face_materials[face]).emission;
+            let mut sample =
+                self.shadows
+                    .area_light_sample(hit.position, point, normal, emission, pdf_area);
+            sample.radiance *= weight;
+            out.push(sample);
+        }
     }
 }

@@ -24,6 +24,10 @@ pub struct RenderSettings {
     /// Samples per pixel: 1 traces through the pixel centre, more trace through uniformly
     /// random points in the pixel and average.
     pub samples_per_pixel: u32,
+    /// Pixel subdivision `s` of lab 07: with a pipeline at lab 7 or later and `s > 1`, every
+    /// sample of a pixel averages `s × s` jittered subpixel rays (`compute_jitters`,
+    /// `compute_pixel`).
+    pub pixel_subdivisions: u32,
     /// Seed of every random number of the render.
     pub seed: u64,
     /// Show a progress bar on standard error (when it is a terminal).
@@ -36,6 +40,7 @@ impl Default for RenderSettings {
             width: 512,
             height: 384,
             samples_per_pixel: 1,
+            pixel_subdivisions: 1,
             seed: 0,
             progress: false,
         }
@@ -57,6 +62,12 @@ impl RenderSettings {
         }
         if self.samples_per_pixel == 0 {
             return Err(invalid("samples per pixel", self.samples_per_pixel));
+        }
+        if self.pixel_subdivisions == 0 || self.pixel_subdivisions > 64 {
+            return Err(Error::Invalid {
+                what: format!("pixel subdivisions {}", self.pixel_subdivisions),
+                reason: "expected a whole number from 1 to 64".into(),
+            });
         }
         if self.width as u64 * self.height as u64 > 1 << 28 {
             return Err(Error::Invalid {
@@ -138,17 +149,30 @@ pub fn render_pixel(
     y: u32,
 ) -> Vec3 {
     let spp = settings.samples_per_pixel;
+    let subdivided = pipeline.lab >= 7 && settings.pixel_subdivisions > 1;
     let mut sum = Vec3::ZERO;
     for s in 0..spp {
         let mut rng = Rng::for_sample(settings.seed, x, y, s);
-        let offset = if spp == 1 {
-            Vec2::splat(0.5)
+        sum += if subdivided {
+            let jitters = pipeline
+                .antialiasing
+                .compute_jitters(settings.pixel_subdivisions, &mut rng);
+            pipeline
+                .antialiasing
+                .compute_pixel(UVec2::new(x, y), &jitters, &mut |raster| {
+                    let ray = pipeline.camera_ray(camera, raster);
+                    pipeline.radiance(scene, &ray, &mut rng)
+                })
         } else {
-            rng.next_vec2()
+            let offset = if spp == 1 {
+                Vec2::splat(0.5)
+            } else {
+                rng.next_vec2()
+            };
+            let raster = Vec2::new(x as f32, y as f32) + offset;
+            let ray = pipeline.camera_ray(camera, raster);
+            pipeline.radiance(scene, &ray, &mut rng)
         };
-        let raster = Vec2::new(x as f32, y as f32) + offset;
-        let ray = pipeline.camera_ray(camera, raster);
-        sum += pipeline.radiance(scene, &ray, &mut rng);
     }
     sum / spp as f32
 }

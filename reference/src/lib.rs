@@ -4,6 +4,9 @@
 
 pub mod lab01;
 pub mod lab02;
+pub mod lab03;
+pub mod lab04;
+pub mod lab07;
 
 use std::sync::Arc;
 
@@ -15,10 +18,18 @@ pub fn pipeline(lab: u32) -> Pipeline {
         camera: Arc::new(lab01::Lab01),
         intersection: None,
         shading: Arc::new(lab02::Lab02),
+        shadows: Arc::new(lab03::Lab03),
+        reflection: Arc::new(lab04::Lab04),
+        antialiasing: Arc::new(lab07::Lab07),
         lab,
         view: View::Shaded,
+        area_light_samples: 4,
+        max_depth: 10,
     }
 }
 
+/// The labs the reference implements, in order.
+pub const LABS: &[u32] = &[1, 2, 3, 4, 7];
+
 /// The highest lab the reference implements.
-pub const LAST_LAB: u32 = 2;
+pub const LAST_LAB: u32 = 7;

@@ -13,6 +13,7 @@ fn render_on(threads: usize, scene: &str) -> framework::film::Film {
         width: 96,
         height: 72,
         samples_per_pixel: 4,
+        pixel_subdivisions: 2,
         seed: 42,
         progress: false,
     };
@@ -43,6 +44,7 @@ fn another_seed_gives_another_image() {
         width: 48,
         height: 36,
         samples_per_pixel: 4,
+        pixel_subdivisions: 1,
         seed: 1,
         progress: false,
     };

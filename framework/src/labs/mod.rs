@@ -4,10 +4,16 @@
 
 pub mod lab01;
 pub mod lab02;
+pub mod lab03;
+pub mod lab04;
+pub mod lab07;
 pub mod strategies;
 
 /// Every lab the framework knows, with its title.
 pub const LABS: &[(u32, &str)] = &[
     (1, "Camera rays and the image loop"),
     (2, "Intersections and Lambertian shading"),
+    (3, "Shadows and area lights"),
+    (4, "Reflection, refraction and Phong"),
+    (7, "Anti-aliasing"),
 ];

@@ -193,10 +193,10 @@ mod tests {
             panic!("expected an area light: {:?}", scene.lights)
         };
         assert_eq!(area.faces.len(), 2);
-        assert!((area.area - 130.0 * 105.0).abs() < 1e-2, "{}", area.area);
+        assert!((area.area - 0.130 * 0.105).abs() < 1e-6, "{}", area.area);
         for &f in &area.faces {
             let [a, b, c] = scene.mesh.triangle(f as usize);
-            assert!([a, b, c].iter().all(|p| p.y < 548.8 && p.y > 548.0));
+            assert!([a, b, c].iter().all(|p| p.y < 0.5488 && p.y > 0.5480));
             // Facing down, into the box.
             assert!((b - a).cross(c - a).y < 0.0);
             let m = scene.material(scene.mesh.face_materials[f as usize]);
@@ -215,7 +215,7 @@ mod tests {
             radiance.min_element() > 0.5 && radiance.max_element() < 2.0,
             "{radiance}"
         );
-        assert!((point.position - Vec3::new(278.0, 548.0, 279.5)).length() < 1.0);
+        assert!((point.position - Vec3::new(0.278, 0.548, 0.2795)).length() < 1e-3);
         assert_eq!(scene.camera.focal_distance, 1.4);
     }
 
@@ -244,11 +244,14 @@ mod tests {
         let scene = builtin_scene("cornell").unwrap();
         // The front edges of the box (z = 0) lie just outside the square picture of the
         // Cornell camera; the back wall is well inside it.
-        for p in [Vec3::new(0.0, 0.0, 559.2), Vec3::new(556.0, 548.8, 559.2)] {
+        for p in [
+            Vec3::new(0.0, 0.0, 0.5592),
+            Vec3::new(0.556, 0.5488, 0.5592),
+        ] {
             let (x, y) = project(&scene.camera, p).unwrap();
             assert!(x.abs() < 0.5 && y.abs() < 0.5, "{p}: ({x}, {y})");
         }
-        for p in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(556.0, 548.8, 0.0)] {
+        for p in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.556, 0.5488, 0.0)] {
             let (x, y) = project(&scene.camera, p).unwrap();
             assert!(x.abs() > 0.45 && y.abs() > 0.45, "{p}: ({x}, {y})");
         }

@@ -25,6 +25,46 @@ pub struct AreaLight {
     pub faces: Vec<u32>,
     /// Total area of the faces.
     pub area: f32,
+    /// Cumulative areas of the faces divided by the total (last entry 1), for choosing a face
+    /// with probability proportional to its area.
+    pub cdf: Vec<f32>,
+}
+
+impl AreaLight {
+    /// A light over `faces` with the given areas.
+    pub fn new(faces: Vec<u32>, areas: &[f32]) -> Self {
+        let area: f32 = areas.iter().sum();
+        let mut running = 0.0;
+        let mut cdf: Vec<f32> = areas
+            .iter()
+            .map(|a| {
+                running += a;
+                running / area
+            })
+            .collect();
+        if let Some(last) = cdf.last_mut() {
+            *last = 1.0;
+        }
+        Self { faces, area, cdf }
+    }
+
+    /// Chooses a face with probability proportional to its area from `u ∈ [0, 1)`; returns the
+    /// index into [`faces`](Self::faces) and `u` rescaled to `[0, 1)` within that face's
+    /// interval, so it can be reused as a fresh uniform number.
+    pub fn pick_face(&self, u: f32) -> (usize, f32) {
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.cdf.len() - 1);
+        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let width = self.cdf[i] - lo;
+        let rescaled = if width > 0.0 {
+            ((u - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
+        } else {
+            0.0
+        };
+        (i, rescaled)
+    }
 }
 
 /// A light source of the scene.

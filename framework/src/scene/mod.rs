@@ -102,17 +102,14 @@ impl Scene {
             .filter(|&f| materials[mesh.face_materials[f as usize].0 as usize].is_emissive())
             .collect();
         if !emissive.is_empty() {
-            let area = emissive
+            let areas: Vec<f32> = emissive
                 .iter()
                 .map(|&f| {
                     let [a, b, c] = mesh.triangle(f as usize);
                     0.5 * (b - a).cross(c - a).length()
                 })
-                .sum();
-            lights.push(Light::Area(AreaLight {
-                faces: emissive,
-                area,
-            }));
+                .collect();
+            lights.push(Light::Area(AreaLight::new(emissive, &areas)));
         }
         Ok(Self {
             name,

@@ -47,6 +47,12 @@ pub struct RenderArgs {
     /// Samples per pixel (1 traces through pixel centres).
     #[arg(long, default_value_t = 1)]
     pub spp: u32,
+    /// Pixel subdivision s (lab 7 on): s × s jittered subpixel rays per sample.
+    #[arg(long, default_value_t = 1)]
+    pub subdivisions: u32,
+    /// Area-light samples n (lab 3 on): n × n stratified samples per shading point.
+    #[arg(long, default_value_t = 4)]
+    pub light_samples: u32,
     /// Random seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -75,6 +81,8 @@ impl Default for RenderArgs {
             width: 512,
             height: 384,
             spp: 1,
+            subdivisions: 1,
+            light_samples: 4,
             seed: 0,
             output: "out/render.png".into(),
             tonemap: "clamp".into(),
@@ -111,16 +119,18 @@ pub fn load_scene(spec: &str) -> Result<Scene, Error> {
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let tonemap: ToneMap = args.tonemap.parse()?;
     let lab = args.lab.unwrap_or(reference::LAST_LAB);
-    if lab == 0 || lab > reference::LAST_LAB {
+    crate::students::check_lab(lab)?;
+    if args.light_samples == 0 || args.light_samples > 64 {
         return Err(Error::Invalid {
-            what: format!("--lab {lab}"),
-            reason: format!("expected a lab from 1 to {}", reference::LAST_LAB),
+            what: format!("--light-samples {}", args.light_samples),
+            reason: "expected a whole number from 1 to 64".into(),
         });
     }
     let settings = RenderSettings {
         width: args.width,
         height: args.height,
         samples_per_pixel: args.spp,
+        pixel_subdivisions: args.subdivisions,
         seed: args.seed,
         progress: true,
     };
@@ -141,6 +151,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     if args.pipeline == PipelineChoice::Student {
         pipeline = crate::students::with_student_lab(pipeline, lab)?;
     }
+    pipeline.area_light_samples = args.light_samples;
     pipeline.view = match args.view {
         ViewChoice::Shaded => View::Shaded,
         ViewChoice::BaseColour => View::BaseColour,

@@ -5,6 +5,18 @@ use std::sync::Arc;
 use framework::Error;
 use framework::pipeline::Pipeline;
 
+/// Checks that `lab` is one of the labs the course has.
+pub fn check_lab(lab: u32) -> Result<(), Error> {
+    if reference::LABS.contains(&lab) {
+        Ok(())
+    } else {
+        Err(Error::Invalid {
+            what: format!("lab {lab}"),
+            reason: format!("expected one of the labs {:?}", reference::LABS),
+        })
+    }
+}
+
 /// `base` with the slots of lab `lab` replaced by the student's code of that lab.
 pub fn with_student_lab(base: Pipeline, lab: u32) -> Result<Pipeline, Error> {
     Ok(match lab {
@@ -18,9 +30,10 @@ pub fn with_student_lab(base: Pipeline, lab: u32) -> Result<Pipeline, Error> {
             ..base
         },
         _ => {
+            check_lab(lab)?;
             return Err(Error::Invalid {
-                what: format!("lab {lab}"),
-                reason: format!("expected a lab from 1 to {}", reference::LAST_LAB),
+                what: format!("--pipeline student --lab {lab}"),
+                reason: "this lab's crate is not part of the course yet".into(),
             });
         }
     })

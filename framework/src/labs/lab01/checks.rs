@@ -29,6 +29,7 @@ pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
     width: 160,
     height: 120,
     samples_per_pixel: 1,
+    pixel_subdivisions: 1,
     seed: 1,
     progress: false,
 };

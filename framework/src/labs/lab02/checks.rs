@@ -32,6 +32,7 @@ pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
     width: 160,
     height: 120,
     samples_per_pixel: 1,
+    pixel_subdivisions: 1,
     seed: 2,
     progress: false,
 };

@@ -1,0 +1,28 @@
+//! Reference solution of lab 07 (docs/lab07.md).
+
+use framework::glam::{UVec2, Vec2, Vec3};
+use framework::labs::lab03::Shadows;
+use framework::labs::lab07::Antialiasing;
+use framework::sampling::Rng;
+
+/// The reference pixel subdivision.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Lab07;
+
+impl Antialiasing for Lab07 {
+    /// Jittered subpixel offsets are the stratified samples of lab 03 over the pixel.
+    fn compute_jitters(&self, subdivisions: u32, rng: &mut Rng) -> Vec<Vec2> {
+        crate::lab03::Lab03.stratified_samples(subdivisions, rng)
+    }
+
+    fn compute_pixel(
+        &self,
+        pixel: UVec2,
+        jitters: &[Vec2],
+        radiance: &mut dyn FnMut(Vec2) -> Vec3,
+    ) -> Vec3 {
+        let corner = pixel.as_vec2();
+        let sum: Vec3 = jitters.iter().map(|&j| radiance(corner + j)).sum();
+        sum / jitters.len() as f32
+    }
+}
