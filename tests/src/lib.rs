@@ -9,6 +9,8 @@ use std::sync::Arc;
 
 use framework::grading::{Exercise, LabContext, run_exercise};
 
+use mutants::Verdict;
+
 /// The directory of lab `lab`'s crate.
 pub fn lab_dir(lab: u32) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -36,4 +38,56 @@ pub fn run_all<S: ?Sized>(
         .iter()
         .map(|e| (e.id, run_exercise(e, subject, ctx)))
         .collect()
+}
+
+/// Runs the corpus of one lab through its exercises, printing what each exercise rejects and
+/// the rejection rate; returns the failures of the suite (empty when it discriminates: every
+/// mistake rejected by its exercise, every alternative accepted by all).
+pub fn judge<S: ?Sized>(
+    lab: u32,
+    exercises: &[Exercise<S>],
+    variants: Vec<(&'static str, Verdict, Arc<S>)>,
+) -> Vec<String> {
+    let ctx = context(lab);
+    let mut problems = Vec::new();
+    let (mut wrong, mut rejected) = (0, 0);
+    for (name, verdict, subject) in variants {
+        let results = run_all(exercises, &subject, &ctx);
+        match verdict {
+            Verdict::Reject(id) => {
+                wrong += 1;
+                let r = &results
+                    .iter()
+                    .find(|(e, _)| *e == id)
+                    .expect("known exercise")
+                    .1;
+                match r {
+                    Err(message) => {
+                        rejected += 1;
+                        let first = message.lines().nth(1).unwrap_or_default();
+                        println!("lab{lab:02} rejects  [{id}] {name}: {first}");
+                    }
+                    Ok(()) => problems.push(format!(
+                        "lab {lab}: exercise {id} accepts the mistake '{name}'"
+                    )),
+                }
+            }
+            Verdict::Accept => {
+                for (id, r) in &results {
+                    match r {
+                        Ok(()) => {}
+                        Err(m) => problems.push(format!(
+                            "lab {lab}: exercise {id} rejects the correct '{name}':\n{m}"
+                        )),
+                    }
+                }
+                println!("lab{lab:02} accepts  {name}");
+            }
+        }
+    }
+    println!(
+        "lab{lab:02}: {rejected}/{wrong} mistakes rejected ({:.0}%)",
+        100.0 * rejected as f64 / wrong.max(1) as f64
+    );
+    problems
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use clap::Args;
 use framework::Error;
 use framework::grading::LabContext;
-use framework::labs::{lab01, lab02};
+use framework::labs::{lab01, lab02, lab03, lab04, lab07};
 
 /// Options of `raylab golden`.
 #[derive(Args, Debug)]
@@ -54,6 +54,18 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
             )?,
             2 => lab02::generate_golden(
                 &(Arc::new(reference::lab02::Lab02) as Arc<dyn lab02::Lab02>),
+                &ctx,
+            )?,
+            3 => lab03::generate_golden(
+                &(Arc::new(reference::lab03::Lab03) as Arc<dyn lab03::Shadows>),
+                &ctx,
+            )?,
+            4 => lab04::generate_golden(
+                &(Arc::new(reference::lab04::Lab04) as Arc<dyn lab04::Reflection>),
+                &ctx,
+            )?,
+            7 => lab07::generate_golden(
+                &(Arc::new(reference::lab07::Lab07) as Arc<dyn lab07::Antialiasing>),
                 &ctx,
             )?,
             _ => {

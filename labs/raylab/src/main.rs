@@ -3,6 +3,7 @@
 
 mod golden;
 mod render;
+mod report;
 mod students;
 
 use std::process::ExitCode;
@@ -21,6 +22,8 @@ struct Cli {
 enum Command {
     /// Render a scene to a PNG (or an EXR) and print the path of the image.
     Render(render::RenderArgs),
+    /// Make a lab's report figures (PNG) and a report.md with their parameters and times.
+    Report(report::ReportArgs),
     /// Regenerate the labs' golden cases and snapshot images from the reference solution.
     Golden(golden::GoldenArgs),
 }
@@ -30,6 +33,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         None => render::run(&render::RenderArgs::default()),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Report(args)) => report::run(&args),
         Some(Command::Golden(args)) => golden::run(&args),
     };
     match result {

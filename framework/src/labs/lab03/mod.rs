@@ -1,6 +1,11 @@
 //! Lab 03 — shadows: shadow rays for point and directional lights, and soft shadows from area
 //! lights sampled with stratified jittered samples (docs/lab03.md).
 
+pub mod checks;
+mod golden;
+
+pub use golden::generate_golden;
+
 use glam::{Vec2, Vec3};
 
 use crate::labs::lab02::LightSample;

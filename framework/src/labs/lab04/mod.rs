@@ -2,6 +2,11 @@
 //! the medium's index of refraction, total internal reflection, and the Phong model
 //! (docs/lab04.md).
 
+pub mod checks;
+mod golden;
+
+pub use golden::generate_golden;
+
 use glam::Vec3;
 
 use crate::labs::lab02::LightSample;

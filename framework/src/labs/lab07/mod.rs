@@ -1,5 +1,10 @@
 //! Lab 07 — anti-aliasing by pixel subdivision with jittered samples (docs/lab07.md).
 
+pub mod checks;
+mod golden;
+
+pub use golden::generate_golden;
+
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::sampling::Rng;

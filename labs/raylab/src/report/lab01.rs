@@ -1,0 +1,26 @@
+//! Lab 01's figure: the default scene through the camera, in flat colours.
+
+use framework::Error;
+use framework::film::ToneMap;
+use framework::pipeline::View;
+use framework::scene::builtin_scene;
+
+use super::{Figure, ReportContext, settings};
+
+/// The figures of lab 01.
+pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let (w, h) = ctx.size(512, 384);
+    let scene = builtin_scene("default")?;
+    let pipeline = framework::pipeline::Pipeline {
+        view: View::BaseColour,
+        ..ctx.pipeline.clone()
+    };
+    let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, 1))?;
+    ctx.save(&film, "default-base-colour.png", ToneMap::default())?;
+    Ok(vec![Figure {
+        file: "default-base-colour.png".into(),
+        caption: "The default scene seen through the camera (flat colours)".into(),
+        parameters: format!("{w}×{h} pixels, 1 ray through each pixel centre"),
+        seconds: Some(seconds),
+    }])
+}

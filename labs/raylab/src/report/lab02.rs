@@ -1,0 +1,50 @@
+//! Lab 02's figures: the default scene and the Cornell box with Lambertian shading, and the
+//! normals of the default scene.
+
+use framework::Error;
+use framework::film::ToneMap;
+use framework::pipeline::{Pipeline, View};
+use framework::scene::builtin_scene;
+
+use super::{Figure, ReportContext, settings};
+
+/// The figures of lab 02.
+pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let (w, h) = ctx.size(512, 384);
+    let mut figures = Vec::new();
+    for (scene_name, view, file, caption) in [
+        (
+            "default",
+            View::Normals,
+            "default-normals.png",
+            "Shading normals of the default scene",
+        ),
+        (
+            "default",
+            View::Shaded,
+            "default-lambertian.png",
+            "The default scene, Lambertian, point and directional light, no shadows",
+        ),
+        (
+            "cornell",
+            View::Shaded,
+            "cornell-lambertian.png",
+            "The Cornell box lit by a point light under the ceiling lamp, no shadows",
+        ),
+    ] {
+        let scene = builtin_scene(scene_name)?;
+        let pipeline = Pipeline {
+            view,
+            ..ctx.pipeline.clone()
+        };
+        let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, 1))?;
+        ctx.save(&film, file, ToneMap::default())?;
+        figures.push(Figure {
+            file: file.into(),
+            caption: caption.into(),
+            parameters: format!("{w}×{h} pixels, 1 ray per pixel, clamp tone map"),
+            seconds: Some(seconds),
+        });
+    }
+    Ok(figures)
+}

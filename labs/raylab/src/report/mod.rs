@@ -1,0 +1,189 @@
+//! `raylab report --lab N`: the figures of a lab's report, rendered through the reference or
+//! the student's pipeline, written as PNG files with a `report.md` beside them that gives each
+//! figure's parameters and render time.
+
+mod lab01;
+mod lab02;
+mod lab03;
+mod lab04;
+mod lab07;
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use framework::Error;
+use framework::film::{Film, ToneMap, write_png};
+use framework::glam::Vec3;
+use framework::pipeline::Pipeline;
+use framework::render::{RenderSettings, render};
+use framework::scene::Scene;
+
+use crate::render::PipelineChoice;
+
+/// Options of `raylab report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// The lab whose figures to make.
+    #[arg(long)]
+    pub lab: u32,
+    /// Whose code renders the lab's part of the pipeline.
+    #[arg(long, value_enum, default_value_t = PipelineChoice::Reference)]
+    pub pipeline: PipelineChoice,
+    /// Directory for the figures (a `labNN/` folder is made inside).
+    #[arg(long, default_value = "out/report")]
+    pub out: PathBuf,
+    /// Smaller images and fewer samples, for a quick look (and for tests).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// What a lab's figure code gets.
+pub struct ReportContext {
+    /// The lab.
+    pub lab: u32,
+    /// The pipeline at this lab, with the student's code in the lab's slots when asked for.
+    pub pipeline: Pipeline,
+    /// Where the figures go.
+    pub dir: PathBuf,
+    /// Quick mode: small images, few samples.
+    pub quick: bool,
+}
+
+/// One figure of a report.
+pub struct Figure {
+    /// File name of the PNG in the report directory.
+    pub file: String,
+    /// What it shows.
+    pub caption: String,
+    /// The parameters it was made with.
+    pub parameters: String,
+    /// Render time in seconds (all panels together for a montage), if it is a render.
+    pub seconds: Option<f64>,
+}
+
+impl ReportContext {
+    /// Renders and times a scene.
+    pub fn render_timed(
+        &self,
+        scene: &Scene,
+        pipeline: &Pipeline,
+        settings: &RenderSettings,
+    ) -> Result<(Film, f64), Error> {
+        let start = Instant::now();
+        let film = render(scene, pipeline, settings)?;
+        Ok((film, start.elapsed().as_secs_f64()))
+    }
+
+    /// Writes a film as a PNG figure in the report directory.
+    pub fn save(&self, film: &Film, file: &str, tonemap: ToneMap) -> Result<PathBuf, Error> {
+        let path = self.dir.join(file);
+        write_png(film, &path, tonemap)?;
+        Ok(path)
+    }
+
+    /// A size scaled down in quick mode.
+    pub fn size(&self, width: u32, height: u32) -> (u32, u32) {
+        if self.quick {
+            (width / 4, height / 4)
+        } else {
+            (width, height)
+        }
+    }
+}
+
+/// Films side by side in a row (all of the same height), separated by `gap` white pixels.
+pub fn montage(films: &[Film], gap: u32) -> Film {
+    let height = films.iter().map(|f| f.height).max().unwrap_or(0);
+    let width =
+        films.iter().map(|f| f.width).sum::<u32>() + gap * films.len().saturating_sub(1) as u32;
+    let mut out = Film::new(width, height);
+    out.pixels.fill(Vec3::ONE);
+    let mut x0 = 0;
+    for film in films {
+        for y in 0..film.height {
+            for x in 0..film.width {
+                out.set(x0 + x, y, film.get(x, y));
+            }
+        }
+        x0 += film.width + gap;
+    }
+    out
+}
+
+/// Runs `raylab report`.
+pub fn run(args: &ReportArgs) -> Result<(), Error> {
+    crate::students::check_lab(args.lab)?;
+    let mut pipeline = reference::pipeline(args.lab);
+    if args.pipeline == PipelineChoice::Student {
+        pipeline = crate::students::with_student_lab(pipeline, args.lab)?;
+    }
+    let dir = args.out.join(format!("lab{:02}", args.lab));
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let ctx = ReportContext {
+        lab: args.lab,
+        pipeline,
+        dir,
+        quick: args.quick,
+    };
+    let figures = match args.lab {
+        1 => lab01::figures(&ctx)?,
+        2 => lab02::figures(&ctx)?,
+        3 => lab03::figures(&ctx)?,
+        4 => lab04::figures(&ctx)?,
+        7 => lab07::figures(&ctx)?,
+        _ => Vec::new(),
+    };
+    let index = write_index(&ctx, args.pipeline, &figures)?;
+    for f in &figures {
+        println!("{}", ctx.dir.join(&f.file).display());
+    }
+    println!("{}", index.display());
+    Ok(())
+}
+
+/// Writes `report.md` beside the figures: each figure with its caption, parameters and time.
+fn write_index(
+    ctx: &ReportContext,
+    choice: PipelineChoice,
+    figures: &[Figure],
+) -> Result<PathBuf, Error> {
+    let mut md = String::new();
+    let _ = writeln!(md, "# Lab {:02} report figures\n", ctx.lab);
+    let _ = writeln!(
+        md,
+        "Rendered with the {:?} pipeline{}.\n",
+        choice,
+        if ctx.quick {
+            " in quick mode (small images, few samples)"
+        } else {
+            ""
+        }
+    );
+    for f in figures {
+        let time = f
+            .seconds
+            .map_or_else(String::new, |s| format!(" — render time {s:.3} s"));
+        let _ = writeln!(
+            md,
+            "## {}\n\n![{}]({})\n\n{}{time}\n",
+            f.caption, f.caption, f.file, f.parameters
+        );
+    }
+    let path = ctx.dir.join("report.md");
+    std::fs::write(&path, md).map_err(|e| Error::io(&path, e))?;
+    Ok(path)
+}
+
+/// Render settings for a report figure.
+pub fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
+        samples_per_pixel: spp,
+        pixel_subdivisions: 1,
+        seed: 0,
+        progress: false,
+    }
+}
