@@ -755,7 +755,8 @@ pub fn lambertian_strategy() -> impl Strategy<Value = LambertianInput> {
     )
 }
 
-fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
+/// Light samples at distance 1 from `(direction, radiance)` pairs.
+pub fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
     lights
         .iter()
         .map(|&(direction, radiance)| LightSample {

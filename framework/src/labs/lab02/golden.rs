@@ -140,15 +140,7 @@ pub fn generate_golden(
     let shading: Vec<LambertianInput> = samples(lambertian_strategy(), 64, 26);
     let path = ctx.golden_path(GOLDEN_LAMBERTIAN);
     GoldenFile::record("2.6", &shading, |(rho, n, lights)| {
-        let samples: Vec<_> = lights
-            .iter()
-            .map(|&(direction, radiance)| super::LightSample {
-                direction,
-                distance: 1.0,
-                radiance,
-            })
-            .collect();
-        r.shade_lambertian(*rho, *n, &samples)
+        r.shade_lambertian(*rho, *n, &samples_of(lights))
     })
     .save(&path)?;
     written.push(path);
