@@ -1,5 +1,17 @@
 //! Lab 03 — shadows: shadow rays for point and directional lights, and soft shadows from area
 //! lights sampled with stratified jittered samples (docs/lab03.md).
+//!
+//! The integrator (`Pipeline::light_samples`) drops every light sample whose [`shadow_ray`]
+//! is blocked (`trace_to_any`). An area light is sampled `n × n` times per shading point: the
+//! unit-square samples of [`stratified_samples`] choose a triangle by area
+//! (`AreaLight::pick_face`) and a point on it ([`sample_triangle`]), with density `1/A`;
+//! [`area_light_sample`] turns the point into a [`LightSample`], weighted by `1/n²`, that the
+//! Lambertian shader of lab 02 shades.
+//!
+//! [`shadow_ray`]: Shadows::shadow_ray
+//! [`stratified_samples`]: Shadows::stratified_samples
+//! [`sample_triangle`]: Shadows::sample_triangle
+//! [`area_light_sample`]: Shadows::area_light_sample
 
 pub mod checks;
 mod golden;
@@ -17,7 +29,9 @@ pub trait Shadows: Send + Sync {
     /// Exercise 3.1 — the shadow ray from a surface point towards a light sample: it starts at
     /// `position`, goes along `light.direction`, and is valid on
     /// `[RAY_EPSILON, light.distance − RAY_EPSILON]` (the offset keeps the surface from
-    /// shadowing itself; for a directional light the interval stays unbounded).
+    /// shadowing itself; for a directional light the interval stays unbounded). The checks
+    /// accept `tmin ∈ [1e-5, 1e-3]` and `tmax` between `1e-6·max(1, d)` and `1e-3·max(1, d)`
+    /// short of the distance `d`.
     fn shadow_ray(&self, position: Vec3, light: &LightSample) -> Ray;
 
     /// Exercise 3.2 — `n × n` stratified jittered samples of the unit square: one uniformly

@@ -1,9 +1,1211 @@
 //! Lab 04's exercises and their checks.
+//!
+//! Every exercise is checked in three ways: properties of the physics (law of reflection,
+//! Snell's law, total internal reflection exactly past the critical angle, the Phong lobe's
+//! peak and normalization) on random inputs from a fixed seed, the golden cases recorded from
+//! the reference (all but Exercise 4.2, whose properties pin the answer down), and renders of
+//! small scenes with the student's function in its slot and the reference everywhere else.
+//!
+//! Lab 04's functions draw no random numbers, and the snapshot scenes have only point and
+//! directional lights (the Cornell box's area light is removed, its emission still shows), so
+//! the renders are deterministic and are compared pixel by pixel.
 
-use super::Reflection;
-use crate::grading::Exercise;
+use std::f64::consts::PI;
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{DVec3, Vec2, Vec3};
+use proptest::prelude::*;
+
+use super::{Interface, Reflection};
+use crate::film::Film;
+use crate::grading::{
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
+};
+use crate::labs::lab02::LightSample;
+use crate::labs::strategies::{point, unit_vector};
+use crate::math::{Hit, RAY_EPSILON, Ray};
+use crate::pipeline::{Pipeline, View};
+use crate::render::{RenderSettings, render};
+use crate::scene::{IllumModel, Light, MaterialId, Scene, builtin_scene, parse_scene_str};
+
+/// Golden file of Exercise 4.1.
+pub const GOLDEN_REFLECT: &str = "reflect.json";
+/// Golden file of Exercise 4.3.
+pub const GOLDEN_INTERFACE: &str = "interface.json";
+/// Golden file of Exercise 4.4.
+pub const GOLDEN_REFRACT: &str = "refract.json";
+/// Golden file of Exercise 4.5.
+pub const GOLDEN_REFRACTED_RAY: &str = "refracted_ray.json";
+/// Golden file of Exercise 4.6.
+pub const GOLDEN_PHONG: &str = "shade_phong.json";
+/// Size and sampling of lab 04's snapshots.
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
+    width: 160,
+    height: 120,
+    samples_per_pixel: 1,
+    pixel_subdivisions: 1,
+    seed: 4,
+    progress: false,
+};
+/// The depth limit of the snapshots: reflected and refracted rays stop (black) after this many
+/// bounces.
+pub const SNAPSHOT_MAX_DEPTH: u32 = 10;
+/// Largest `tmin` accepted for a reflected or refracted ray: it must be positive (no
+/// self-intersection) but small (no skipped surfaces nearby); the reference uses
+/// [`RAY_EPSILON`].
+pub const MAX_SECONDARY_TMIN: f32 = 1e-3;
+/// A secondary ray's `tmax` counts as unbounded from this value on (`f32::MAX` or `∞`).
+pub const UNBOUNDED_TMAX: f32 = 1e30;
+/// Per-pixel tolerance of the snapshots: the renders are deterministic, so only rounding
+/// (and rays that graze a sphere, where a different but correct rounding may pick the other
+/// side) may differ.
+pub const SNAPSHOT_TOLERANCE: PixelTolerance = PixelTolerance {
+    abs: 2e-3,
+    rel: 2e-3,
+    max_outlier_fraction: 0.005,
+};
+
+/// Two parallel mirrors facing each other (the side walls of a closed room) with a red sphere
+/// between them, seen at an angle: the rays towards the far end of the corridor of
+/// reflections bounce between the mirrors until the depth limit, where they turn black.
+pub const TWO_MIRRORS_SCENE: &str = r#"
+name = "two-mirrors"
+background = [0.1, 0.3, 0.6]
+
+[camera]
+eye = [0.7, 1.0, 0.9]
+look_at = [-1.0, 0.75, -0.3]
+up = [0.0, 1.0, 0.0]
+focal_distance = 0.9
+
+[materials.mirror]
+illum = 3
+specular = [1.0, 1.0, 1.0]
+
+[materials.floor]
+diffuse = [0.7, 0.7, 0.7]
+
+[materials.ceiling]
+diffuse = [0.8, 0.8, 0.8]
+
+[materials.back]
+diffuse = [0.75, 0.6, 0.3]
+
+[materials.front]
+diffuse = [0.2, 0.35, 0.7]
+
+[materials.red]
+diffuse = [0.8, 0.1, 0.1]
+
+[[lights]]
+type = "point"
+position = [0.0, 2.2, 0.0]
+intensity = [6.0, 6.0, 6.0]
+
+[[planes]]
+point = [-1.0, 0.0, 0.0]
+normal = [1.0, 0.0, 0.0]
+material = "mirror"
+
+[[planes]]
+point = [1.0, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+material = "mirror"
+
+[[planes]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+material = "floor"
+
+[[planes]]
+point = [0.0, 2.5, 0.0]
+normal = [0.0, -1.0, 0.0]
+material = "ceiling"
+
+[[planes]]
+point = [0.0, 0.0, -3.0]
+normal = [0.0, 0.0, 1.0]
+material = "back"
+
+[[planes]]
+point = [0.0, 0.0, 3.0]
+normal = [0.0, 0.0, -1.0]
+material = "front"
+
+[[spheres]]
+center = [0.0, 0.45, -0.6]
+radius = 0.45
+material = "red"
+"#;
+
+// ---------------------------------------------------------------------------------------------
+// Exercises
 
 /// The exercises of lab 04, in order.
 pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
-    Vec::new()
+    vec![
+        Exercise {
+            id: "4.1",
+            function: "reflect",
+            title: "the law of reflection",
+            points: 2,
+            check: exercise_4_1,
+        },
+        Exercise {
+            id: "4.2",
+            function: "reflected_ray",
+            title: "the reflected ray",
+            points: 2,
+            check: exercise_4_2,
+        },
+        Exercise {
+            id: "4.3",
+            function: "interface",
+            title: "entering or leaving: the medium bookkeeping",
+            points: 2,
+            check: exercise_4_3,
+        },
+        Exercise {
+            id: "4.4",
+            function: "refract",
+            title: "Snell's law and total internal reflection",
+            points: 3,
+            check: exercise_4_4,
+        },
+        Exercise {
+            id: "4.5",
+            function: "refracted_ray",
+            title: "the refracted ray",
+            points: 2,
+            check: exercise_4_5,
+        },
+        Exercise {
+            id: "4.6",
+            function: "shade_phong",
+            title: "the normalized Phong model",
+            points: 3,
+            check: exercise_4_6,
+        },
+    ]
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inputs
+
+/// Input of Exercise 4.1: direction, unit normal.
+pub type ReflectInput = (Vec3, Vec3);
+/// Input of Exercises 4.3 and 4.5: ray direction, shading normal of the hit, `hit.ior`, the
+/// material's index of refraction.
+pub type SideInput = (Vec3, Vec3, f32, f32);
+/// Input of Exercise 4.4: unit direction, unit normal facing it, `η_i`, `η_t`.
+pub type RefractInput = (Vec3, Vec3, f32, f32);
+/// Input of Exercise 4.6: `ρ_d`, `ρ_s`, shininess, normal, view, lights (direction, radiance).
+pub type PhongInput = (Vec3, Vec3, f32, Vec3, Vec3, Vec<(Vec3, Vec3)>);
+
+/// A hit at `position` with the given normals, reached through a medium of index `ior`.
+pub fn hit_at(position: Vec3, geometric_normal: Vec3, shading_normal: Vec3, ior: f32) -> Hit {
+    Hit {
+        distance: 1.0,
+        position,
+        geometric_normal,
+        shading_normal,
+        texcoord: Vec2::ZERO,
+        material: MaterialId(0),
+        trace_depth: 0,
+        ior,
+    }
+}
+
+/// The ray that arrives at `position` along `direction` from `distance` away, as a closest-hit
+/// query leaves it (its `tmax` shrunk to the hit).
+pub fn incoming_ray(position: Vec3, direction: Vec3, distance: f32) -> Ray {
+    Ray::new(position - distance * direction, direction, 0.0, distance)
+}
+
+/// A random index of refraction: air, water, glass, diamond-like, or anything in `[1, 2.5]`.
+pub fn index_strategy() -> impl Strategy<Value = f32> + Clone {
+    prop_oneof![
+        Just(1.0f32),
+        Just(1.33f32),
+        Just(1.5f32),
+        Just(2.42f32),
+        1.0f32..2.5,
+    ]
+}
+
+/// A unit vector `v` with `v·n` in `[lo, hi]`: the shared unit vector, flipped when that
+/// brings it into the range.
+fn unit_with_cosine(n: Vec3, v: Vec3, lo: f32, hi: f32) -> Option<Vec3> {
+    [v, -v].into_iter().find(|w| (lo..=hi).contains(&w.dot(n)))
+}
+
+/// A unit direction at angle `θ` (`sin θ = sin_theta`) from `−normal`, on the side of
+/// `around` (any vector not parallel to `normal`).
+fn direction_at(normal: Vec3, around: Vec3, sin_theta: f32) -> Option<Vec3> {
+    let tangent = (around - around.dot(normal) * normal).try_normalize()?;
+    let cos_theta = (1.0 - sin_theta * sin_theta).max(0.0).sqrt();
+    (sin_theta * tangent - cos_theta * normal).try_normalize()
+}
+
+/// Inputs of Exercise 4.4: directions at any angle of incidence (up to 89.4°), pairs of
+/// indices (equal one time in eight), the normal facing the incident side.
+pub fn refract_strategy() -> impl Strategy<Value = RefractInput> + Clone {
+    (
+        unit_vector(),
+        unit_vector(),
+        0.0f32..0.99995,
+        index_strategy(),
+        index_strategy(),
+        0u8..8,
+    )
+        .prop_filter_map("a direction with a tangent", |(n, v, s, ei, et, same)| {
+            let w = direction_at(n, v, s)?;
+            Some((w, n, ei, if same == 0 { ei } else { et }))
+        })
+}
+
+/// Inputs of Exercises 4.3 and 4.5: entering (`ω·n < 0`, from a medium of any index) or
+/// leaving (`ω·n > 0`, from inside the material, so `hit.ior` is the material's index).
+pub fn side_strategy() -> impl Strategy<Value = SideInput> + Clone {
+    (unit_vector(), unit_vector(), index_strategy(), 1.05f32..2.5).prop_filter_map(
+        "not grazing",
+        |(w, n, outside, material)| {
+            let c = w.dot(n);
+            if c.abs() < 0.02 {
+                return None;
+            }
+            Some((w, n, if c < 0.0 { outside } else { material }, material))
+        },
+    )
+}
+
+/// A random shininess in `[1, 200]` (half the time one of a few typical values, some of them
+/// odd integers or fractions).
+pub fn shininess_strategy() -> impl Strategy<Value = f32> + Clone {
+    prop_oneof![
+        1.0f32..200.0,
+        prop::sample::select(vec![1.0f32, 1.5, 3.0, 10.0, 40.0, 64.0]),
+    ]
+}
+
+fn colour(max: f32) -> impl Strategy<Value = Vec3> + Clone {
+    (0.0f32..max, 0.0f32..max, 0.0f32..max).prop_map(|(r, g, b)| Vec3::new(r, g, b))
+}
+
+/// Inputs of Exercise 4.6.
+///
+/// The view is on the side of the normal (`n·v ≥ 0.02`): the integrator only shades surfaces
+/// seen from the front, and below the surface the model is not defined by the contract.
+pub fn phong_strategy() -> impl Strategy<Value = PhongInput> {
+    (
+        colour(1.0),
+        colour(1.0),
+        shininess_strategy(),
+        unit_vector(),
+        unit_vector(),
+        prop::collection::vec((unit_vector(), colour(5.0)), 0..4),
+    )
+        .prop_map(|(rho_d, rho_s, s, n, v, lights)| {
+            let v = unit_with_cosine(n, v, 0.02, 1.0).unwrap_or(n);
+            (rho_d, rho_s, s, n, v, lights)
+        })
+}
+
+/// Light samples from (direction, radiance) pairs.
+pub fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
+    lights
+        .iter()
+        .map(|&(direction, radiance)| LightSample {
+            direction,
+            distance: 1.0,
+            radiance,
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// The expected answers, in f64
+
+/// `ω − 2(ω·n)n`.
+fn mirror(w: DVec3, n: DVec3) -> DVec3 {
+    w - 2.0 * w.dot(n) * n
+}
+
+/// `sin θ` of the unit `w` about the unit `n`.
+fn sine(w: DVec3, n: DVec3) -> f64 {
+    w.cross(n).length()
+}
+
+/// The refracted direction by the vector form of Snell's law, `None` past the critical angle.
+fn expected_refraction(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Option<DVec3> {
+    let (w, n) = (w.as_dvec3().normalize(), n.as_dvec3().normalize());
+    let eta = eta_i as f64 / eta_t as f64;
+    let cos_i = -w.dot(n);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t > 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some((eta * w + (eta * cos_i - cos_t) * n).normalize())
+}
+
+/// Whether `sin θ_i` is within a relative `margin` of the critical `η_t/η_i`, where two
+/// correct implementations may decide total internal reflection differently.
+fn near_critical(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32, margin: f64) -> bool {
+    let s = sine(w.as_dvec3(), n.as_dvec3());
+    (s * eta_i as f64 / eta_t as f64 - 1.0).abs() < margin
+}
+
+/// The interface the contract asks for.
+fn expected_interface(w: Vec3, hit: &Hit, material_ior: f32) -> Interface {
+    let n = hit.shading_normal;
+    if w.dot(n) < 0.0 {
+        Interface {
+            normal: n,
+            eta_incident: hit.ior,
+            eta_transmitted: material_ior,
+        }
+    } else {
+        Interface {
+            normal: -n,
+            eta_incident: material_ior,
+            eta_transmitted: 1.0,
+        }
+    }
+}
+
+/// The normalized Phong model.
+fn expected_phong(
+    rho_d: Vec3,
+    rho_s: Vec3,
+    s: f32,
+    n: Vec3,
+    v: Vec3,
+    lights: &[(Vec3, Vec3)],
+) -> Vec3 {
+    let (n, v, s) = (n.as_dvec3(), v.as_dvec3(), s as f64);
+    let diffuse = rho_d.as_dvec3() / PI;
+    let glossy = rho_s.as_dvec3() * (s + 2.0) / (2.0 * PI);
+    lights
+        .iter()
+        .map(|&(w, l)| {
+            let w = w.as_dvec3();
+            let cos = n.dot(w);
+            if cos <= 0.0 {
+                return DVec3::ZERO;
+            }
+            let r = mirror(-w, n);
+            (diffuse + glossy * r.dot(v).max(0.0).powf(s)) * l.as_dvec3() * cos
+        })
+        .sum::<DVec3>()
+        .as_vec3()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Comparisons
+
+fn load<I, O>(ctx: &LabContext, name: &str) -> Result<GoldenFile<I, O>, String>
+where
+    I: serde::Serialize + serde::de::DeserializeOwned,
+    O: serde::Serialize + serde::de::DeserializeOwned,
+{
+    GoldenFile::load(&ctx.golden_path(name)).map_err(|e| e.to_string())
+}
+
+fn finite(what: &str, v: Vec3) -> Result<(), String> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(format!("{what} is {v}: not a finite vector"))
+    }
+}
+
+fn unit(what: &str, v: Vec3) -> Result<(), String> {
+    finite(what, v)?;
+    let len = v.length();
+    if (len - 1.0).abs() > 1e-4 {
+        return Err(format!(
+            "{what} is {v}, of length {len}: it must be a unit vector"
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a reflected or refracted ray: it starts at the hit point, goes along `direction`,
+/// with a small positive `tmin` and an unbounded `tmax`.
+fn check_secondary_ray(
+    call: &str,
+    got: &Ray,
+    position: Vec3,
+    direction: DVec3,
+    what: &str,
+    direction_hint: &str,
+) -> Result<(), String> {
+    let tol = 1e-5 + 1e-6 * position.abs().max_element();
+    let off = (got.origin - position).abs().max_element();
+    if off.is_nan() || off > tol {
+        return Err(format!(
+            "{call} starts at {}; the {what} ray starts at the hit point {position}",
+            got.origin
+        ));
+    }
+    unit(&format!("the direction of {call}"), got.direction)?;
+    compare_vec3(
+        &format!("the direction of {call}"),
+        got.direction,
+        direction.as_vec3(),
+        1e-4,
+        0.0,
+    )
+    .map_err(|e| format!("{e} ({direction_hint})"))?;
+    if got.tmin.is_nan() || got.tmin <= 0.0 {
+        return Err(format!(
+            "{call} has tmin = {}: a ray that starts on a surface with tmin = 0 hits that same surface at t ≈ 0 (self-intersection); use a small positive tmin such as RAY_EPSILON = {RAY_EPSILON}",
+            got.tmin
+        ));
+    }
+    if got.tmin > MAX_SECONDARY_TMIN {
+        return Err(format!(
+            "{call} has tmin = {}: too large, it skips surfaces closer than that; use RAY_EPSILON = {RAY_EPSILON}",
+            got.tmin
+        ));
+    }
+    if got.tmax.is_nan() || got.tmax < UNBOUNDED_TMAX {
+        return Err(format!(
+            "{call} has tmax = {}: the {what} ray must be unbounded (tmax = f32::INFINITY); the incoming ray's tmax is the distance to this hit",
+            got.tmax
+        ));
+    }
+    Ok(())
+}
+
+fn check_interface(call: &str, got: Interface, expected: Interface) -> Result<(), String> {
+    compare_vec3(
+        &format!("the normal of {call}"),
+        got.normal,
+        expected.normal,
+        1e-6,
+        0.0,
+    )
+    .map_err(|e| {
+        format!("{e}: the normal must face the incoming ray (flipped when the ray leaves)")
+    })?;
+    compare_f32(
+        &format!("η₁ (eta_incident) of {call}"),
+        got.eta_incident,
+        expected.eta_incident,
+        1e-6,
+        0.0,
+    )
+    .map_err(|e| format!("{e}: η₁ is the index of the medium the ray travels in (hit.ior when entering, material_ior when leaving)"))?;
+    compare_f32(
+        &format!("η₂ (eta_transmitted) of {call}"),
+        got.eta_transmitted,
+        expected.eta_transmitted,
+        1e-6,
+        0.0,
+    )
+    .map_err(|e| format!("{e}: η₂ is the index on the other side (material_ior when entering, 1 for air when leaving)"))
+}
+
+fn check_refraction(
+    call: &str,
+    (w, n, eta_i, eta_t): RefractInput,
+    got: Option<Vec3>,
+    expected: Option<DVec3>,
+) -> Result<(), String> {
+    let (wd, nd) = (w.as_dvec3(), n.as_dvec3());
+    let sin_i = sine(wd, nd);
+    let critical = eta_t as f64 / eta_i as f64;
+    let got = match (got, expected) {
+        (None, None) => return Ok(()),
+        (None, Some(_)) => {
+            return Err(format!(
+                "{call} returned None (total internal reflection), but sin θ₁ = {sin_i:.5} ≤ η₂/η₁ = {critical:.5}: the ray refracts"
+            ));
+        }
+        (Some(t), None) => {
+            return Err(format!(
+                "{call} returned Some({t}), but sin θ₁ = {sin_i:.5} > η₂/η₁ = {critical:.5}: past the critical angle there is no refracted ray (total internal reflection); return None"
+            ));
+        }
+        (Some(t), Some(_)) => t,
+    };
+    let what = format!("the refracted direction of {call}");
+    unit(&what, got)?;
+    let td = got.as_dvec3().normalize();
+    if td.dot(nd) >= 0.0 {
+        return Err(format!(
+            "{what} is {got}, on the incident side (t·n = {:.5} ≥ 0): the refracted ray continues on the far side of the surface",
+            td.dot(nd)
+        ));
+    }
+    let out_of_plane = td.dot(wd.cross(nd).normalize_or_zero());
+    if out_of_plane.abs() > 1e-4 {
+        return Err(format!(
+            "{what} is {got}: not in the plane of incidence of ω and n (t·(ω×n)/|ω×n| = {out_of_plane:.5})"
+        ));
+    }
+    let sin_t = sine(td, nd);
+    if (eta_i as f64 * sin_i - eta_t as f64 * sin_t).abs() > 2e-4 * eta_t as f64 {
+        return Err(format!(
+            "{what} is {got}: Snell's law η₁ sin θ₁ = η₂ sin θ₂ does not hold (η₁ sin θ₁ = {:.5}, η₂ sin θ₂ = {:.5})",
+            eta_i as f64 * sin_i,
+            eta_t as f64 * sin_t
+        ));
+    }
+    let tangent_w = wd - wd.dot(nd) * nd;
+    let tangent_t = td - td.dot(nd) * nd;
+    if tangent_w.dot(tangent_t) < -1e-6 {
+        return Err(format!(
+            "{what} is {got}: it bends to the wrong side of the normal (its tangential part opposes ω's)"
+        ));
+    }
+    let expected = expected.expect("checked above").as_vec3();
+    compare_vec3(&what, got, expected, 1e-4, 0.0)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Snapshots
+
+/// Which student function a snapshot exercises; the rest of the pipeline is the base.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Exercise 4.1 (through the base's `reflected_ray` built on the student's `reflect`).
+    Reflect,
+    /// Exercise 4.2.
+    ReflectedRay,
+    /// Exercise 4.3 (through the base's `refracted_ray` built on the student's `interface`).
+    Interface,
+    /// Exercise 4.4 (through the base's `refracted_ray` built on the student's `refract`).
+    Refract,
+    /// Exercise 4.5.
+    RefractedRay,
+    /// Exercise 4.6.
+    Phong,
+}
+
+/// The scenes of lab 04's snapshots.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shot {
+    /// The built-in default scene: a mirror sphere, a glass sphere, a Phong torus.
+    Default,
+    /// The built-in Cornell box with a mirror and a glass sphere, lit by its point light only.
+    CornellSpheres,
+    /// The default scene with the glass sphere made glossy (illum 5, the worksheet's
+    /// "combining it all": 0.1 Phong + 0.1 reflection + 0.9 refraction).
+    Glossy,
+    /// Two facing mirrors ([`TWO_MIRRORS_SCENE`]): the depth limit at work.
+    TwoMirrors,
+}
+
+impl Shot {
+    /// Every snapshot scene.
+    pub const ALL: [Shot; 4] = [
+        Shot::Default,
+        Shot::CornellSpheres,
+        Shot::Glossy,
+        Shot::TwoMirrors,
+    ];
+
+    /// The snapshot's file name (without `.exr`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Shot::Default => "default",
+            Shot::CornellSpheres => "cornell-spheres",
+            Shot::Glossy => "default-glossy",
+            Shot::TwoMirrors => "two-mirrors",
+        }
+    }
+
+    /// The scene.
+    pub fn scene(self) -> Result<Scene, crate::Error> {
+        match self {
+            Shot::Default => builtin_scene("default"),
+            Shot::CornellSpheres => {
+                let mut scene = builtin_scene("cornell-spheres")?;
+                scene.lights.retain(|l| !matches!(l, Light::Area(_)));
+                Ok(scene)
+            }
+            Shot::Glossy => glossy_default_scene(),
+            Shot::TwoMirrors => parse_scene_str("two-mirrors", TWO_MIRRORS_SCENE, Path::new(".")),
+        }
+    }
+}
+
+/// The default scene with its glass sphere glossy (illum 5): no diffuse part, a white Phong
+/// highlight of shininess 100 — the glass ball of the worksheet's "combining it all".
+pub fn glossy_default_scene() -> Result<Scene, crate::Error> {
+    let mut scene = builtin_scene("default")?;
+    scene.name = "default-glossy".into();
+    for m in scene
+        .materials
+        .iter_mut()
+        .filter(|m| m.illum == IllumModel::Transparent)
+    {
+        m.illum = IllumModel::Glossy;
+        m.diffuse = Vec3::ZERO;
+        m.specular = Vec3::ONE;
+        m.shininess = 100.0;
+    }
+    Ok(scene)
+}
+
+impl Part {
+    /// Every part with the scenes its snapshots render.
+    pub const ALL: [(Part, &'static [Shot]); 6] = [
+        (Part::Reflect, &[Shot::Default, Shot::TwoMirrors]),
+        (Part::ReflectedRay, &[Shot::Default, Shot::TwoMirrors]),
+        (Part::Interface, &[Shot::Default, Shot::CornellSpheres]),
+        (Part::Refract, &[Shot::Default, Shot::CornellSpheres]),
+        (
+            Part::RefractedRay,
+            &[Shot::Default, Shot::CornellSpheres, Shot::Glossy],
+        ),
+        (Part::Phong, &[Shot::Default, Shot::Glossy]),
+    ];
+}
+
+/// Lab 04's slot with the student's code for one part and the base's for the rest.
+struct PartReflection {
+    part: Part,
+    student: Arc<dyn Reflection>,
+    base: Arc<dyn Reflection>,
+}
+
+impl PartReflection {
+    fn pick(&self, part: Part) -> &dyn Reflection {
+        if self.part == part {
+            self.student.as_ref()
+        } else {
+            self.base.as_ref()
+        }
+    }
+}
+
+impl Reflection for PartReflection {
+    fn reflect(&self, direction: Vec3, normal: Vec3) -> Vec3 {
+        self.pick(Part::Reflect).reflect(direction, normal)
+    }
+
+    fn reflected_ray(&self, ray: &Ray, hit: &Hit) -> Ray {
+        match self.part {
+            Part::Reflect => Ray::unbounded(
+                hit.position,
+                self.reflect(ray.direction, hit.shading_normal),
+                RAY_EPSILON,
+            ),
+            _ => self.pick(Part::ReflectedRay).reflected_ray(ray, hit),
+        }
+    }
+
+    fn interface(&self, direction: Vec3, hit: &Hit, material_ior: f32) -> Interface {
+        self.pick(Part::Interface)
+            .interface(direction, hit, material_ior)
+    }
+
+    fn refract(&self, direction: Vec3, normal: Vec3, eta_i: f32, eta_t: f32) -> Option<Vec3> {
+        self.pick(Part::Refract)
+            .refract(direction, normal, eta_i, eta_t)
+    }
+
+    fn refracted_ray(&self, ray: &Ray, hit: &Hit, material_ior: f32) -> Option<(Ray, f32)> {
+        match self.part {
+            Part::Interface | Part::Refract => {
+                let side = self.interface(ray.direction, hit, material_ior);
+                let direction = self.refract(
+                    ray.direction,
+                    side.normal,
+                    side.eta_incident,
+                    side.eta_transmitted,
+                )?;
+                Some((
+                    Ray::unbounded(hit.position, direction, RAY_EPSILON),
+                    side.eta_transmitted,
+                ))
+            }
+            _ => self
+                .pick(Part::RefractedRay)
+                .refracted_ray(ray, hit, material_ior),
+        }
+    }
+
+    fn shade_phong(
+        &self,
+        rho_d: Vec3,
+        rho_s: Vec3,
+        shininess: f32,
+        normal: Vec3,
+        view: Vec3,
+        lights: &[LightSample],
+    ) -> Vec3 {
+        self.pick(Part::Phong)
+            .shade_phong(rho_d, rho_s, shininess, normal, view, lights)
+    }
+}
+
+/// The pipeline of one part's snapshots: `student` for that part only, `base` for the rest,
+/// at lab 4 with the depth limit [`SNAPSHOT_MAX_DEPTH`].
+pub fn part_pipeline(part: Part, student: &Arc<dyn Reflection>, base: &Pipeline) -> Pipeline {
+    Pipeline {
+        reflection: Arc::new(PartReflection {
+            part,
+            student: student.clone(),
+            base: base.reflection.clone(),
+        }),
+        lab: 4,
+        view: View::Shaded,
+        max_depth: SNAPSHOT_MAX_DEPTH,
+        ..base.clone()
+    }
+}
+
+/// Renders one snapshot scene through `pipeline`.
+pub fn render_shot(shot: Shot, pipeline: &Pipeline) -> Result<Film, crate::Error> {
+    render(&shot.scene()?, pipeline, &SNAPSHOT_SETTINGS)
+}
+
+fn check_part_snapshots(
+    part: Part,
+    s: &Arc<dyn Reflection>,
+    ctx: &LabContext,
+) -> Result<(), String> {
+    let (_, shots) = Part::ALL
+        .iter()
+        .find(|p| p.0 == part)
+        .expect("every part is listed");
+    let pipeline = part_pipeline(part, s, &ctx.base);
+    for &shot in *shots {
+        let film = render_shot(shot, &pipeline).map_err(|e| e.to_string())?;
+        ctx.check_snapshot(shot.name(), &film, &SNAPSHOT_TOLERANCE)?;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks
+
+fn exercise_4_1(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    for_all(500, (unit_vector(), unit_vector()), |(w, n)| {
+        let call = format!("reflect(ω = {w}, n = {n})");
+        let r = s.reflect(w, n);
+        unit(&call, r)?;
+        let (wd, nd, rd) = (w.as_dvec3(), n.as_dvec3(), r.as_dvec3());
+        if (rd.dot(nd) + wd.dot(nd)).abs() > 1e-4 {
+            return Err(format!(
+                "{call} is {r}: the angle of reflection differs from the angle of incidence (r·n = {:.5}, expected −ω·n = {:.5})",
+                rd.dot(nd),
+                -wd.dot(nd)
+            ));
+        }
+        let out_of_plane = rd.dot(wd.cross(nd));
+        if out_of_plane.abs() > 1e-4 {
+            return Err(format!(
+                "{call} is {r}: not in the plane of incidence of ω and n (r·(ω×n) = {out_of_plane:.5})"
+            ));
+        }
+        let (tangent_w, tangent_r) = (wd - wd.dot(nd) * nd, rd - rd.dot(nd) * nd);
+        if (tangent_w - tangent_r).length() > 1e-4 {
+            return Err(format!(
+                "{call} is {r}: the part of ω along the surface must stay as it is (only the normal part flips); it is {} instead of {}",
+                tangent_r.as_vec3(),
+                tangent_w.as_vec3()
+            ));
+        }
+        let back = s.reflect(r, n);
+        compare_vec3(
+            &format!("reflect(reflect(ω, n), n) for ω = {w}, n = {n}"),
+            back,
+            w,
+            2e-4,
+            0.0,
+        )
+        .map_err(|e| format!("{e}: reflecting twice must give ω back"))?;
+        compare_vec3(&call, r, mirror(wd, nd).as_vec3(), 1e-5, 0.0)
+    })?;
+    let golden: GoldenFile<ReflectInput, Vec3> = load(ctx, GOLDEN_REFLECT)?;
+    for case in &golden.cases {
+        let (w, n) = case.input;
+        compare_vec3(
+            &format!("reflect(ω = {w}, n = {n})"),
+            s.reflect(w, n),
+            case.expected,
+            1e-5,
+            0.0,
+        )?;
+    }
+    check_part_snapshots(Part::Reflect, s, ctx)
+}
+
+/// A hit with a shading normal near its geometric normal (as on a smooth mesh) or equal to it
+/// (as on a sphere), and a direction arriving from the front.
+fn front_hit_strategy() -> impl Strategy<Value = (Hit, Vec3, f32)> {
+    (
+        point(5.0),
+        unit_vector(),
+        point(0.25),
+        any::<bool>(),
+        unit_vector(),
+        0.5f32..10.0,
+        index_strategy(),
+    )
+        .prop_filter_map(
+            "a smooth normal and a front-facing direction",
+            |(p, g, bend, smooth, w, distance, ior)| {
+                let shading = if smooth {
+                    (g + bend).try_normalize()?
+                } else {
+                    g
+                };
+                let w = unit_with_cosine(shading, w, -1.0, -0.05)?;
+                (w.dot(g) < -0.05).then_some((hit_at(p, g, shading, ior), w, distance))
+            },
+        )
+}
+
+fn exercise_4_2(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    for_all(300, front_hit_strategy(), |(hit, w, distance)| {
+        let ray = incoming_ray(hit.position, w, distance);
+        let call = format!(
+            "reflected_ray(ray from {} along {w} over [{}, {}], hit at {} with shading normal {} and geometric normal {})",
+            ray.origin, ray.tmin, ray.tmax, hit.position, hit.shading_normal, hit.geometric_normal
+        );
+        let got = s.reflected_ray(&ray, &hit);
+        let expected = mirror(w.as_dvec3(), hit.shading_normal.as_dvec3());
+        check_secondary_ray(
+            &call,
+            &got,
+            hit.position,
+            expected,
+            "reflected",
+            "the mirror direction of ω about the shading normal",
+        )
+    })?;
+    check_part_snapshots(Part::ReflectedRay, s, ctx)
+}
+
+fn side_call(f: &str, (w, n, hit_ior, material_ior): SideInput) -> String {
+    let case = if w.dot(n) < 0.0 {
+        "ω·n < 0: the ray enters the material"
+    } else {
+        "ω·n > 0: the ray leaves the material"
+    };
+    format!(
+        "{f}(ω = {w}, hit with shading normal n = {n} and hit.ior = {hit_ior}, material_ior = {material_ior}) ({case})"
+    )
+}
+
+fn side_hit((_, n, hit_ior, _): SideInput) -> Hit {
+    hit_at(Vec3::new(0.5, -1.0, 2.0), n, n, hit_ior)
+}
+
+fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    for_all(400, side_strategy(), |input| {
+        let (w, _, _, material_ior) = input;
+        let hit = side_hit(input);
+        check_interface(
+            &side_call("interface", input),
+            s.interface(w, &hit, material_ior),
+            expected_interface(w, &hit, material_ior),
+        )
+    })?;
+    let golden: GoldenFile<SideInput, Interface> = load(ctx, GOLDEN_INTERFACE)?;
+    for case in &golden.cases {
+        let (w, _, _, material_ior) = case.input;
+        check_interface(
+            &side_call("interface", case.input),
+            s.interface(w, &side_hit(case.input), material_ior),
+            case.expected,
+        )?;
+    }
+    check_part_snapshots(Part::Interface, s, ctx)
+}
+
+fn refract_call(&(w, n, eta_i, eta_t): &RefractInput) -> String {
+    format!("refract(ω = {w}, n = {n}, η₁ = {eta_i}, η₂ = {eta_t})")
+}
+
+/// Whether an input of Exercise 4.4 is clear of the critical angle (0.1%).
+pub fn refract_is_clear(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
+    !near_critical(w, n, eta_i, eta_t, 1e-3)
+}
+
+fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let clear = refract_strategy().prop_filter("not at the critical angle", |&(w, n, ei, et)| {
+        refract_is_clear(w, n, ei, et)
+    });
+    for_all(500, clear, |input| {
+        let (w, n, ei, et) = input;
+        check_refraction(
+            &refract_call(&input),
+            input,
+            s.refract(w, n, ei, et),
+            expected_refraction(w, n, ei, et),
+        )
+    })?;
+    // Total internal reflection sets in exactly at the critical angle: just below it the ray
+    // refracts (grazing the surface), just above it there is no refracted ray.
+    let pairs = (
+        unit_vector(),
+        unit_vector(),
+        1.2f32..2.5,
+        prop_oneof![Just(1.0f32), 1.0f32..1.1],
+        any::<bool>(),
+    );
+    for_all(300, pairs, |(n, v, ei, et, above)| {
+        let critical = et / ei;
+        let (sin_i, side) = if above {
+            (critical * 1.002, "just past")
+        } else {
+            (critical * 0.998, "just below")
+        };
+        let Some(w) = direction_at(n, v, sin_i) else {
+            return Ok(());
+        };
+        let input = (w, n, ei, et);
+        check_refraction(
+            &format!(
+                "{} ({side} the critical angle θ_c = asin(η₂/η₁) = {:.3}°)",
+                refract_call(&input),
+                critical.asin().to_degrees()
+            ),
+            input,
+            s.refract(w, n, ei, et),
+            expected_refraction(w, n, ei, et),
+        )
+    })?;
+    let golden: GoldenFile<RefractInput, Option<Vec3>> = load(ctx, GOLDEN_REFRACT)?;
+    for case in &golden.cases {
+        let (w, n, ei, et) = case.input;
+        check_refraction(
+            &refract_call(&case.input),
+            case.input,
+            s.refract(w, n, ei, et),
+            case.expected.map(|t| t.as_dvec3()),
+        )?;
+    }
+    check_part_snapshots(Part::Refract, s, ctx)
+}
+
+fn check_refracted_ray(
+    s: &dyn Reflection,
+    input: SideInput,
+    distance: f32,
+    expected: Option<(DVec3, f32)>,
+) -> Result<(), String> {
+    let (w, n, hit_ior, material_ior) = input;
+    let hit = side_hit(input);
+    let ray = incoming_ray(hit.position, w, distance);
+    let case = if w.dot(n) < 0.0 {
+        "entering"
+    } else {
+        "leaving"
+    };
+    let call = format!(
+        "refracted_ray(ray along {w} over [{}, {}], hit at {} with shading normal {n} and hit.ior = {hit_ior}, material_ior = {material_ior}) ({case})",
+        ray.tmin, ray.tmax, hit.position
+    );
+    let got = s.refracted_ray(&ray, &hit, material_ior);
+    match (got, expected) {
+        (None, None) => Ok(()),
+        (None, Some(_)) => Err(format!(
+            "{call} returned None (total internal reflection), but the ray refracts"
+        )),
+        (Some((r, _)), None) => Err(format!(
+            "{call} returned a ray along {}, but the ray is past the critical angle: total internal reflection, expected None",
+            r.direction
+        )),
+        (Some((r, ior)), Some((direction, eta_t))) => {
+            check_secondary_ray(
+                &call,
+                &r,
+                hit.position,
+                direction,
+                "refracted",
+                "refracted by Snell's law through the normal facing the ray, from η₁ into η₂",
+            )?;
+            compare_f32(
+                &format!("the index of refraction returned by {call}"),
+                ior,
+                eta_t,
+                1e-6,
+                0.0,
+            )
+            .map_err(|e| {
+                format!(
+                    "{e}: the refracted ray travels in the medium it enters (material_ior when entering, 1 when leaving)"
+                )
+            })
+        }
+    }
+}
+
+fn expected_refracted_ray(input: SideInput) -> Option<(DVec3, f32)> {
+    let (w, _, _, material_ior) = input;
+    let side = expected_interface(w, &side_hit(input), material_ior);
+    expected_refraction(w, side.normal, side.eta_incident, side.eta_transmitted)
+        .map(|d| (d, side.eta_transmitted))
+}
+
+/// Whether an input of Exercises 4.3 and 4.5 is clear of the critical angle (0.1%).
+pub fn side_is_clear(input: &SideInput) -> bool {
+    let (w, _, _, material_ior) = *input;
+    let side = expected_interface(w, &side_hit(*input), material_ior);
+    !near_critical(
+        w,
+        side.normal,
+        side.eta_incident,
+        side.eta_transmitted,
+        1e-3,
+    )
+}
+
+fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let strategy = (
+        side_strategy().prop_filter("clear of the critical angle", side_is_clear),
+        0.5f32..10.0,
+    );
+    for_all(400, strategy, |(input, distance)| {
+        check_refracted_ray(s.as_ref(), input, distance, expected_refracted_ray(input))
+    })?;
+    let golden: GoldenFile<SideInput, Option<(Vec3, f32)>> = load(ctx, GOLDEN_REFRACTED_RAY)?;
+    for case in &golden.cases {
+        check_refracted_ray(
+            s.as_ref(),
+            case.input,
+            2.0,
+            case.expected.map(|(d, ior)| (d.as_dvec3(), ior)),
+        )?;
+    }
+    check_part_snapshots(Part::RefractedRay, s, ctx)
+}
+
+fn phong_call(
+    rho_d: Vec3,
+    rho_s: Vec3,
+    s: f32,
+    n: Vec3,
+    v: Vec3,
+    lights: &[(Vec3, Vec3)],
+) -> String {
+    format!(
+        "shade_phong(ρ_d = {rho_d}, ρ_s = {rho_s}, s = {s}, n = {n}, v = {v}, lights (direction, radiance) = {lights:?})"
+    )
+}
+
+const PEAK_HINT: &str =
+    "the highlight peaks at the mirror direction r, and the factor (s+2)/(2π) normalizes the lobe";
+const CLAMP_HINT: &str =
+    "a negative r·v raised to a fractional power is NaN: the highlight is max(0, r·v)^s";
+
+fn exercise_4_6(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let phong = |rho_d, rho_s, sh, n, v, lights: &[(Vec3, Vec3)]| {
+        s.shade_phong(rho_d, rho_s, sh, n, v, &samples_of(lights))
+    };
+    // No light, no light from below: nothing is reflected.
+    for_all(
+        200,
+        (
+            colour(1.0),
+            colour(1.0),
+            shininess_strategy(),
+            unit_vector(),
+            unit_vector(),
+            unit_vector(),
+            colour(5.0),
+        ),
+        |(rho_d, rho_s, sh, n, v, w, l)| {
+            let call = phong_call(rho_d, rho_s, sh, n, v, &[]);
+            let got = phong(rho_d, rho_s, sh, n, v, &[]);
+            if got != Vec3::ZERO {
+                return Err(format!(
+                    "{call} is {got}: without lights nothing is reflected"
+                ));
+            }
+            let Some(below) = unit_with_cosine(n, w, -1.0, -1e-3) else {
+                return Ok(());
+            };
+            let lights = [(below, l)];
+            let call = phong_call(rho_d, rho_s, sh, n, v, &lights);
+            let got = phong(rho_d, rho_s, sh, n, v, &lights);
+            if got.abs().max_element() > 1e-7 {
+                return Err(format!(
+                    "{call} is {got}: light from below the surface (n·ω_i = {:.4} < 0) must contribute nothing",
+                    n.dot(below)
+                ));
+            }
+            Ok(())
+        },
+    )?;
+    // The highlight: with ρ_d = 0 it peaks in the mirror direction r of −ω_i at exactly
+    // ρ_s·(s+2)/(2π)·L·cos θ_i, is no larger anywhere else, and vanishes where r·v ≤ 0.
+    for_all(
+        300,
+        (
+            colour(1.0),
+            shininess_strategy(),
+            unit_vector(),
+            unit_vector(),
+            unit_vector(),
+            colour(5.0),
+        ),
+        |(rho_s, sh, n, w, v, l)| {
+            let (Some(w), Some(v)) = (
+                unit_with_cosine(n, w, 0.05, 1.0),
+                unit_with_cosine(n, v, 0.02, 1.0),
+            ) else {
+                return Ok(());
+            };
+            let lights = [(w, l)];
+            let r = mirror(-w.as_dvec3(), n.as_dvec3()).as_vec3();
+            let peak = phong(Vec3::ZERO, rho_s, sh, n, r, &lights);
+            let expected = rho_s * (sh + 2.0) / (2.0 * std::f32::consts::PI) * l * n.dot(w);
+            let call = phong_call(Vec3::ZERO, rho_s, sh, n, r, &lights);
+            compare_vec3(
+                &format!("{call} (the view is the mirror direction of the light)"),
+                peak,
+                expected,
+                1e-5,
+                1e-3,
+            )
+            .map_err(|e| format!("{e} = ρ_s·(s+2)/(2π)·L·cos θ_i: {PEAK_HINT}"))?;
+            let got = phong(Vec3::ZERO, rho_s, sh, n, v, &lights);
+            let call = phong_call(Vec3::ZERO, rho_s, sh, n, v, &lights);
+            finite(&call, got).map_err(|e| format!("{e} ({CLAMP_HINT})"))?;
+            if r.dot(v) < -1e-3 && got.abs().max_element() > 1e-6 {
+                return Err(format!(
+                    "{call} is {got}: the view is more than 90° from the mirror direction r (r·v = {:.4}), so max(0, r·v)^s = 0 and there is no highlight",
+                    r.dot(v)
+                ));
+            }
+            if got.cmpgt(peak * (1.0 + 1e-4) + Vec3::splat(1e-6)).any() {
+                return Err(format!(
+                    "{call} is {got}, brighter than at the mirror direction ({peak}): the highlight must peak where v = r"
+                ));
+            }
+            Ok(())
+        },
+    )?;
+    for_all(400, phong_strategy(), |(rho_d, rho_s, sh, n, v, lights)| {
+        compare_vec3(
+            &phong_call(rho_d, rho_s, sh, n, v, &lights),
+            phong(rho_d, rho_s, sh, n, v, &lights),
+            expected_phong(rho_d, rho_s, sh, n, v, &lights),
+            1e-5,
+            1e-3,
+        )
+    })?;
+    let golden: GoldenFile<PhongInput, Vec3> = load(ctx, GOLDEN_PHONG)?;
+    for case in &golden.cases {
+        let (rho_d, rho_s, sh, n, v, lights) = &case.input;
+        compare_vec3(
+            &phong_call(*rho_d, *rho_s, *sh, *n, *v, lights),
+            phong(*rho_d, *rho_s, *sh, *n, *v, lights),
+            case.expected,
+            1e-5,
+            1e-3,
+        )?;
+    }
+    check_part_snapshots(Part::Phong, s, ctx)
 }

@@ -1,10 +1,174 @@
-//! Lab 04's figures.
+//! Lab 04's figures: the worksheet's image set on the default scene (Lambertian, then the
+//! mirror sphere, the glass sphere, the Phong torus, and the glossy "combining it all" sphere),
+//! each with its render time; the Cornell box with a mirror and a glass sphere; and two facing
+//! mirrors at growing depth limits.
 
 use framework::Error;
+use framework::film::{Film, ToneMap};
+use framework::labs::lab04::checks::{Shot, glossy_default_scene};
+use framework::pipeline::Pipeline;
+use framework::scene::{IllumModel, Scene, builtin_scene};
 
-use super::{Figure, ReportContext};
+use super::{Figure, ReportContext, montage, settings};
+
+/// The default scene with every material whose model is not in `keep` made Lambertian, so
+/// that one shader after the other can be switched on.
+fn default_with(keep: &[IllumModel]) -> Result<Scene, Error> {
+    let mut scene = builtin_scene("default")?;
+    for m in &mut scene.materials {
+        if !keep.contains(&m.illum) {
+            m.illum = IllumModel::Lambertian;
+        }
+    }
+    Ok(scene)
+}
+
+/// One rendered panel: its film, file, caption and time.
+struct Panel {
+    film: Film,
+    file: &'static str,
+    caption: &'static str,
+    seconds: f64,
+}
 
 /// The figures of lab 04.
-pub fn figures(_ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
-    Ok(Vec::new())
+pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let (w, h) = ctx.size(512, 384);
+    // Enough rays per pixel that the render times measure the shaders, not the start-up.
+    let spp = if ctx.quick { 1 } else { 16 };
+    let depth = ctx.pipeline.max_depth;
+    let mut figures = Vec::new();
+    let at_lab = |lab: u32| Pipeline {
+        lab,
+        ..ctx.pipeline.clone()
+    };
+    // Start the worker threads before the first timed render.
+    ctx.render_timed(&builtin_scene("default")?, &at_lab(4), &settings(32, 24, 1))?;
+
+    // The worksheet's image set: each step adds one shader (and the rays it spawns).
+    use IllumModel::{Mirror, Phong, Transparent};
+    let steps: [(&str, &str, Scene, Pipeline); 6] = [
+        (
+            "default-lab2.png",
+            "Lab 2: every surface Lambertian, no shadows",
+            builtin_scene("default")?,
+            at_lab(2),
+        ),
+        (
+            "default-lab3.png",
+            "Lab 3: every surface Lambertian, with shadow rays",
+            builtin_scene("default")?,
+            at_lab(3),
+        ),
+        (
+            "default-mirror.png",
+            "Mirror sphere (illum 3): reflected rays",
+            default_with(&[Mirror])?,
+            at_lab(4),
+        ),
+        (
+            "default-glass.png",
+            "Glass sphere (illum 4, η = 1.5): refracted rays, a ball lens",
+            default_with(&[Mirror, Transparent])?,
+            at_lab(4),
+        ),
+        (
+            "default-phong.png",
+            "Phong torus (illum 2, s = 40): the normalized Phong highlight",
+            default_with(&[Mirror, Transparent, Phong])?,
+            at_lab(4),
+        ),
+        (
+            "default-glossy.png",
+            "Combining it all: the glass sphere glossy (illum 5), 0.1·Phong + 0.1·reflected + 0.9·refracted",
+            glossy_default_scene()?,
+            at_lab(4),
+        ),
+    ];
+    let mut panels = Vec::new();
+    for (file, caption, scene, pipeline) in steps {
+        let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, spp))?;
+        ctx.save(&film, file, ToneMap::default())?;
+        figures.push(Figure {
+            file: file.into(),
+            caption: caption.into(),
+            parameters: format!(
+                "the default scene, {w}×{h} pixels, {spp} rays per pixel, pipeline at lab {}, depth limit {depth}, clamp tone map",
+                pipeline.lab
+            ),
+            seconds: Some(seconds),
+        });
+        panels.push(Panel {
+            film,
+            file,
+            caption,
+            seconds,
+        });
+    }
+    let set: Vec<&Panel> = panels.iter().skip(2).collect();
+    let films: Vec<Film> = set.iter().map(|p| p.film.clone()).collect();
+    ctx.save(&montage(&films, 4), "worksheet-set.png", ToneMap::default())?;
+    figures.push(Figure {
+        file: "worksheet-set.png".into(),
+        caption: "The worksheet's image set: mirror, glass, Phong, combined".into(),
+        parameters: format!(
+            "left to right: {}",
+            set.iter()
+                .map(|p| format!("{} ({}, {:.3} s)", p.caption, p.file, p.seconds))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
+        seconds: Some(set.iter().map(|p| p.seconds).sum()),
+    });
+
+    // The Cornell box with a mirror and a glass sphere, lit by its area light and point light.
+    let n = ctx.pipeline.area_light_samples;
+    let (film, seconds) = ctx.render_timed(
+        &builtin_scene("cornell-spheres")?,
+        &at_lab(4),
+        &settings(w, h, spp),
+    )?;
+    ctx.save(&film, "cornell-spheres.png", ToneMap::default())?;
+    figures.push(Figure {
+        file: "cornell-spheres.png".into(),
+        caption: "The Cornell box with a mirror sphere (back) and a glass sphere (front)".into(),
+        parameters: format!(
+            "{w}×{h} pixels, {spp} rays per pixel, {n}×{n} area-light samples per shading point, depth limit {depth}, clamp tone map"
+        ),
+        seconds: Some(seconds),
+    });
+
+    // Two facing mirrors: the corridor of reflections ends in black at the depth limit.
+    let scene = Shot::TwoMirrors.scene()?;
+    let (dw, dh) = ctx.size(320, 240);
+    let mut films = Vec::new();
+    let mut times = Vec::new();
+    for max_depth in [1, 2, 5, 10, 30] {
+        let pipeline = Pipeline {
+            max_depth,
+            ..at_lab(4)
+        };
+        let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(dw, dh, spp))?;
+        films.push(film);
+        times.push((max_depth, seconds));
+    }
+    ctx.save(
+        &montage(&films, 4),
+        "two-mirrors-depth.png",
+        ToneMap::default(),
+    )?;
+    figures.push(Figure {
+        file: "two-mirrors-depth.png".into(),
+        caption: "Two facing mirrors at depth limits 1, 2, 5, 10 and 30".into(),
+        parameters: format!(
+            "{dw}×{dh} pixels each, {spp} rays per pixel, clamp tone map; render times: {}",
+            times
+                .iter()
+                .map(|(d, s)| format!("depth {d}: {s:.3} s"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        seconds: Some(times.iter().map(|(_, s)| s).sum()),
+    });
+    Ok(figures)
 }
