@@ -272,8 +272,8 @@ mod tests {
         for s in &scene.spheres {
             // On the floor and inside the box.
             assert!((s.center.y - s.radius).abs() < 1e-3);
-            assert!(s.center.x - s.radius > 0.0 && s.center.x + s.radius < 549.6);
-            assert!(s.center.z - s.radius > 0.0 && s.center.z + s.radius < 559.2);
+            assert!(s.center.x - s.radius > 0.0 && s.center.x + s.radius < 0.5496);
+            assert!(s.center.z - s.radius > 0.0 && s.center.z + s.radius < 0.5592);
         }
     }
 }
