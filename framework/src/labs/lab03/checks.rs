@@ -24,7 +24,8 @@ use proptest::prelude::*;
 use super::Shadows;
 use crate::film::{Film, ToneMap, luminance, write_png};
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_of, check_one_per_cell,
+    compare_f32, compare_vec3, for_all,
 };
 use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;
@@ -713,57 +714,15 @@ fn format_counts(counts: &[u32]) -> String {
 // ---------------------------------------------------------------------------------------------
 // Exercise 3.2
 
-/// The cell `(i, j)` a sample lies in (`x·n`, `y·n` rounded down; a coordinate of exactly 1,
-/// which rounding of `(i + u)/n` in f32 may give, belongs to the last cell).
-fn cell_of(p: Vec2, n: u32) -> (u32, u32) {
-    let c = |v: f32| ((v as f64 * n as f64).floor().max(0.0) as u32).min(n - 1);
-    (c(p.x), c(p.y))
-}
-
 fn check_strata(n: u32, samples: &[Vec2]) -> Result<(), String> {
     let call = format!("stratified_samples(n = {n}, rng)");
-    if samples.len() != (n * n) as usize {
-        return Err(format!(
-            "{call} returned {} samples, expected n² = {}",
-            samples.len(),
-            n * n
-        ));
-    }
-    if let Some(p) = samples
-        .iter()
-        .find(|p| !(p.x >= 0.0 && p.x <= 1.0 && p.y >= 0.0 && p.y <= 1.0))
-    {
-        return Err(format!(
-            "{call} returned the sample {p}, outside the unit square [0, 1)²; samples: {samples:?}"
-        ));
-    }
-    let mut count = vec![0u32; (n * n) as usize];
-    for p in samples {
-        let (i, j) = cell_of(*p, n);
-        count[(j * n + i) as usize] += 1;
-    }
-    let cell = |k: usize| {
-        let (i, j) = (k as u32 % n, k as u32 / n);
-        format!(
-            "(i = {i}, j = {j}) = [{}, {}) × [{}, {})",
-            i as f32 / n as f32,
-            (i + 1) as f32 / n as f32,
-            j as f32 / n as f32,
-            (j + 1) as f32 / n as f32
-        )
+    let names = StrataNames {
+        call: &call,
+        point: "sample",
+        cell: "cell",
+        outside_hint: "",
     };
-    if let (Some(empty), Some(full)) = (
-        count.iter().position(|&c| c == 0),
-        count.iter().position(|&c| c > 1),
-    ) {
-        return Err(format!(
-            "{call} must put exactly one sample in each of the n² cells [i/n, (i+1)/n) × [j/n, (j+1)/n), but cell {} holds none and cell {} holds {}; samples: {samples:?}",
-            cell(empty),
-            cell(full),
-            count[full]
-        ));
-    }
-    Ok(())
+    check_one_per_cell(&names, n, samples)
 }
 
 /// Where a sample lies within its cell, in `[0, 1)²`.

@@ -38,7 +38,10 @@ use proptest::prelude::*;
 
 use super::Antialiasing;
 use crate::film::Film;
-use crate::grading::{Exercise, GoldenFile, LabContext, PixelTolerance, compare_vec3, for_all};
+use crate::grading::{
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_of, check_one_per_cell,
+    compare_vec3, for_all,
+};
 use crate::pipeline::{Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
@@ -255,16 +258,9 @@ fn chi_square_z(counts: &[u32]) -> (f64, f64) {
 // ---------------------------------------------------------------------------------------------
 // Exercise 7.1
 
-/// The subpixel `(i, j)` a jitter lies in (`x·s`, `y·s` rounded down; a coordinate of exactly
-/// 1, which rounding of `(i + ξ)/s` in f32 may give, belongs to the last subpixel).
-pub fn subpixel_of(p: Vec2, s: u32) -> (u32, u32) {
-    let c = |v: f32| ((v as f64 * s as f64).floor().max(0.0) as u32).min(s - 1);
-    (c(p.x), c(p.y))
-}
-
 /// Where a jitter lies within its subpixel, in `[0, 1]²`.
 pub fn offset_in_subpixel(p: Vec2, s: u32) -> DVec2 {
-    let (i, j) = subpixel_of(p, s);
+    let (i, j) = cell_of(p, s);
     DVec2::new(
         p.x as f64 * s as f64 - i as f64,
         p.y as f64 * s as f64 - j as f64,
@@ -286,39 +282,13 @@ fn subpixel_name(i: u32, j: u32, s: u32) -> String {
 /// One call's jitters: `s²` of them, finite, in the pixel, one per subpixel.
 fn check_strata(s: u32, jitters: &[Vec2]) -> Result<(), String> {
     let call = format!("compute_jitters(subdivisions = {s}, rng)");
-    if jitters.len() != (s * s) as usize {
-        return Err(format!(
-            "{call} returned {} jitters, expected s² = {} (one per subpixel); jitters: {jitters:?}",
-            jitters.len(),
-            s * s
-        ));
-    }
-    if let Some(p) = jitters
-        .iter()
-        .find(|p| !(p.x >= 0.0 && p.x <= 1.0 && p.y >= 0.0 && p.y <= 1.0))
-    {
-        return Err(format!(
-            "{call} returned the jitter {p}, outside the pixel [0, 1)² (jitters are offsets from the pixel's corner in pixel units: ((i + ξ₁)/s, (j + ξ₂)/s)); jitters: {jitters:?}"
-        ));
-    }
-    let mut count = vec![0u32; (s * s) as usize];
-    for p in jitters {
-        let (i, j) = subpixel_of(*p, s);
-        count[(j * s + i) as usize] += 1;
-    }
-    if let (Some(empty), Some(full)) = (
-        count.iter().position(|&c| c == 0),
-        count.iter().position(|&c| c > 1),
-    ) {
-        let name = |k: usize| subpixel_name(k as u32 % s, k as u32 / s, s);
-        return Err(format!(
-            "{call} must put exactly one jitter in each of the s² subpixels [i/s, (i+1)/s) × [j/s, (j+1)/s), but subpixel {} holds none and subpixel {} holds {}; jitters: {jitters:?}",
-            name(empty),
-            name(full),
-            count[full]
-        ));
-    }
-    Ok(())
+    let names = StrataNames {
+        call: &call,
+        point: "jitter",
+        cell: "subpixel",
+        outside_hint: " (jitters are offsets from the pixel's corner in pixel units: ((i + ξ₁)/s, (j + ξ₂)/s))",
+    };
+    check_one_per_cell(&names, s, jitters)
 }
 
 /// The jitters of [`STREAMS`] pixels (one generator each) at subdivision `s`, each call
@@ -363,7 +333,7 @@ fn check_subpixels(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), Strin
     let mut offsets = vec![Vec::with_capacity(pixels.len()); (s * s) as usize];
     for js in pixels {
         for p in js {
-            let (i, j) = subpixel_of(*p, s);
+            let (i, j) = cell_of(*p, s);
             offsets[(j * s + i) as usize].push(offset_in_subpixel(*p, s));
         }
     }
