@@ -4,6 +4,7 @@
 mod golden;
 mod render;
 mod report;
+mod status;
 mod students;
 
 use std::process::ExitCode;
@@ -24,6 +25,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Make a lab's report figures (PNG) and a report.md with their parameters and times.
     Report(report::ReportArgs),
+    /// Show which exercises pass with your code, lab by lab, and which one is next.
+    Status(status::StatusArgs),
     /// Regenerate the labs' golden cases and snapshot images from the reference solution.
     Golden(golden::GoldenArgs),
 }
@@ -34,6 +37,7 @@ fn main() -> ExitCode {
         None => render::run(&render::RenderArgs::default()),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Report(args)) => report::run(&args),
+        Some(Command::Status(args)) => status::run(&args),
         Some(Command::Golden(args)) => golden::run(&args),
     };
     match result {

@@ -132,3 +132,20 @@ fn rayon_num_threads_does_not_change_the_image() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn status_lists_every_exercise_and_the_next_one() {
+    let dir = scratch("status");
+    let (ok, stdout, stderr) = raylab(&["status"], &dir);
+    assert!(ok, "{stderr}");
+    for id in ["1.1", "2.6", "3.4", "4.6", "7.2"] {
+        assert!(
+            stdout.contains(&format!("  {id} ")),
+            "{id} missing:\n{stdout}"
+        );
+    }
+    // The exercises of the stubs are not started; the first one is next.
+    assert!(stdout.contains("not started"), "{stdout}");
+    assert!(stdout.contains("next: Exercise 1.1"), "{stdout}");
+    std::fs::remove_dir_all(dir).ok();
+}

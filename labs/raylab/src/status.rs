@@ -1,0 +1,123 @@
+//! `raylab status`: which exercises of each lab pass with the student's code, and which to do
+//! next.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use clap::Args;
+use framework::Error;
+use framework::grading::{Exercise, LabContext, run_exercise};
+use framework::labs::{lab01, lab02, lab03, lab04, lab07};
+
+/// Options of `raylab status`.
+#[derive(Args, Debug)]
+pub struct StatusArgs {
+    /// Only this lab (default: every lab).
+    #[arg(long)]
+    pub lab: Option<u32>,
+}
+
+/// The outcome of one exercise.
+enum State {
+    Passed,
+    NotStarted,
+    Blocked(String),
+    Failing(String),
+}
+
+fn judge<S: ?Sized>(
+    lab: u32,
+    exercises: &[Exercise<S>],
+    student: Arc<S>,
+) -> Vec<(String, String, u32, State)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(format!("lab{lab:02}"));
+    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab));
+    exercises
+        .iter()
+        .map(|e| {
+            let state = match run_exercise(e, &student, &ctx) {
+                Ok(()) => State::Passed,
+                Err(m) if m.contains(&format!("Exercise {} — `{}` ({}) in labs/lab{lab:02}/src/lib.rs is not implemented yet", e.id, e.function, e.title)) => State::NotStarted,
+                Err(m) if m.contains("cannot be checked until Exercise ") => {
+                    let rest = &m[m.find("until Exercise ").unwrap_or(0) + 15..];
+                    State::Blocked(rest.split_whitespace().next().unwrap_or_default().to_string())
+                }
+                Err(m) => State::Failing(m.lines().nth(1).unwrap_or_default().to_string()),
+            };
+            (e.id.to_string(), e.function.to_string(), e.points, state)
+        })
+        .collect()
+}
+
+/// Runs `raylab status`.
+pub fn run(args: &StatusArgs) -> Result<(), Error> {
+    let labs: Vec<u32> = match args.lab {
+        Some(l) => {
+            crate::students::check_lab(l)?;
+            vec![l]
+        }
+        None => reference::LABS.to_vec(),
+    };
+    let mut next: Option<String> = None;
+    for lab in labs {
+        let rows = match lab {
+            1 => judge::<dyn lab01::CameraRays>(
+                1,
+                &lab01::checks::exercises(),
+                Arc::new(::lab01::Student),
+            ),
+            2 => judge::<dyn lab02::Lab02>(
+                2,
+                &lab02::checks::exercises(),
+                Arc::new(::lab02::Student),
+            ),
+            3 => judge::<dyn lab03::Shadows>(
+                3,
+                &lab03::checks::exercises(),
+                Arc::new(::lab03::Student),
+            ),
+            4 => judge::<dyn lab04::Reflection>(
+                4,
+                &lab04::checks::exercises(),
+                Arc::new(::lab04::Student),
+            ),
+            7 => judge::<dyn lab07::Antialiasing>(
+                7,
+                &lab07::checks::exercises(),
+                Arc::new(::lab07::Student),
+            ),
+            _ => continue,
+        };
+        let earned: u32 = rows
+            .iter()
+            .filter(|r| matches!(r.3, State::Passed))
+            .map(|r| r.2)
+            .sum();
+        let total: u32 = rows.iter().map(|r| r.2).sum();
+        println!("lab{lab:02}  {earned}/{total} points");
+        for (id, function, points, state) in &rows {
+            let (mark, detail) = match state {
+                State::Passed => ("passed     ", String::new()),
+                State::NotStarted => ("not started", String::new()),
+                State::Blocked(other) => {
+                    ("waiting    ", format!("  (needs Exercise {other} first)"))
+                }
+                State::Failing(why) => ("failing    ", format!("  {why}")),
+            };
+            println!("  {id:<5} {mark} {function:<26} {points} pt{detail}");
+            if next.is_none() && !matches!(state, State::Passed) {
+                next = Some(format!(
+                    "Exercise {id} (`{function}` in labs/lab{lab:02}/src/lib.rs, docs/lab{lab:02}.md); check it with `cargo test -p lab{lab:02} exercise_{}`",
+                    id.replace('.', "_")
+                ));
+            }
+        }
+    }
+    match next {
+        Some(n) => println!("\nnext: {n}"),
+        None => println!("\nevery exercise passes"),
+    }
+    Ok(())
+}
