@@ -84,6 +84,6 @@ impl Error {
 pub struct PanicError {
     /// What was running.
     pub context: String,
-    /// The panic message (for `todo!("Exercise …")`, the exercise that is not done yet).
+    /// The panic message (for an unfinished stub, "not yet implemented: Exercise …").
     pub message: String,
 }

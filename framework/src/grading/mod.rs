@@ -71,7 +71,7 @@ impl LabContext {
     }
 }
 
-/// Runs one exercise's check on `subject`, turning panics (`todo!()`, index out of bounds …)
+/// Runs one exercise's check on `subject`, turning panics (an unfinished stub, an index out of bounds …)
 /// into a failure. The error message names the exercise, the function to fix, and the docs.
 pub fn run_exercise<S: ?Sized>(
     exercise: &Exercise<S>,
@@ -105,7 +105,8 @@ pub fn run_exercise<S: ?Sized>(
     }
 }
 
-/// The exercise named by a `todo!("Exercise N.M: …")` message, if `message` holds one.
+/// The exercise named by an unfinished stub's panic ("not yet implemented: Exercise N.M: …"),
+/// if `message` holds one.
 fn unfinished_exercise(message: &str) -> Option<&str> {
     let rest = &message[message.find("not yet implemented: Exercise ")? + 30..];
     let end = rest
