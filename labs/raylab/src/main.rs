@@ -1,6 +1,7 @@
 //! `raylab`: render scenes through the reference or a student's pipeline, and regenerate the
 //! labs' golden data from the reference.
 
+mod bench;
 mod golden;
 mod render;
 mod report;
@@ -27,6 +28,8 @@ enum Command {
     Report(report::ReportArgs),
     /// Show which exercises pass with your code, lab by lab, and which one is next.
     Status(status::StatusArgs),
+    /// Measure the ray-tracing core: rays per second and BVH build time (docs/performance.md).
+    Bench(bench::BenchArgs),
     /// Regenerate the labs' golden cases and snapshot images from the reference solution.
     Golden(golden::GoldenArgs),
 }
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Report(args)) => report::run(&args),
         Some(Command::Status(args)) => status::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Golden(args)) => golden::run(&args),
     };
     match result {

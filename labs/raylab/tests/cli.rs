@@ -149,3 +149,14 @@ fn status_lists_every_exercise_and_the_next_one() {
     assert!(stdout.contains("next: Exercise 1.1"), "{stdout}");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn bench_reports_throughput() {
+    let dir = scratch("bench");
+    let (ok, stdout, stderr) = raylab(&["bench", "--resolution", "16", "--runs", "1"], &dir);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("cornell: 32 triangles"), "{stdout}");
+    assert!(stdout.contains("70300 triangles"), "{stdout}");
+    assert_eq!(stdout.matches("Mrays/s").count(), 16, "{stdout}");
+    std::fs::remove_dir_all(dir).ok();
+}
