@@ -48,6 +48,19 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
+    /// The settings of every lab's snapshot images: 160×120 pixels, one ray through each pixel
+    /// centre, no subdivision, the given seed. Small, so a lab's checks take about a second.
+    pub const fn snapshot(seed: u64) -> Self {
+        Self {
+            width: 160,
+            height: 120,
+            samples_per_pixel: 1,
+            pixel_subdivisions: 1,
+            seed,
+            progress: false,
+        }
+    }
+
     /// Checks the settings, naming the offending value.
     pub fn validate(&self) -> Result<(), Error> {
         let invalid = |what: &str, value: u32| Error::Invalid {

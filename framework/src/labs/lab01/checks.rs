@@ -25,14 +25,7 @@ pub const GOLDEN_DIRECTION: &str = "ray_direction.json";
 /// Snapshot of Exercise 1.6 (the built-in default scene in flat colours).
 pub const SNAPSHOT_DEFAULT: &str = "default-base-colour";
 /// Size and sampling of lab 01's snapshots.
-pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
-    width: 160,
-    height: 120,
-    samples_per_pixel: 1,
-    pixel_subdivisions: 1,
-    seed: 1,
-    progress: false,
-};
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings::snapshot(1);
 
 /// Input of Exercise 1.1.
 pub type ImagePlaneInput = (Vec2, UVec2);

@@ -28,14 +28,7 @@ pub const GOLDEN_POINT_LIGHT: &str = "sample_point_light.json";
 /// Golden file of Exercise 2.6.
 pub const GOLDEN_LAMBERTIAN: &str = "shade_lambertian.json";
 /// Size and sampling of lab 02's snapshots.
-pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
-    width: 160,
-    height: 120,
-    samples_per_pixel: 1,
-    pixel_subdivisions: 1,
-    seed: 2,
-    progress: false,
-};
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings::snapshot(2);
 
 /// Which student function a snapshot exercises; the rest of the pipeline is the base.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

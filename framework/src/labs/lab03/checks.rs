@@ -49,14 +49,7 @@ pub const SNAPSHOT_AREA_MEAN: &str = "cornell-area-mean";
 pub const SNAPSHOT_AREA_VARIANCE: &str = "cornell-area-variance";
 /// Size and sampling of lab 03's snapshots (the seed is that of the hard-shadow snapshot; the
 /// soft-shadow renders use [`REFERENCE_SEEDS`] and [`STUDENT_SEEDS`]).
-pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
-    width: 160,
-    height: 120,
-    samples_per_pixel: 1,
-    pixel_subdivisions: 1,
-    seed: 3,
-    progress: false,
-};
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings::snapshot(3);
 /// `n` of the `n × n` area-light samples of the soft-shadow renders.
 pub const SNAPSHOT_LIGHT_SAMPLES: u32 = 4;
 /// Seeds of the reference renders whose mean and variance the soft-shadow snapshot holds.

@@ -40,14 +40,7 @@ pub const GOLDEN_REFRACTED_RAY: &str = "refracted_ray.json";
 /// Golden file of Exercise 4.6.
 pub const GOLDEN_PHONG: &str = "shade_phong.json";
 /// Size and sampling of lab 04's snapshots.
-pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
-    width: 160,
-    height: 120,
-    samples_per_pixel: 1,
-    pixel_subdivisions: 1,
-    seed: 4,
-    progress: false,
-};
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings::snapshot(4);
 /// The depth limit of the snapshots: reflected and refracted rays stop (black) after this many
 /// bounces.
 pub const SNAPSHOT_MAX_DEPTH: u32 = 10;

@@ -57,14 +57,7 @@ pub const SNAPSHOT_CONVERGED: &str = "default-converged";
 /// Snapshot of Exercise 7.2: the default scene at [`PIXEL_SNAPSHOT_SUBDIVISIONS`].
 pub const SNAPSHOT_PIXEL: &str = "default-s3";
 /// Size, sampling and seed of lab 07's snapshots (the subdivision is set per render).
-pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings {
-    width: 160,
-    height: 120,
-    samples_per_pixel: 1,
-    pixel_subdivisions: 1,
-    seed: 7,
-    progress: false,
-};
+pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings::snapshot(7);
 /// Seed of the converged image (independent of the seeds of the renders compared with it).
 pub const CONVERGED_SEED: u64 = 1000;
 /// Subdivision of the converged image.
