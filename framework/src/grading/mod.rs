@@ -27,8 +27,59 @@ pub struct Exercise<S: ?Sized> {
     pub title: &'static str,
     /// Points it is worth.
     pub points: u32,
+    /// Whether students see the exercise's test before grading.
+    pub visibility: Visibility,
     /// The check: `Ok` when the student's code is right, otherwise what is wrong.
     pub check: fn(&Arc<S>, &LabContext) -> Result<(), String>,
+}
+
+/// Whether students see an exercise's test before grading (Gradescope's `visibility`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visibility {
+    /// In the handout: `cargo test` and `raylab status` run it.
+    Visible,
+    /// Left out of the handout's tests; run only by `raylab grade` (the lab's golden data and
+    /// snapshots still ship, since the other exercises share them).
+    Hidden,
+}
+
+/// What the gradebook needs of an exercise, without its check.
+#[derive(Clone, Debug)]
+pub struct ExerciseInfo {
+    /// Lab number.
+    pub lab: u32,
+    /// Exercise number, e.g. `"2.2"`.
+    pub id: &'static str,
+    /// The student function it is about.
+    pub function: &'static str,
+    /// One-line description.
+    pub title: &'static str,
+    /// Points it is worth.
+    pub points: u32,
+    /// Whether students see it before grading.
+    pub visibility: Visibility,
+}
+
+impl ExerciseInfo {
+    /// Name of the exercise's `#[test]` in `labs/labNN/tests/checks.rs` starts with this:
+    /// `exercise_2_2_` for Exercise 2.2.
+    pub fn test_prefix(&self) -> String {
+        format!("exercise_{}_", self.id.replace('.', "_"))
+    }
+}
+
+impl<S: ?Sized> Exercise<S> {
+    /// The exercise's description in lab `lab`, without its check.
+    pub fn info(&self, lab: u32) -> ExerciseInfo {
+        ExerciseInfo {
+            lab,
+            id: self.id,
+            function: self.function,
+            title: self.title,
+            points: self.points,
+            visibility: self.visibility,
+        }
+    }
 }
 
 /// Where a lab's data lives and what the rest of the pipeline is.

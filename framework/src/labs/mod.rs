@@ -9,6 +9,8 @@ pub mod lab04;
 pub mod lab07;
 pub mod strategies;
 
+use crate::grading::ExerciseInfo;
+
 /// Every lab the framework knows, with its title.
 pub const LABS: &[(u32, &str)] = &[
     (1, "Camera rays and the image loop"),
@@ -17,3 +19,18 @@ pub const LABS: &[(u32, &str)] = &[
     (4, "Reflection, refraction and Phong"),
     (7, "Anti-aliasing"),
 ];
+
+/// The exercises of lab `lab`, in order, or `None` for a lab the framework does not know.
+pub fn exercise_infos(lab: u32) -> Option<Vec<ExerciseInfo>> {
+    fn infos<S: ?Sized>(lab: u32, exercises: &[crate::grading::Exercise<S>]) -> Vec<ExerciseInfo> {
+        exercises.iter().map(|e| e.info(lab)).collect()
+    }
+    Some(match lab {
+        1 => infos(lab, &lab01::checks::exercises()),
+        2 => infos(lab, &lab02::checks::exercises()),
+        3 => infos(lab, &lab03::checks::exercises()),
+        4 => infos(lab, &lab04::checks::exercises()),
+        7 => infos(lab, &lab07::checks::exercises()),
+        _ => return None,
+    })
+}

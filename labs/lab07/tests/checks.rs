@@ -3,7 +3,7 @@
 //! `cargo test -p lab07` checks your code in `src/lib.rs`;
 //! `cargo test -p lab07 --features reference` checks the reference solution instead.
 //! Each exercise is checked with the reference for everything else, so one unfinished
-//! exercise does not fail the other.
+//! exercise does not fail the others.
 
 use std::path::Path;
 use std::sync::Arc;

@@ -7,8 +7,8 @@ use proptest::prelude::*;
 
 use super::{CameraBasis, CameraRays};
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec2, compare_vec3,
-    for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec2,
+    compare_vec3, for_all,
 };
 use crate::labs::strategies::{point, resolution, unit_vector};
 use crate::pipeline::{Pipeline, View};
@@ -42,6 +42,7 @@ pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
             function: "image_plane_coords",
             title: "pixel to image-plane coordinates",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_1_1,
         },
         Exercise {
@@ -49,6 +50,7 @@ pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
             function: "camera_basis",
             title: "the camera basis",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_1_2,
         },
         Exercise {
@@ -56,6 +58,7 @@ pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
             function: "field_of_view",
             title: "field of view from focal distance",
             points: 1,
+            visibility: Visibility::Visible,
             check: exercise_1_3,
         },
         Exercise {
@@ -63,6 +66,7 @@ pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
             function: "ray_direction",
             title: "direction of the ray through an image-plane point",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_1_4,
         },
         Exercise {
@@ -70,6 +74,7 @@ pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
             function: "camera_ray",
             title: "the camera ray",
             points: 1,
+            visibility: Visibility::Visible,
             check: exercise_1_5,
         },
         Exercise {
@@ -77,6 +82,7 @@ pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
             function: "CameraRays (all of it)",
             title: "the default scene seen through your camera",
             points: 2,
+            visibility: Visibility::Hidden,
             check: exercise_1_6,
         },
     ]

@@ -9,7 +9,8 @@ use super::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
 use crate::film::Film;
 use crate::geometry::BuiltinIntersection;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
+    for_all,
 };
 use crate::labs::strategies::{point, unit_vector};
 use crate::math::Ray;
@@ -80,6 +81,7 @@ pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
             function: "intersect_plane",
             title: "ray–plane intersection",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_2_1,
         },
         Exercise {
@@ -87,6 +89,7 @@ pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
             function: "intersect_triangle",
             title: "ray–triangle intersection",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_2_2,
         },
         Exercise {
@@ -94,6 +97,7 @@ pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
             function: "intersect_sphere",
             title: "ray–sphere intersection",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_2_3,
         },
         Exercise {
@@ -101,6 +105,7 @@ pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
             function: "sample_point_light",
             title: "point light and the inverse-square law",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_2_4,
         },
         Exercise {
@@ -108,6 +113,7 @@ pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
             function: "sample_directional_light",
             title: "directional light",
             points: 1,
+            visibility: Visibility::Visible,
             check: exercise_2_5,
         },
         Exercise {
@@ -115,6 +121,7 @@ pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
             function: "shade_lambertian",
             title: "Lambertian shading",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_2_6,
         },
     ]

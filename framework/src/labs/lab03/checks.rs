@@ -24,8 +24,8 @@ use proptest::prelude::*;
 use super::Shadows;
 use crate::film::{Film, ToneMap, luminance, write_png};
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_of, check_one_per_cell,
-    compare_f32, compare_vec3, for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
+    check_one_per_cell, compare_f32, compare_vec3, for_all,
 };
 use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;
@@ -88,6 +88,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             function: "shadow_ray",
             title: "shadow rays and hard shadows",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_3_1,
         },
         Exercise {
@@ -95,6 +96,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             function: "stratified_samples",
             title: "stratified jittered samples",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_3_2,
         },
         Exercise {
@@ -102,6 +104,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             function: "sample_triangle",
             title: "uniform sampling of a triangle",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_3_3,
         },
         Exercise {
@@ -109,6 +112,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             function: "area_light_sample",
             title: "area-light sample and soft shadows",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_3_4,
         },
     ]

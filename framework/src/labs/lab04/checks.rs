@@ -20,7 +20,8 @@ use proptest::prelude::*;
 use super::{Interface, Reflection};
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
+    for_all,
 };
 use crate::labs::lab02::LightSample;
 use crate::labs::strategies::{point, unit_vector};
@@ -143,6 +144,7 @@ pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
             function: "reflect",
             title: "the law of reflection",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_4_1,
         },
         Exercise {
@@ -150,6 +152,7 @@ pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
             function: "reflected_ray",
             title: "the reflected ray",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_4_2,
         },
         Exercise {
@@ -157,6 +160,7 @@ pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
             function: "interface",
             title: "entering or leaving: the medium bookkeeping",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_4_3,
         },
         Exercise {
@@ -164,6 +168,7 @@ pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
             function: "refract",
             title: "Snell's law and total internal reflection",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_4_4,
         },
         Exercise {
@@ -171,6 +176,7 @@ pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
             function: "refracted_ray",
             title: "the refracted ray",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_4_5,
         },
         Exercise {
@@ -178,6 +184,7 @@ pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
             function: "shade_phong",
             title: "the normalized Phong model",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_4_6,
         },
     ]

@@ -39,8 +39,8 @@ use proptest::prelude::*;
 use super::Antialiasing;
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_of, check_one_per_cell,
-    compare_vec3, for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
+    check_one_per_cell, compare_vec3, for_all,
 };
 use crate::pipeline::{Pipeline, View};
 use crate::render::{RenderSettings, render};
@@ -91,6 +91,7 @@ pub fn exercises() -> Vec<Exercise<dyn Antialiasing>> {
             function: "compute_jitters",
             title: "jittered subpixel offsets",
             points: 3,
+            visibility: Visibility::Visible,
             check: exercise_7_1,
         },
         Exercise {
@@ -98,6 +99,7 @@ pub fn exercises() -> Vec<Exercise<dyn Antialiasing>> {
             function: "compute_pixel",
             title: "the average over the subpixel rays",
             points: 2,
+            visibility: Visibility::Visible,
             check: exercise_7_2,
         },
     ]
