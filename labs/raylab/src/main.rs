@@ -2,7 +2,12 @@
 //! labs' golden data from the reference.
 
 mod bench;
+#[cfg(feature = "instructor")]
 mod golden;
+#[cfg(feature = "instructor")]
+mod grade;
+#[cfg(feature = "instructor")]
+mod handout;
 mod render;
 mod report;
 mod status;
@@ -31,7 +36,14 @@ enum Command {
     /// Measure the ray-tracing core: rays per second and BVH build time (docs/performance.md).
     Bench(bench::BenchArgs),
     /// Regenerate the labs' golden cases and snapshot images from the reference solution.
+    #[cfg(feature = "instructor")]
     Golden(golden::GoldenArgs),
+    /// Write the student tree: stubs, checks, golden data, and only the released solutions.
+    #[cfg(feature = "instructor")]
+    Handout(handout::HandoutArgs),
+    /// Grade submissions: each exercise built and run in isolation, reports and gradebooks.
+    #[cfg(feature = "instructor")]
+    Grade(grade::GradeArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,7 +54,12 @@ fn main() -> ExitCode {
         Some(Command::Report(args)) => report::run(&args),
         Some(Command::Status(args)) => status::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
+        #[cfg(feature = "instructor")]
         Some(Command::Golden(args)) => golden::run(&args),
+        #[cfg(feature = "instructor")]
+        Some(Command::Handout(args)) => handout::run(&args),
+        #[cfg(feature = "instructor")]
+        Some(Command::Grade(args)) => grade::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,363 @@
+//! `raylab handout`: the student tree — framework, lab stubs, their checks, golden data and
+//! snapshots, and the solutions of the released labs only. `raylab grade` builds its grading
+//! tree the same way, with the hidden exercises' tests put back.
+//!
+//! The tree is this repository with four changes:
+//! - `reference/` holds only the released labs' solutions; its `pipeline()` — the base every
+//!   check runs an exercise in — takes a released lab's solution and the student's own code for
+//!   the labs not released;
+//! - a lab whose solution is not released loses its `reference` feature (there is nothing to
+//!   switch to);
+//! - the tests of hidden exercises are left out of `labs/labNN/tests/checks.rs`;
+//! - the instructor's parts stay behind: `tests/` (the mutant corpus holds solutions), `.ci/`,
+//!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use framework::Error;
+use framework::grading::Visibility;
+
+/// Options of `raylab handout`.
+#[derive(Args, Debug)]
+pub struct HandoutArgs {
+    /// Directory to write the student tree to (must not exist, or be empty).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Labs whose reference solution goes into the handout, e.g. `--release-solutions 1,2`
+    /// (default: none).
+    #[arg(long, value_delimiter = ',')]
+    pub release_solutions: Vec<u32>,
+}
+
+/// What goes into a tree built from the repository.
+#[derive(Clone, Debug, Default)]
+pub struct TreeOptions {
+    /// Labs whose solution is in the tree.
+    pub released: BTreeSet<u32>,
+    /// Keep the tests of hidden exercises (the grading tree) or leave them out (the handout).
+    pub hidden_tests: bool,
+}
+
+/// The repository the command line was built from.
+pub fn repository_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Runs `raylab handout`.
+pub fn run(args: &HandoutArgs) -> Result<(), Error> {
+    if args.out.exists()
+        && fs::read_dir(&args.out)
+            .map_err(io(&args.out))?
+            .next()
+            .is_some()
+    {
+        return Err(Error::Invalid {
+            what: format!("--out {}", args.out.display()),
+            reason: "expected a directory that does not exist yet, or an empty one".into(),
+        });
+    }
+    let options = TreeOptions {
+        released: args.release_solutions.iter().copied().collect(),
+        hidden_tests: false,
+    };
+    build_tree(&repository_root(), &args.out, &options)?;
+    let released = if options.released.is_empty() {
+        "none".to_string()
+    } else {
+        format!("{:?}", options.released)
+    };
+    println!(
+        "handout written to {} (solutions released: {released})",
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// Builds the tree of `options` from the repository at `root` into `out`.
+pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), Error> {
+    check_releasable(root, &options.released)?;
+    fs::create_dir_all(out).map_err(io(out))?;
+    for name in [".gitignore", "Cargo.lock"] {
+        if root.join(name).exists() {
+            copy_file(&root.join(name), &out.join(name))?;
+        }
+    }
+    copy_dir(&root.join("framework"), &out.join("framework"))?;
+    copy_dir(&root.join("docs"), &out.join("docs"))?;
+    write(
+        &out.join("Cargo.toml"),
+        &replace_once(
+            &read(&root.join("Cargo.toml"))?,
+            "    \"tests\",\n",
+            "",
+            "Cargo.toml",
+        )?,
+    )?;
+    write(&out.join("README.md"), &readme(&options.released))?;
+
+    copy_dir(&root.join("labs/raylab"), &out.join("labs/raylab"))?;
+    let cli_manifest = out.join("labs/raylab/Cargo.toml");
+    write(
+        &cli_manifest,
+        &replace_once(
+            &read(&cli_manifest)?,
+            "default = [\"instructor\"]",
+            "default = []",
+            "labs/raylab/Cargo.toml",
+        )?,
+    )?;
+
+    for &lab in crate::students::labs() {
+        let name = format!("lab{lab:02}");
+        let dir = out.join("labs").join(&name);
+        copy_dir(&root.join("labs").join(&name), &dir)?;
+        if !options.released.contains(&lab) {
+            drop_reference_feature(&dir, lab)?;
+        }
+        if !options.hidden_tests {
+            drop_hidden_tests(&dir, lab)?;
+        }
+    }
+    write_reference(root, out, &options.released)
+}
+
+/// A released lab's solution may use another lab's solution (`crate::labNN`); that lab must
+/// be released too.
+fn check_releasable(root: &Path, released: &BTreeSet<u32>) -> Result<(), Error> {
+    for &lab in released {
+        crate::students::check_lab(lab)?;
+        let source = read(&root.join(format!("reference/src/lab{lab:02}.rs")))?;
+        for &other in crate::students::labs() {
+            if source.contains(&format!("crate::lab{other:02}")) && !released.contains(&other) {
+                return Err(Error::Invalid {
+                    what: format!("--release-solutions {released:?}"),
+                    reason: format!(
+                        "the solution of lab {lab} uses the solution of lab {other}; release lab {other} as well"
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Removes the `reference` feature of an unreleased lab from its manifest and its checks.
+fn drop_reference_feature(dir: &Path, lab: u32) -> Result<(), Error> {
+    let manifest = dir.join("Cargo.toml");
+    let text = read(&manifest)?;
+    let features = text.find("\n[features]\n").ok_or_else(|| Error::Invalid {
+        what: manifest.display().to_string(),
+        reason: "expected a [features] section with the `reference` feature".into(),
+    })?;
+    write(&manifest, &text[..=features])?;
+
+    let checks = dir.join("tests/checks.rs");
+    let text = read(&checks)?;
+    let subject = format!(
+        "    #[cfg(feature = \"reference\")]\n    return Arc::new(reference::lab{lab:02}::Lab{lab:02});\n    #[cfg(not(feature = \"reference\"))]\n    return Arc::new(lab{lab:02}::Student);\n"
+    );
+    let place = checks.display().to_string();
+    let text = replace_once(
+        &text,
+        &subject,
+        &format!("    Arc::new(lab{lab:02}::Student)\n"),
+        &place,
+    )?;
+    let text = replace_once(
+        &text,
+        &format!(
+            "//! `cargo test -p lab{lab:02} --features reference` checks the reference solution instead.\n"
+        ),
+        "",
+        &place,
+    )?;
+    let text = replace_once(
+        &text,
+        "//! Each exercise is checked with the reference for everything else, so one unfinished\n//! exercise does not fail the others.\n",
+        "//! Each exercise runs in the pipeline of `reference::pipeline`: the released solutions, and\n//! your own code for the labs whose solutions are not released.\n",
+        &place,
+    )?;
+    write(&checks, &text)
+}
+
+/// Removes the `#[test]` of every hidden exercise of `lab` from its checks.
+fn drop_hidden_tests(dir: &Path, lab: u32) -> Result<(), Error> {
+    let checks = dir.join("tests/checks.rs");
+    let mut text = read(&checks)?;
+    let infos = framework::labs::exercise_infos(lab).unwrap_or_default();
+    for info in infos.iter().filter(|e| e.visibility == Visibility::Hidden) {
+        let start = text.find(&format!("#[test]\nfn {}", info.test_prefix()));
+        let end = start.and_then(|s| {
+            text[s..]
+                .find(&format!("    check(\"{}\");\n}}\n", info.id))
+                .map(|e| s + e)
+        });
+        let (Some(start), Some(end)) = (start, end) else {
+            return Err(Error::Invalid {
+                what: checks.display().to_string(),
+                reason: format!(
+                    "expected a `#[test] fn {}…() {{ check(\"{}\"); }}` for the hidden Exercise {}",
+                    info.test_prefix(),
+                    info.id,
+                    info.id
+                ),
+            });
+        };
+        let end = end + format!("    check(\"{}\");\n}}\n", info.id).len();
+        let end = if text[end..].starts_with('\n') {
+            end + 1
+        } else {
+            end
+        };
+        text.replace_range(start..end, "");
+    }
+    write(&checks, &text)
+}
+
+/// Writes `reference/`: the released solutions, and `pipeline()` with the student's code in
+/// the slots of the labs not released.
+fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<(), Error> {
+    let dir = out.join("reference");
+    fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
+    let mut lib = read(&root.join("reference/src/lib.rs"))?;
+    let mut manifest = read(&root.join("reference/Cargo.toml"))?;
+    let place = "reference/src/lib.rs";
+    lib = replace_once(
+        &lib,
+        "//! The answer key: one module per lab implementing that lab's contract from\n//! `framework::labs`, and [`pipeline`], the reference [`Pipeline`] every check and render\n//! starts from.\n",
+        "//! The solutions released so far, one module per lab, and [`pipeline`], the [`Pipeline`]\n//! every check and render starts from: a released lab's solution, and your own code (the\n//! `Student` of `labs/labNN`) for the labs whose solutions are not released yet.\n",
+        place,
+    )?;
+    manifest = replace_once(
+        &manifest,
+        "description = \"The answer key: raylab's reference implementation of every lab contract.\"",
+        "description = \"The released solutions, and the pipeline the checks run each exercise in.\"",
+        "reference/Cargo.toml",
+    )?;
+    for &lab in crate::students::labs() {
+        let module = format!("lab{lab:02}");
+        if released.contains(&lab) {
+            copy_file(
+                &root.join(format!("reference/src/{module}.rs")),
+                &dir.join(format!("src/{module}.rs")),
+            )?;
+        } else {
+            lib = replace_once(&lib, &format!("pub mod {module};\n"), "", place)?;
+            lib = replace_once(
+                &lib,
+                &format!("Arc::new({module}::Lab{lab:02})"),
+                &format!("Arc::new(::{module}::Student)"),
+                place,
+            )?;
+            manifest.push_str(&format!("{module} = {{ path = \"../labs/{module}\" }}\n"));
+        }
+    }
+    while lib.contains("\n\n\n") {
+        lib = lib.replace("\n\n\n", "\n\n");
+    }
+    write(&dir.join("src/lib.rs"), &lib)?;
+    write(&dir.join("Cargo.toml"), &manifest)
+}
+
+/// The handout's README: what is in it and how to work with it.
+fn readme(released: &BTreeSet<u32>) -> String {
+    let mut labs = String::new();
+    for &(lab, title) in framework::labs::LABS {
+        labs.push_str(&format!(
+            "| lab{lab:02} | {title} | [docs/lab{lab:02}.md](docs/lab{lab:02}.md) |{}\n",
+            if released.contains(&lab) {
+                " released: `reference/src/lab{lab:02}.rs`"
+            } else {
+                ""
+            }
+        ));
+    }
+    format!(
+        r#"# raylab — the labs
+
+Each lab is a crate in `labs/`. Read `docs/labNN.md`, then fill in the functions in
+`labs/labNN/src/lib.rs` (each stub says which exercise it is, what to compute and where the
+formula comes from) and run that lab's checks. You need a Rust toolchain (1.86 or newer).
+
+| lab | topic | docs | solution |
+| --- | --- | --- | --- |
+{labs}
+```sh
+cargo test -p lab01                   # one test per exercise
+cargo test -p lab01 exercise_1_2      # just Exercise 1.2
+cargo run -p raylab -- status         # which exercises pass, and which one is next
+cargo run -p raylab -- render --lab 1 --pipeline student   # the image your code makes
+cargo run -p raylab -- report --lab 1 --pipeline student   # the figures of your report
+```
+
+Each exercise is checked in the pipeline of `reference::pipeline`: the solutions released so
+far, and your own code for the labs whose solutions are not released — so lab 3's checks use
+your camera from lab 1 until its solution is out. A failing test names the exercise and the
+function to fix; for images it writes your render, the expected image and a difference heat map
+to `target/raylab-failures/labNN/`.
+
+Hand in the whole directory. Only `labs/labNN/src/` is graded: the tests, golden data and
+snapshots come from the course's own copy, and a change to any other file is reported to
+your instructor. Some exercises have tests that run only at grading.
+"#
+    )
+}
+
+/// Copies the directory `from` to `to`, leaving out build output (`target/`, `out/`) and
+/// version control.
+fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
+    fs::create_dir_all(to).map_err(io(to))?;
+    for entry in fs::read_dir(from).map_err(io(from))? {
+        let entry = entry.map_err(io(from))?;
+        let name = entry.file_name();
+        if [".git", "target", "out"].iter().any(|n| name == *n) {
+            continue;
+        }
+        let path = entry.path();
+        if path.is_dir() {
+            copy_dir(&path, &to.join(&name))?;
+        } else {
+            copy_file(&path, &to.join(&name))?;
+        }
+    }
+    Ok(())
+}
+
+/// Copies one file, creating the directories above it.
+pub fn copy_file(from: &Path, to: &Path) -> Result<(), Error> {
+    if let Some(parent) = to.parent() {
+        fs::create_dir_all(parent).map_err(io(parent))?;
+    }
+    fs::copy(from, to).map_err(io(from))?;
+    Ok(())
+}
+
+fn read(path: &Path) -> Result<String, Error> {
+    fs::read_to_string(path).map_err(io(path))
+}
+
+fn write(path: &Path, text: &str) -> Result<(), Error> {
+    fs::write(path, text).map_err(io(path))
+}
+
+/// `text` with the one occurrence of `from` replaced by `to`; an error naming `place` when
+/// `from` is not there (the repository changed in a way the handout does not know).
+fn replace_once(text: &str, from: &str, to: &str, place: &str) -> Result<String, Error> {
+    if text.matches(from).count() != 1 {
+        return Err(Error::Invalid {
+            what: place.to_string(),
+            reason: format!(
+                "expected exactly one occurrence of {from:?} to rewrite for the handout"
+            ),
+        });
+    }
+    Ok(text.replacen(from, to, 1))
+}
+
+/// Maps an I/O error to one naming `path`.
+pub fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::io(path, source)
+}
