@@ -1,0 +1,271 @@
+//! The instructor's workflow end to end: `raylab handout` writes a student tree without the
+//! solutions, in which a lab's checks fail on the stubs and pass on correct code; `raylab grade`
+//! grades three submissions — complete; partial, with a panic, an infinite loop and a NaN; and
+//! one that edited its tests — into reports, gradebooks and Gradescope results.
+//!
+//! The trees are kept in `target/raylab-handout-test/` to be looked at.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"))
+}
+
+/// Runs cargo in `dir` with the target directory `target`; returns (success, stdout + stderr).
+fn cargo(dir: &Path, target: &Path, args: &[&str]) -> (bool, String) {
+    let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
+        .args(args)
+        .current_dir(dir)
+        .env("CARGO_TARGET_DIR", target)
+        .output()
+        .expect("cargo runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (output.status.success(), text)
+}
+
+fn raylab(args: &[&str]) -> (bool, String) {
+    let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
+    all.extend_from_slice(args);
+    cargo(&root(), &target_dir(), &all)
+}
+
+fn read(path: &Path) -> String {
+    fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The reference solution of lab `lab` as a student would hand it in: the answer key's code
+/// with its type renamed to `Student` (lab 07 computes its own strata instead of calling lab 03).
+fn correct_code(lab: u32) -> String {
+    let code = read(&root().join(format!("reference/src/lab{lab:02}.rs")))
+        .replace(&format!("Lab{lab:02}"), "Student");
+    if lab != 7 {
+        return code;
+    }
+    code.replace(
+        "crate::lab03::Lab03.stratified_samples(subdivisions, rng)",
+        "let n = subdivisions;\n        (0..n * n)\n            .map(|k| (Vec2::new((k % n) as f32, (k / n) as f32) + rng.next_vec2()) / n as f32)\n            .collect()",
+    )
+    .replace("use framework::labs::lab03::Shadows;\n", "")
+}
+
+fn write_lab(tree: &Path, lab: u32, code: &str) {
+    fs::write(tree.join(format!("labs/lab{lab:02}/src/lib.rs")), code).unwrap();
+}
+
+/// Inserts `line` at the start of the body of `signature` in `code`.
+fn inject(code: &str, signature: &str, line: &str) -> String {
+    assert!(code.contains(signature), "no `{signature}` in the code");
+    code.replace(signature, &format!("{signature}\n        {line}"))
+}
+
+fn copy_tree(from: &Path, to: &Path) {
+    fs::create_dir_all(to).unwrap();
+    for entry in fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        if entry.file_name() == "target" {
+            continue;
+        }
+        if entry.path().is_dir() {
+            copy_tree(&entry.path(), &to.join(entry.file_name()));
+        } else {
+            fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
+        }
+    }
+}
+
+fn csv_row<'a>(csv: &'a str, student: &str) -> Vec<&'a str> {
+    csv.lines()
+        .find(|l| l.starts_with(&format!("{student},")))
+        .unwrap_or_else(|| panic!("no row for {student} in\n{csv}"))
+        .split(',')
+        .collect()
+}
+
+#[test]
+fn handout_then_grade_three_submissions() {
+    // The build directories stay between runs; `raylab grade` renews everything else in its
+    // `--out`.
+    let work = target_dir().join("raylab-handout-test");
+    let handout = work.join("handout");
+    let subs = work.join("submissions");
+    for dir in [&handout, &subs] {
+        let _ = fs::remove_dir_all(dir);
+    }
+
+    // The handout: no solution code, no corpus, no hidden test.
+    let (ok, out) = raylab(&["handout", "--out", handout.to_str().unwrap()]);
+    assert!(ok, "{out}");
+    assert!(
+        !handout.join("tests").exists(),
+        "the mutant corpus holds solutions"
+    );
+    assert!(!handout.join(".ci").exists());
+    for lab in [1, 2, 3, 4, 7] {
+        assert!(
+            !handout
+                .join(format!("reference/src/lab{lab:02}.rs"))
+                .exists()
+        );
+    }
+    assert!(!read(&handout.join("labs/lab01/tests/checks.rs")).contains("check(\"1.6\")"));
+    let (ok, out) = raylab(&["handout", "--out", handout.to_str().unwrap()]);
+    assert!(
+        !ok && out.contains("expected a directory that does not exist yet"),
+        "{out}"
+    );
+
+    // Three submissions.
+    let complete = subs.join("complete");
+    copy_tree(&handout, &complete);
+    for lab in [1, 2, 3, 4, 7] {
+        write_lab(&complete, lab, &correct_code(lab));
+    }
+    let partial = subs.join("partial");
+    copy_tree(&handout, &partial);
+    write_lab(&partial, 1, &correct_code(1));
+    let lab02 = inject(
+        &correct_code(2),
+        "fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit> {",
+        "let roots: Vec<f32> = Vec::new();\n        let _first = roots[(ray.origin.x.abs() as usize).min(2)];",
+    );
+    let lab02 = inject(
+        &lab02,
+        "fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {",
+        "let mut step = 0.0f32;\n        while step < 1.0 { step *= 2.0; }",
+    );
+    write_lab(&partial, 2, &lab02);
+    let lab03 = inject(
+        &correct_code(3),
+        "fn sample_triangle(&self, [v0, v1, v2]: [Vec3; 3], u: Vec2) -> Vec3 {",
+        "if u.x >= 0.0 { return v0 * (u.x - 1.0).sqrt(); }",
+    );
+    write_lab(&partial, 3, &lab03);
+    let edited = subs.join("edited");
+    copy_tree(&handout, &edited);
+    let checks = edited.join("labs/lab01/tests/checks.rs");
+    let text = read(&checks).replace(
+        "assert_exercise(&checks::exercises(), id, &subject(), &ctx);",
+        "let _ = (id, ctx);",
+    );
+    fs::write(&checks, text).unwrap();
+    fs::write(edited.join("labs/lab01/golden/extra.json"), "[]").unwrap();
+
+    // In the handout (built in a target directory of its own: cargo would take a tree of the
+    // same layout for the repository's): stubs fail, correct code passes.
+    let handout_target = work.join("handout-target");
+    let (ok, out) = cargo(&handout, &handout_target, &["test", "-p", "lab01"]);
+    assert!(!ok && out.contains("is not implemented yet"), "{out}");
+    let stubs = read(&handout.join("labs/lab01/src/lib.rs"));
+    write_lab(&handout, 1, &correct_code(1));
+    let (ok, out) = cargo(&handout, &handout_target, &["test", "-p", "lab01"]);
+    assert!(ok && out.contains("5 passed"), "{out}");
+    write_lab(&handout, 1, &stubs);
+
+    // Grade labs 1–3 (the partial submission's infinite loop is in lab 3).
+    let grades = work.join("grades");
+    let (ok, out) = raylab(&[
+        "grade",
+        complete.to_str().unwrap(),
+        partial.to_str().unwrap(),
+        edited.to_str().unwrap(),
+        "--out",
+        grades.to_str().unwrap(),
+        "--lab",
+        "1",
+        "--lab",
+        "2",
+        "--lab",
+        "3",
+        "--timeout",
+        "15",
+    ]);
+    assert!(ok, "{out}");
+
+    let csv = read(&grades.join("gradebook.csv"));
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let column = |id: &str| header.iter().position(|h| *h == id).unwrap();
+    let max = |row: &[&str]| row[column("max_score")].parse::<u32>().unwrap();
+    let total = |row: &[&str]| row[column("total")].parse::<u32>().unwrap();
+
+    let row = csv_row(&csv, "complete");
+    assert_eq!(total(&row), max(&row), "complete: {csv}");
+    assert_eq!(row[column("changed_files")], "0");
+    assert!(
+        header.contains(&"1.6"),
+        "hidden exercises are graded: {csv}"
+    );
+
+    let row = csv_row(&csv, "partial");
+    for id in [
+        "1.1", "1.2", "1.3", "1.4", "1.5", "1.6", "2.2", "2.4", "2.5", "2.6",
+    ] {
+        assert_ne!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
+    }
+    // Lab 03's soft-shadow checks run the student's whole lab, so its NaN triangle sample fails
+    // every exercise of the lab.
+    for id in ["2.1", "2.3", "3.1", "3.2", "3.3", "3.4"] {
+        assert_eq!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
+    }
+    let report = read(&grades.join("partial/report.md"));
+    assert!(report.contains("index out of bounds"), "{report}");
+    assert!(report.contains("returned [NaN, NaN, NaN]"), "{report}");
+    assert!(
+        report.contains("Exercise 2.1 — `intersect_plane` did not finish within 15 s"),
+        "{report}"
+    );
+    let html = read(&grades.join("partial/report.html"));
+    let image = html
+        .split("<img src=\"")
+        .nth(1)
+        .and_then(|rest| rest.split('"').next())
+        .unwrap_or_else(|| panic!("no image in the partial report:\n{html}"));
+    assert!(grades.join("partial").join(image).is_file(), "{image}");
+
+    let row = csv_row(&csv, "edited");
+    assert_eq!(
+        row[column("1.1")],
+        "0",
+        "edited tests have no effect: {csv}"
+    );
+    assert_eq!(total(&row), 0, "{csv}");
+    assert_eq!(row[column("changed_files")], "2", "{csv}");
+    let report = read(&grades.join("edited/report.md"));
+    assert!(
+        report.contains("modified: labs/lab01/tests/checks.rs"),
+        "{report}"
+    );
+    assert!(
+        report.contains("added: labs/lab01/golden/extra.json"),
+        "{report}"
+    );
+
+    let results: serde_json::Value =
+        serde_json::from_str(&read(&grades.join("partial/results.json"))).unwrap();
+    let tests = results["tests"].as_array().unwrap();
+    let score: f64 = tests.iter().map(|t| t["score"].as_f64().unwrap()).sum();
+    assert_eq!(results["score"].as_f64(), Some(score));
+    let hidden = tests.iter().find(|t| t["number"] == "1.6").unwrap();
+    assert_eq!(hidden["visibility"], "after_published");
+    assert!(
+        tests
+            .iter()
+            .all(|t| t["status"] == "passed" || t["status"] == "failed")
+    );
+
+    let junit = read(&grades.join("junit.xml"));
+    assert!(junit.contains("<testsuite name=\"partial\""), "{junit}");
+    assert!(junit.contains("<failure message="), "{junit}");
+    assert!(grades.join("index.html").is_file());
+}
