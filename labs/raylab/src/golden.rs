@@ -42,7 +42,7 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
     };
     let labs: Vec<u32> = match args.lab {
         Some(l) => vec![l],
-        None => reference::LABS.to_vec(),
+        None => crate::students::labs().to_vec(),
     };
     for lab in labs {
         let dir = root.join("labs").join(format!("lab{lab:02}"));

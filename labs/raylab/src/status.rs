@@ -60,7 +60,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
             crate::students::check_lab(l)?;
             vec![l]
         }
-        None => reference::LABS.to_vec(),
+        None => crate::students::labs().to_vec(),
     };
     let mut next: Option<String> = None;
     for lab in labs {
