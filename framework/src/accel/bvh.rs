@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use super::stats::{Counter, TraversalStats};
 use crate::math::{Aabb, Ray};
 
 /// Number of SAH bins per axis.
@@ -143,17 +144,52 @@ impl Bvh {
     pub fn closest_hit<F: FnMut(u32, &Ray) -> Option<f32>>(
         &self,
         ray: &Ray,
+        intersect: F,
+    ) -> Option<(u32, f32)> {
+        self.closest_hit_with(ray, intersect, &mut ())
+    }
+
+    /// [`closest_hit`](Self::closest_hit), adding the work done to `stats`.
+    pub fn closest_hit_counted<F: FnMut(u32, &Ray) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        intersect: F,
+        stats: &mut TraversalStats,
+    ) -> Option<(u32, f32)> {
+        self.closest_hit_with(ray, intersect, stats)
+    }
+
+    /// [`any_hit`](Self::any_hit), adding the work done to `stats`.
+    pub fn any_hit_counted<F: FnMut(u32, &Ray) -> bool>(
+        &self,
+        ray: &Ray,
         mut intersect: F,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        let mut ray = *ray;
+        self.traverse(&mut ray, |prim, ray| intersect(prim, ray), stats)
+    }
+
+    #[inline(always)]
+    fn closest_hit_with<F: FnMut(u32, &Ray) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        mut intersect: F,
+        stats: &mut impl Counter,
     ) -> Option<(u32, f32)> {
         let mut ray = *ray;
         let mut closest = None;
-        self.traverse(&mut ray, |prim, ray| {
-            if let Some(t) = intersect(prim, ray) {
-                ray.tmax = t;
-                closest = Some((prim, t));
-            }
-            false
-        });
+        self.traverse(
+            &mut ray,
+            |prim, ray| {
+                if let Some(t) = intersect(prim, ray) {
+                    ray.tmax = t;
+                    closest = Some((prim, t));
+                }
+                false
+            },
+            stats,
+        );
         closest
     }
 
@@ -164,14 +200,19 @@ impl Bvh {
     #[inline]
     pub fn any_hit<F: FnMut(u32, &Ray) -> bool>(&self, ray: &Ray, mut intersect: F) -> bool {
         let mut ray = *ray;
-        self.traverse(&mut ray, |prim, ray| intersect(prim, ray))
+        self.traverse(&mut ray, |prim, ray| intersect(prim, ray), &mut ())
     }
 
     /// Front-to-back traversal calling `leaf_prim(prim, ray)` on every primitive in a reached
     /// leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal by returning `true`.
     /// Returns whether it was stopped.
     #[inline(always)]
-    fn traverse(&self, ray: &mut Ray, mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool) -> bool {
+    fn traverse(
+        &self,
+        ray: &mut Ray,
+        mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool,
+        stats: &mut impl Counter,
+    ) -> bool {
         let Some(root) = self.nodes.first() else {
             return false;
         };
@@ -185,13 +226,16 @@ impl Bvh {
         loop {
             let node = &self.nodes[current];
             if node.count > 0 {
+                stats.leaf();
                 let first = node.index as usize;
                 for &prim in &self.indices[first..first + node.count as usize] {
+                    stats.primitive();
                     if leaf_prim(prim, ray) {
                         return true;
                     }
                 }
             } else {
+                stats.node();
                 let (left, right) = (current + 1, node.index as usize);
                 let t_left = slabs.entry(&self.nodes[left], ray.tmin, ray.tmax);
                 let t_right = slabs.entry(&self.nodes[right], ray.tmin, ray.tmax);
