@@ -82,7 +82,7 @@ fn engines<'a>(scene: &'a Scene, tris: &[[Vec3; 3]], runs: usize) -> Result<Vec<
         });
         Ok::<_, Error>(())
     };
-    timed("raylab core", &mut || Ok(Box::new(Core::build(scene))))?;
+    timed("raylab core", &mut || Ok(Box::new(Core::build(tris))))?;
     #[cfg(feature = "embree")]
     timed("Embree 3", &mut || {
         Ok(Box::new(peer_embree::Embree::build(tris)?))

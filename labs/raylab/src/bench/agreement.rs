@@ -102,7 +102,7 @@ mod tests {
         let cornell = builtin_scene("cornell").unwrap();
         let sphere = mesh_scene("sphere", bumpy_sphere(30, 40)).unwrap();
         for scene in [&cornell, &sphere] {
-            let core = Core::build(scene);
+            let core = Core::build(&triangles(scene));
             let tris = triangles(scene);
             let primary = camera_rays(scene, 48);
             let diffuse = diffuse_rays(scene, &primary);
@@ -126,7 +126,7 @@ mod tests {
         }
         // A ray that misses everything agrees too.
         let away = Ray::unbounded(Vec3::splat(100.0), Vec3::X, 0.0);
-        let core = Core::build(&cornell);
+        let core = Core::build(&triangles(&cornell));
         assert_eq!(compare(&core, &[away], &[None]).closest_agree, 1);
     }
 }

@@ -2,9 +2,10 @@
 //! triangle mesh. This file holds the interface and the framework's own core.
 
 use framework::Error;
-use framework::accel::{Bvh, TraversalStats};
+use framework::accel::{TraversalStats, TriangleBvh};
 use framework::geometry::intersect_triangle;
-use framework::math::{Aabb, Ray};
+use framework::glam::Vec3;
+use framework::math::Ray;
 use framework::scene::Scene;
 
 /// A closest hit: the ray parameter and, where the engine tells, which triangle (face index).
@@ -37,51 +38,44 @@ pub trait Engine: Sync {
     }
 }
 
-/// The framework's core at the level of Embree's query: the SAH BVH with the built-in
-/// watertight triangle kernel, returning the hit's `t` and face (what `Scene::trace_to_closest`
-/// does before it fills in the hit record).
-pub struct Core<'a> {
-    scene: &'a Scene,
-    bvh: Bvh,
+/// The framework's core at the level of Embree's query: the SAH BVH over the triangles (in leaf
+/// order) with the built-in watertight triangle kernel, returning the hit's `t` and face — what
+/// `Scene::trace_to_closest` does before it fills in the hit record.
+pub struct Core {
+    bvh: TriangleBvh,
 }
 
-impl<'a> Core<'a> {
-    /// Builds the BVH over the scene's triangles.
-    pub fn build(scene: &'a Scene) -> Self {
-        let bounds: Vec<Aabb> = (0..scene.mesh.faces.len())
-            .map(|f| Aabb::from_points(scene.mesh.triangle(f)))
-            .collect();
+impl Core {
+    /// Builds the BVH over `triangles`.
+    pub fn build(triangles: &[[Vec3; 3]]) -> Self {
         Core {
-            scene,
-            bvh: Bvh::build(&bounds),
+            bvh: TriangleBvh::build(triangles),
         }
     }
-
-    #[inline(always)]
-    fn test(&self, f: u32, ray: &Ray) -> Option<f32> {
-        let [v0, v1, v2] = self.scene.mesh.triangle(f as usize);
-        intersect_triangle(ray, v0, v1, v2).map(|h| h.0)
-    }
 }
 
-impl Engine for Core<'_> {
+#[inline(always)]
+fn test(&[v0, v1, v2]: &[Vec3; 3], ray: &Ray) -> Option<f32> {
+    intersect_triangle(ray, v0, v1, v2).map(|h| h.0)
+}
+
+impl Engine for Core {
     fn closest(&self, ray: &Ray) -> Option<EngineHit> {
         self.bvh
-            .closest_hit(ray, |f, r| self.test(f, r))
+            .closest_hit(ray, test)
             .map(|(f, t)| EngineHit { t, prim: Some(f) })
     }
 
     fn any(&self, ray: &Ray) -> bool {
-        self.bvh.any_hit(ray, |f, r| self.test(f, r).is_some())
+        self.bvh.any_hit(ray, |v, r| test(v, r).is_some())
     }
 
     fn work(&self, rays: &[Ray]) -> Option<(Work, Work)> {
         let (mut closest, mut any) = (TraversalStats::default(), TraversalStats::default());
         for ray in rays {
+            self.bvh.closest_hit_counted(ray, test, &mut closest);
             self.bvh
-                .closest_hit_counted(ray, |f, r| self.test(f, r), &mut closest);
-            self.bvh
-                .any_hit_counted(ray, |f, r| self.test(f, r).is_some(), &mut any);
+                .any_hit_counted(ray, |v, r| test(v, r).is_some(), &mut any);
         }
         let per_ray = |s: TraversalStats| Work {
             nodes: Some(s.nodes as f64 / rays.len().max(1) as f64),
