@@ -1,8 +1,10 @@
 //! A binary bounding volume hierarchy over primitive bounding boxes, built with the binned
 //! surface area heuristic and traversed front to back with a fixed-size stack.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
+use super::stats::{Counter, TraversalStats};
+use super::wide::{LEAF, MAX_PRIMITIVES, Node4, WIDTH, collapse, leaf_range};
 use crate::math::{Aabb, Ray};
 
 /// Number of SAH bins per axis.
@@ -15,26 +17,26 @@ const MAX_LEAF: usize = 8;
 /// primitive intersection.
 const TRAVERSAL_COST: f32 = 1.0;
 /// Below this depth the builder switches from the SAH to balanced median splits, which bounds
-/// the depth by `SAH_MAX_DEPTH + ⌈log₂ n⌉ ≤ 24 + 32 < STACK_SIZE`.
+/// the depth by `SAH_MAX_DEPTH + ⌈log₂ n⌉ ≤ 24 + 32 < MAX_DEPTH`.
 const SAH_MAX_DEPTH: usize = 24;
-/// Traversal stack entries; the builder guarantees `depth() ≤ STACK_SIZE`.
-const STACK_SIZE: usize = 64;
+/// Largest depth of the tree (the builder checks `depth() ≤ MAX_DEPTH`).
+const MAX_DEPTH: usize = 64;
 /// `1 + 2γ₃` with `γ₃ = 3u/(1 − 3u)`, `u = ε/2`: scaling the exit distance of a slab test by
 /// this makes it conservative under floating-point rounding (Ize 2013, "Robust BVH Ray
 /// Traversal"; also PBRT), so rays through box edges and flat boxes are not lost.
 const EXIT_SLACK: f32 = 1.0 + 2.0 * (1.5 * f32::EPSILON) / (1.0 - 1.5 * f32::EPSILON);
 
-/// One node of the flattened tree: 32 bytes.
+/// One node of the binary tree the builder makes: 32 bytes.
 ///
 /// Nodes are stored depth first: an interior node's first child directly follows it, and
 /// `index` holds its second child. A leaf (`count > 0`) owns `indices[index..index + count]`.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
-struct Node {
-    min: Vec3,
-    index: u32,
-    max: Vec3,
-    count: u32,
+pub(crate) struct Node {
+    pub min: Vec3,
+    pub index: u32,
+    pub max: Vec3,
+    pub count: u32,
 }
 
 /// A bounding volume hierarchy over a set of primitives given by their bounding boxes.
@@ -42,9 +44,15 @@ struct Node {
 /// The BVH only knows boxes: queries take a closure that intersects the ray with a primitive,
 /// identified by its index in the slice given to [`Bvh::build`]. `Bvh::default()` is the empty
 /// hierarchy, which no ray hits.
+///
+/// The builder makes a binary tree (kept for [`bounds`](Self::bounds),
+/// [`node_count`](Self::node_count) and [`depth`](Self::depth)); queries traverse the same tree
+/// collapsed into 4-wide nodes, whose four child boxes are tested at once.
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
     nodes: Vec<Node>,
+    /// The binary tree collapsed into 4-wide nodes, root first.
+    wide: Vec<Node4>,
     /// Primitive indices in leaf order.
     indices: Vec<u32>,
     depth: usize,
@@ -58,12 +66,12 @@ impl Bvh {
     ///
     /// # Panics
     ///
-    /// If there are more than `u32::MAX` primitives.
+    /// If there are more than 2²⁸ (268 million) primitives.
     pub fn build(bounds: &[Aabb]) -> Bvh {
         let n = bounds.len();
         assert!(
-            u32::try_from(n).is_ok(),
-            "a BVH holds at most u32::MAX primitives, got {n}"
+            n <= MAX_PRIMITIVES,
+            "a BVH holds at most {MAX_PRIMITIVES} primitives, got {n}"
         );
         if n == 0 {
             return Bvh::default();
@@ -88,11 +96,12 @@ impl Bvh {
         };
         builder.build_node(0, n, 1);
         assert!(
-            builder.depth <= STACK_SIZE,
-            "BVH depth {} exceeds the traversal stack",
+            builder.depth <= MAX_DEPTH,
+            "BVH depth {} exceeds {MAX_DEPTH}",
             builder.depth
         );
         Bvh {
+            wide: collapse(&builder.nodes),
             nodes: builder.nodes,
             indices: builder.prims.iter().map(|p| p.index).collect(),
             depth: builder.depth,
@@ -143,18 +152,83 @@ impl Bvh {
     pub fn closest_hit<F: FnMut(u32, &Ray) -> Option<f32>>(
         &self,
         ray: &Ray,
+        intersect: F,
+    ) -> Option<(u32, f32)> {
+        self.closest_hit_with(ray, intersect, &mut ())
+    }
+
+    /// [`closest_hit`](Self::closest_hit), adding the work done to `stats`.
+    pub fn closest_hit_counted<F: FnMut(u32, &Ray) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        intersect: F,
+        stats: &mut TraversalStats,
+    ) -> Option<(u32, f32)> {
+        self.closest_hit_with(ray, intersect, stats)
+    }
+
+    /// [`any_hit`](Self::any_hit), adding the work done to `stats`.
+    pub fn any_hit_counted<F: FnMut(u32, &Ray) -> bool>(
+        &self,
+        ray: &Ray,
         mut intersect: F,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        self.any_hit_in_leaf_order(ray, |k, r| intersect(self.indices[k as usize], r), stats)
+    }
+
+    #[inline(always)]
+    fn closest_hit_with<F: FnMut(u32, &Ray) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        mut intersect: F,
+        stats: &mut impl Counter,
+    ) -> Option<(u32, f32)> {
+        self.closest_hit_in_leaf_order(ray, |k, r| intersect(self.indices[k as usize], r), stats)
+            .map(|(k, t)| (self.indices[k as usize], t))
+    }
+
+    /// The primitive indices in leaf order: the primitive in leaf slot `k` is `leaf_order()[k]`.
+    pub(crate) fn leaf_order(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// [`closest_hit`](Self::closest_hit) with primitives named by their leaf slot (see
+    /// [`leaf_order`](Self::leaf_order)) instead of their index, both in the calls of
+    /// `intersect` and in the result.
+    #[inline(always)]
+    pub(crate) fn closest_hit_in_leaf_order<F: FnMut(u32, &Ray) -> Option<f32>>(
+        &self,
+        ray: &Ray,
+        mut intersect: F,
+        stats: &mut impl Counter,
     ) -> Option<(u32, f32)> {
         let mut ray = *ray;
         let mut closest = None;
-        self.traverse(&mut ray, |prim, ray| {
-            if let Some(t) = intersect(prim, ray) {
-                ray.tmax = t;
-                closest = Some((prim, t));
-            }
-            false
-        });
+        self.traverse(
+            &mut ray,
+            |slot, ray| {
+                if let Some(t) = intersect(slot, ray) {
+                    ray.tmax = t;
+                    closest = Some((slot, t));
+                }
+                false
+            },
+            stats,
+        );
         closest
+    }
+
+    /// [`any_hit`](Self::any_hit) with primitives named by their leaf slot.
+    #[inline(always)]
+    pub(crate) fn any_hit_in_leaf_order<F: FnMut(u32, &Ray) -> bool>(
+        &self,
+        ray: &Ray,
+        mut intersect: F,
+        stats: &mut impl Counter,
+    ) -> bool {
+        let mut ray = *ray;
+        self.traverse(&mut ray, |slot, ray| intersect(slot, ray), stats)
     }
 
     /// Whether any primitive intersects `ray`; stops at the first one `intersect` reports hit.
@@ -163,70 +237,75 @@ impl Bvh {
     /// ray.tmax` (the ray is always the query ray itself); useful for shadow rays.
     #[inline]
     pub fn any_hit<F: FnMut(u32, &Ray) -> bool>(&self, ray: &Ray, mut intersect: F) -> bool {
-        let mut ray = *ray;
-        self.traverse(&mut ray, |prim, ray| intersect(prim, ray))
+        self.any_hit_in_leaf_order(ray, |k, r| intersect(self.indices[k as usize], r), &mut ())
     }
 
-    /// Front-to-back traversal calling `leaf_prim(prim, ray)` on every primitive in a reached
-    /// leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal by returning `true`.
+    /// Front-to-back traversal calling `leaf_prim(slot, ray)` on the leaf slot of every
+    /// primitive in a reached leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal by returning `true`.
     /// Returns whether it was stopped.
+    ///
+    /// Runs on the 4-wide nodes: each visit tests the boxes of up to four children at once,
+    /// continues with the nearest child hit and pushes the others, farthest first, with their
+    /// entry distances, so that a popped node starting beyond the closest hit is skipped.
     #[inline(always)]
-    fn traverse(&self, ray: &mut Ray, mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool) -> bool {
-        let Some(root) = self.nodes.first() else {
-            return false;
-        };
-        let slabs = Slabs::new(ray);
-        if slabs.entry(root, ray.tmin, ray.tmax).is_none() {
+    fn traverse(
+        &self,
+        ray: &mut Ray,
+        mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool,
+        stats: &mut impl Counter,
+    ) -> bool {
+        if self.wide.is_empty() {
             return false;
         }
-        let mut stack = [(0u32, 0f32); STACK_SIZE];
-        let mut sp = 0;
-        let mut current = 0usize;
+        let slabs = Slabs::new(ray);
+        let mut stack = Stack::new();
+        let mut current = 0u32;
         loop {
-            let node = &self.nodes[current];
-            if node.count > 0 {
-                let first = node.index as usize;
-                for &prim in &self.indices[first..first + node.count as usize] {
-                    if leaf_prim(prim, ray) {
+            if current & LEAF != 0 {
+                stats.leaf();
+                let (first, count) = leaf_range(current);
+                for slot in first..first + count {
+                    stats.primitive();
+                    if leaf_prim(slot as u32, ray) {
                         return true;
                     }
                 }
             } else {
-                let (left, right) = (current + 1, node.index as usize);
-                let t_left = slabs.entry(&self.nodes[left], ray.tmin, ray.tmax);
-                let t_right = slabs.entry(&self.nodes[right], ray.tmin, ray.tmax);
-                match (t_left, t_right) {
-                    (Some(tl), Some(tr)) => {
-                        let (near, far, t_far) = if tl <= tr {
-                            (left, right, tr)
-                        } else {
-                            (right, left, tl)
-                        };
-                        stack[sp] = (far as u32, t_far);
-                        sp += 1;
-                        current = near;
-                        continue;
+                stats.node();
+                let node = &self.wide[current as usize];
+                let (entry, mut mask) = slabs.entry4(node, ray.tmin, ray.tmax);
+                // Lanes by array index (indexing a `Vec4` by a variable lane is a jump table).
+                let entry = entry.to_array();
+                if mask != 0 {
+                    // The children hit, nearest first (insertion sort of at most four).
+                    let mut hits = [(0u32, 0f32); WIDTH];
+                    let mut n = 0;
+                    while mask != 0 {
+                        let lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let hit = (node.children[lane], entry[lane]);
+                        let mut k = n;
+                        while k > 0 && hits[k - 1].1 > hit.1 {
+                            hits[k] = hits[k - 1];
+                            k -= 1;
+                        }
+                        hits[k] = hit;
+                        n += 1;
                     }
-                    (Some(_), None) => {
-                        current = left;
-                        continue;
+                    for &far in hits[1..n].iter().rev() {
+                        stack.push(far);
                     }
-                    (None, Some(_)) => {
-                        current = right;
-                        continue;
-                    }
-                    (None, None) => {}
+                    current = hits[0].0;
+                    continue;
                 }
             }
             // Pop the next node that still starts before the closest hit.
             loop {
-                if sp == 0 {
+                let Some((node, t_entry)) = stack.pop() else {
                     return false;
-                }
-                sp -= 1;
-                let (node, t_entry) = stack[sp];
+                };
                 if t_entry <= ray.tmax * EXIT_SLACK {
-                    current = node as usize;
+                    current = node;
                     break;
                 }
             }
@@ -234,11 +313,56 @@ impl Bvh {
     }
 }
 
-/// A ray prepared for slab tests: origin, reciprocal direction and which box corner is met
-/// first along each axis.
+/// Entries of the traversal stack kept in place; deeper ones spill to the heap.
+const STACK_INLINE: usize = 32;
+
+/// The traversal stack of (node reference, entry distance) pairs.
+///
+/// Each wide node pushes at most three children, so the stack can grow to three times the
+/// depth. Typical rays need far fewer entries than that: the first [`STACK_INLINE`] live in an
+/// array (cheap to set up for every ray), the rest, for rare rays in deep trees, in a vector.
+struct Stack {
+    inline: [(u32, f32); STACK_INLINE],
+    len: usize,
+    spill: Vec<(u32, f32)>,
+}
+
+impl Stack {
+    #[inline(always)]
+    fn new() -> Self {
+        Stack {
+            inline: [(0, 0.0); STACK_INLINE],
+            len: 0,
+            spill: Vec::new(),
+        }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, entry: (u32, f32)) {
+        if self.len < STACK_INLINE {
+            self.inline[self.len] = entry;
+        } else {
+            self.spill.push(entry);
+        }
+        self.len += 1;
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(u32, f32)> {
+        self.len = self.len.checked_sub(1)?;
+        if self.len < STACK_INLINE {
+            Some(self.inline[self.len])
+        } else {
+            self.spill.pop()
+        }
+    }
+}
+
+/// A ray prepared for slab tests: origin and reciprocal direction (each coordinate splat over
+/// four lanes) and which box corner is met first along each axis.
 struct Slabs {
-    origin: Vec3,
-    inv_dir: Vec3,
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
     negative: [bool; 3],
 }
 
@@ -247,14 +371,15 @@ impl Slabs {
     fn new(ray: &Ray) -> Self {
         let inv_dir = ray.direction.recip();
         Self {
-            origin: ray.origin,
-            inv_dir,
+            origin: ray.origin.to_array().map(Vec4::splat),
+            inv_dir: inv_dir.to_array().map(Vec4::splat),
             negative: inv_dir.to_array().map(|i| i.is_sign_negative()),
         }
     }
 
-    /// Entry distance of the ray into the node's box, clipped to `[tmin, tmax]`; `None` when the
-    /// clipped interval is empty (with the rounding slack [`EXIT_SLACK`]).
+    /// Entry distances of the ray into the four boxes of a wide node, clipped to
+    /// `[tmin, tmax]`, and the mask of the lanes whose clipped interval is not empty (with the
+    /// rounding slack [`EXIT_SLACK`]; bit `i` for lane `i`).
     ///
     /// Robust to zero direction components: each slab's entry (exit) distance comes from the
     /// plane met first (last) for the direction's sign (Williams et al. 2005), so `0·∞ = NaN`
@@ -262,44 +387,44 @@ impl Slabs {
     /// exactly when the slab puts no limit on `t` — and NaN is then ignored by the `max` (`min`)
     /// that accumulates the entry (exit) distances.
     #[inline(always)]
-    fn entry(&self, node: &Node, tmin: f32, tmax: f32) -> Option<f32> {
+    fn entry4(&self, node: &Node4, tmin: f32, tmax: f32) -> (Vec4, u32) {
         let [nx, ny, nz] = self.negative;
         let (near_x, far_x) = if nx {
-            (node.max.x, node.min.x)
+            (node.max_x, node.min_x)
         } else {
-            (node.min.x, node.max.x)
+            (node.min_x, node.max_x)
         };
         let (near_y, far_y) = if ny {
-            (node.max.y, node.min.y)
+            (node.max_y, node.min_y)
         } else {
-            (node.min.y, node.max.y)
+            (node.min_y, node.max_y)
         };
         let (near_z, far_z) = if nz {
-            (node.max.z, node.min.z)
+            (node.max_z, node.min_z)
         } else {
-            (node.min.z, node.max.z)
+            (node.min_z, node.max_z)
         };
-        let (o, inv) = (self.origin, self.inv_dir);
-        let enter = max_ignoring_nan(tmin, (near_x - o.x) * inv.x);
-        let enter = max_ignoring_nan(enter, (near_y - o.y) * inv.y);
-        let enter = max_ignoring_nan(enter, (near_z - o.z) * inv.z);
-        let exit = min_ignoring_nan(tmax, (far_x - o.x) * inv.x);
-        let exit = min_ignoring_nan(exit, (far_y - o.y) * inv.y);
-        let exit = min_ignoring_nan(exit, (far_z - o.z) * inv.z);
-        (enter <= exit * EXIT_SLACK).then_some(enter)
+        let ([ox, oy, oz], [ix, iy, iz]) = (self.origin, self.inv_dir);
+        let enter = max_ignoring_nan(Vec4::splat(tmin), (near_x - ox) * ix);
+        let enter = max_ignoring_nan(enter, (near_y - oy) * iy);
+        let enter = max_ignoring_nan(enter, (near_z - oz) * iz);
+        let exit = min_ignoring_nan(Vec4::splat(tmax), (far_x - ox) * ix);
+        let exit = min_ignoring_nan(exit, (far_y - oy) * iy);
+        let exit = min_ignoring_nan(exit, (far_z - oz) * iz);
+        (enter, enter.cmple(exit * EXIT_SLACK).bitmask())
     }
 }
 
-/// `max(acc, x)`, or `acc` when `x` is NaN (a single `maxss` on x86).
+/// Lane-wise `max(acc, x)`, or `acc` where `x` is NaN (a single `maxps` on x86).
 #[inline(always)]
-fn max_ignoring_nan(acc: f32, x: f32) -> f32 {
-    if x > acc { x } else { acc }
+fn max_ignoring_nan(acc: Vec4, x: Vec4) -> Vec4 {
+    Vec4::select(x.cmpgt(acc), x, acc)
 }
 
-/// `min(acc, x)`, or `acc` when `x` is NaN (a single `minss` on x86).
+/// Lane-wise `min(acc, x)`, or `acc` where `x` is NaN (a single `minps` on x86).
 #[inline(always)]
-fn min_ignoring_nan(acc: f32, x: f32) -> f32 {
-    if x < acc { x } else { acc }
+fn min_ignoring_nan(acc: Vec4, x: Vec4) -> Vec4 {
+    Vec4::select(x.cmplt(acc), x, acc)
 }
 
 /// A primitive during the build; the builder reorders these in place.
@@ -623,7 +748,7 @@ mod tests {
     ) {
         let bvh = Bvh::build(boxes);
         assert_eq!(bvh.len(), n);
-        assert!(bvh.depth() <= STACK_SIZE);
+        assert!(bvh.depth() <= MAX_DEPTH);
         let mut rng = Rng(seed);
         let mut hits = 0;
         for _ in 0..rays {
@@ -731,8 +856,20 @@ mod tests {
             max: Vec3::new(1.0, 1.0, 0.0),
             ..node
         };
+        // The box in lane 2 of a wide node, the other lanes empty.
         let entry = |o: Vec3, d: Vec3, n: &Node| {
-            Slabs::new(&Ray::unbounded(o, d, 0.0)).entry(n, 0.0, f32::INFINITY)
+            let mut wide = collapse(&[*n])[0];
+            wide.min_x[2] = n.min.x;
+            wide.min_y[2] = n.min.y;
+            wide.min_z[2] = n.min.z;
+            wide.max_x[2] = n.max.x;
+            wide.max_y[2] = n.max.y;
+            wide.max_z[2] = n.max.z;
+            (wide.min_x[0], wide.max_x[0]) = (f32::INFINITY, f32::NEG_INFINITY);
+            let (t, mask) =
+                Slabs::new(&Ray::unbounded(o, d, 0.0)).entry4(&wide, 0.0, f32::INFINITY);
+            assert_eq!(mask & !0b100, 0, "empty lanes are never entered");
+            (mask != 0).then_some(t[2])
         };
         for d in [
             Vec3::Z,
@@ -836,7 +973,7 @@ mod tests {
             .chain((0..100).map(|_| Aabb::EMPTY))
             .collect();
         let bvh = Bvh::build(&boxes);
-        assert!(bvh.depth() <= STACK_SIZE, "depth {}", bvh.depth());
+        assert!(bvh.depth() <= MAX_DEPTH, "depth {}", bvh.depth());
         let mut rng = Rng(8);
         for _ in 0..200 {
             let ray = Ray::unbounded(Vec3::new(-1.0, rng.next(), rng.next()), Vec3::X, 0.0);
@@ -883,5 +1020,39 @@ mod tests {
         );
         assert!(a.depth() < 40, "depth {}", a.depth());
         assert_eq!(std::mem::size_of::<Node>(), 32);
+        // The wide tree: every primitive in exactly one leaf, every child box inside its node's
+        // binary counterpart's bounds (the root's: all primitives).
+        let mut seen = Vec::new();
+        let mut stack = vec![(0u32, a.bounds())];
+        while let Some((child, bounds)) = stack.pop() {
+            if child & LEAF != 0 {
+                let (first, count) = leaf_range(child);
+                for &p in &a.indices[first..first + count] {
+                    assert!(contains(
+                        &Node {
+                            min: bounds.min,
+                            max: bounds.max,
+                            index: 0,
+                            count: 0
+                        },
+                        boxes[p as usize]
+                    ));
+                    seen.push(p);
+                }
+                continue;
+            }
+            let node = &a.wide[child as usize];
+            for lane in 0..WIDTH {
+                let min = Vec3::new(node.min_x[lane], node.min_y[lane], node.min_z[lane]);
+                let max = Vec3::new(node.max_x[lane], node.max_y[lane], node.max_z[lane]);
+                if min.x <= max.x {
+                    assert!(bounds.min.cmple(min).all() && bounds.max.cmpge(max).all());
+                    stack.push((node.children[lane], Aabb::new(min, max)));
+                }
+            }
+        }
+        seen.sort_unstable();
+        assert!(seen.iter().copied().eq(0..5000));
+        assert_eq!(std::mem::size_of::<Node4>(), 112);
     }
 }

@@ -15,7 +15,7 @@ use crate::math::Ray;
 /// edge function of an edge depends only on that edge's two vertices, so two triangles sharing
 /// an edge can never both miss a ray that crosses it (no cracks in closed meshes, also not
 /// through shared vertices); values that round to exactly zero are recomputed in `f64`.
-#[inline]
+#[inline(always)]
 pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
     let d = ray.direction;
     let o = ray.origin;

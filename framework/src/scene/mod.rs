@@ -24,7 +24,7 @@ pub use texture::Texture;
 use glam::Vec3;
 
 use crate::Error;
-use crate::accel::Bvh;
+use crate::accel::{Bvh, TriangleBvh};
 
 /// A scene ready to render: geometry with its acceleration structures, materials, lights and
 /// camera. Build it with [`Scene::new`], [`load_scene_file`] or [`builtin_scene`].
@@ -46,7 +46,7 @@ pub struct Scene {
     pub spheres: Vec<Sphere>,
     /// All triangles of all meshes, merged into one mesh (in a BVH).
     pub mesh: Mesh,
-    pub(crate) triangle_bvh: Bvh,
+    pub(crate) triangle_bvh: TriangleBvh,
     pub(crate) sphere_bvh: Bvh,
 }
 
@@ -92,9 +92,9 @@ impl Scene {
         validate(
             &name, &camera, &materials, &lights, &planes, &spheres, &mesh,
         )?;
-        let triangle_bvh = Bvh::build(
+        let triangle_bvh = TriangleBvh::build(
             &(0..mesh.faces.len())
-                .map(|f| crate::math::Aabb::from_points(mesh.triangle(f)))
+                .map(|f| mesh.triangle(f))
                 .collect::<Vec<_>>(),
         );
         let sphere_bvh = Bvh::build(&spheres.iter().map(Sphere::bounds).collect::<Vec<_>>());

@@ -55,8 +55,7 @@ impl Scene {
             found = Some(Found::Sphere(i as usize, sphere_normal));
         }
         let mut last = (Vec2::ZERO, Vec3::ZERO);
-        if let Some((f, t)) = self.triangle_bvh.closest_hit(&r, |f, r| {
-            let [v0, v1, v2] = self.mesh.triangle(f as usize);
+        if let Some((f, t)) = self.triangle_bvh.closest_hit(&r, |&[v0, v1, v2], r| {
             isect.intersect_triangle(r, v0, v1, v2).map(|h| {
                 last = (Vec2::new(h.beta, h.gamma), h.normal);
                 h.distance
@@ -104,8 +103,7 @@ impl Scene {
                     .intersect_sphere(r, &self.spheres[i as usize])
                     .is_some()
             })
-            || self.triangle_bvh.any_hit(ray, |f, r| {
-                let [v0, v1, v2] = self.mesh.triangle(f as usize);
+            || self.triangle_bvh.any_hit(ray, |&[v0, v1, v2], r| {
                 isect.intersect_triangle(r, v0, v1, v2).is_some()
             })
     }

@@ -1,20 +1,31 @@
 //! `raylab bench`: throughput of the framework's ray-tracing core (BVH plus built-in
 //! intersection kernels) in rays per second, for closest-hit and any-hit queries, on camera
-//! rays and on one diffuse bounce per hit, on 1 and 2 threads; and the BVH build time.
+//! rays and on one diffuse bounce per hit, on 1 and 2 threads; the BVH build time; and the same
+//! figures for peers on the very same rays — obvhs (pure Rust) always, Embree 3 with the
+//! `embree` feature — with a check that every engine finds the same hits.
 //! docs/performance.md explains the measurement and records the figures.
+
+mod agreement;
+mod engine;
+#[cfg(feature = "embree")]
+mod peer_embree;
+mod peer_obvhs;
+mod scenes;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
 use framework::Error;
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::{Aabb, Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
-use framework::scene::{
-    CameraSetup, Material, MaterialId, Mesh, Scene, SceneDescription, builtin_scene, load_obj,
-};
+use framework::glam::Vec3;
+use framework::math::Ray;
+use framework::scene::{Scene, builtin_scene, load_obj};
 use rayon::prelude::*;
+
+use agreement::compare;
+use engine::{Core, Engine, SceneQuery, Work, check_triangles_only};
+use peer_obvhs::{Kernel, Obvhs};
+use scenes::{bumpy_sphere, camera_rays, diffuse_rays, mesh_scene, triangles};
 
 /// Options of `raylab bench`.
 #[derive(Args, Debug)]
@@ -25,166 +36,194 @@ pub struct BenchArgs {
     /// Timed repetitions per measurement; the median is reported.
     #[arg(long, default_value_t = 5)]
     pub runs: usize,
-    /// An OBJ mesh to measure besides the Cornell box (default: a generated sphere of 70 300
-    /// triangles with bumps, about the size of the Stanford bunny).
+    /// An OBJ mesh to measure besides the Cornell box, such as the Stanford bunny that
+    /// `labs/raylab/scripts/fetch-bunny.sh` fetches (default: a generated sphere of 70 300
+    /// triangles with bumps, about the size of the bunny).
     #[arg(long)]
     pub mesh: Option<PathBuf>,
 }
 
-/// A sphere of `rings × segments × 2` triangles with a few percent of radial bumps, seen by a
-/// camera that frames it.
-fn bumpy_sphere(rings: u32, segments: u32) -> Mesh {
-    let mut mesh = Mesh::default();
-    for r in 0..=rings {
-        let theta = std::f32::consts::PI * r as f32 / rings as f32;
-        for s in 0..segments {
-            let phi = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
-            let bump = 1.0 + 0.03 * (7.0 * theta).sin() * (11.0 * phi).cos();
-            mesh.positions.push(
-                bump * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.cos(),
-                    theta.sin() * phi.sin(),
-                ),
-            );
-        }
-    }
-    for r in 0..rings {
-        for s in 0..segments {
-            let i = |r: u32, s: u32| r * segments + s % segments;
-            let (a, b, c, d) = (i(r, s), i(r, s + 1), i(r + 1, s), i(r + 1, s + 1));
-            mesh.faces.push([a, c, b]);
-            mesh.faces.push([b, c, d]);
-        }
-    }
-    mesh.face_materials = vec![MaterialId(0); mesh.faces.len()];
-    mesh
+/// One engine under test, with its median BVH build time (none where the scene builds it).
+struct Entry<'a> {
+    name: &'static str,
+    engine: Box<dyn Engine + 'a>,
+    build_seconds: Option<f64>,
 }
 
-/// A scene of one mesh, with a camera looking at its bounding box from the front.
-fn mesh_scene(name: &str, mesh: Mesh) -> Result<Scene, Error> {
-    let bounds = Aabb::from_points(mesh.positions.iter().copied());
-    let centre = bounds.centroid();
-    let extent = bounds.diagonal().max_element();
-    Scene::new(SceneDescription {
-        name: name.into(),
-        camera: Some(CameraSetup {
-            eye: centre + Vec3::new(0.0, 0.2, 1.6) * extent,
-            look_at: centre,
-            up: Vec3::Y,
-            focal_distance: 1.2,
-        }),
-        materials: vec![Material::lambertian("grey", Vec3::splat(0.7))],
-        mesh,
-        ..SceneDescription::default()
-    })
+/// Seconds `f` takes.
+fn time(f: &mut impl FnMut()) -> f64 {
+    let start = Instant::now();
+    f();
+    start.elapsed().as_secs_f64()
 }
 
-/// Camera rays through the pixel centres of an `n × n` image (the reference camera).
-fn camera_rays(scene: &Scene, n: u32) -> Vec<Ray> {
-    let pipeline = reference::pipeline(1);
-    let camera = pipeline.prepare_camera(scene, UVec2::splat(n));
-    (0..n * n)
-        .map(|k| {
-            pipeline.camera_ray(
-                &camera,
-                Vec2::new((k % n) as f32 + 0.5, (k / n) as f32 + 0.5),
-            )
-        })
-        .collect()
+/// The median of `xs` (not empty).
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
 }
 
-/// One cosine-distributed diffuse bounce from each hit of `rays` (on the side the ray came from).
-fn diffuse_rays(scene: &Scene, rays: &[Ray]) -> Vec<Ray> {
-    rays.iter()
-        .enumerate()
-        .filter_map(|(k, ray)| {
-            let hit = scene.trace_to_closest(ray)?;
-            let n = if hit.geometric_normal.dot(ray.direction) < 0.0 {
-                hit.geometric_normal
-            } else {
-                -hit.geometric_normal
-            };
-            let mut rng = Rng::for_sample(5, k as u32, 0, 0);
-            let u = rng.next_vec2();
-            let (r, phi) = (u.x.sqrt(), 2.0 * std::f32::consts::PI * u.y);
-            let local = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u.x).max(0.0).sqrt());
-            Some(Ray::unbounded(
-                hit.position,
-                Onb::from_w(n).to_world(local).normalize(),
-                RAY_EPSILON,
-            ))
-        })
-        .collect()
-}
-
-/// Median of `runs` timings of `f`, in seconds.
-fn median_seconds(runs: usize, mut f: impl FnMut()) -> f64 {
-    let mut times: Vec<f64> = (0..runs.max(1))
-        .map(|_| {
+/// Builds every engine over the scene's triangles, timing each build (median of `runs`).
+fn engines<'a>(scene: &'a Scene, tris: &[[Vec3; 3]], runs: usize) -> Result<Vec<Entry<'a>>, Error> {
+    let mut entries = Vec::new();
+    let mut timed = |name, build: &mut dyn FnMut() -> Result<Box<dyn Engine + 'a>, Error>| {
+        let mut times = Vec::new();
+        let mut engine = None;
+        for _ in 0..runs {
             let start = Instant::now();
-            f();
-            start.elapsed().as_secs_f64()
+            let built = build()?;
+            times.push(start.elapsed().as_secs_f64());
+            engine = Some(built);
+        }
+        entries.push(Entry {
+            name,
+            engine: engine.expect("at least one run"),
+            build_seconds: Some(median(times)),
+        });
+        Ok::<_, Error>(())
+    };
+    timed("raylab core", &mut || Ok(Box::new(Core::build(tris))))?;
+    #[cfg(feature = "embree")]
+    timed("Embree 3", &mut || {
+        Ok(Box::new(peer_embree::Embree::build(tris)?))
+    })?;
+    timed("obvhs", &mut || {
+        Ok(Box::new(Obvhs::build(tris, Kernel::Obvhs)))
+    })?;
+    timed("obvhs + raylab kernel", &mut || {
+        Ok(Box::new(Obvhs::build(tris, Kernel::Framework)))
+    })?;
+    entries.push(Entry {
+        name: "Scene::trace_to_*",
+        engine: Box::new(SceneQuery(scene)),
+        build_seconds: None,
+    });
+    Ok(entries)
+}
+
+fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid {
+            what: "thread pool".into(),
+            reason: e.to_string(),
         })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
+}
+
+fn work_cell(w: Work) -> String {
+    match w.nodes {
+        Some(n) => format!("{n:.1} | {:.1}", w.triangles),
+        None => format!("– | {:.1}", w.triangles),
+    }
 }
 
 fn measure(scene: &Scene, args: &BenchArgs) -> Result<(), Error> {
-    let build = median_seconds(args.runs, || {
-        let bounds: Vec<Aabb> = (0..scene.mesh.faces.len())
-            .map(|f| Aabb::from_points(scene.mesh.triangle(f)))
-            .collect();
-        std::hint::black_box(framework::accel::Bvh::build(&bounds));
-    });
-    println!(
-        "{}: {} triangles, BVH build {:.1} ms (median of {})",
-        scene.name,
-        scene.mesh.faces.len(),
-        build * 1e3,
-        args.runs
-    );
+    check_triangles_only(scene)?;
+    let tris = triangles(scene);
+    println!("\n## {}: {} triangles\n", scene.name, tris.len());
+    let entries = engines(scene, &tris, args.runs)?;
+    println!("| engine | BVH build (ms, 1 thread) |\n| --- | --- |");
+    for e in &entries {
+        if let Some(s) = e.build_seconds {
+            println!("| {} | {:.1} |", e.name, s * 1e3);
+        }
+    }
     let primary = camera_rays(scene, args.resolution);
     let diffuse = diffuse_rays(scene, &primary);
-    for (kind, rays) in [("primary", &primary), ("diffuse", &diffuse)] {
-        let hits = rays
-            .iter()
-            .filter(|r| scene.trace_to_closest(r).is_some())
-            .count();
-        for threads in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .map_err(|e| Error::Invalid {
-                    what: "thread pool".into(),
-                    reason: e.to_string(),
-                })?;
-            let closest = pool.install(|| {
-                median_seconds(args.runs, || {
-                    std::hint::black_box(
-                        rays.par_iter()
-                            .filter(|r| scene.trace_to_closest(r).is_some())
-                            .count(),
-                    );
-                })
-            });
-            let any = pool.install(|| {
-                median_seconds(args.runs, || {
-                    std::hint::black_box(rays.par_iter().filter(|r| scene.trace_to_any(r)).count());
-                })
-            });
+    let sets = [("primary", &primary), ("diffuse", &diffuse)];
+
+    println!(
+        "\nWork per ray (nodes: interior nodes visited; tris: triangle tests)\n\n\
+         | rays | engine | closest nodes | closest tris | any nodes | any tris |\n\
+         | --- | --- | --- | --- | --- | --- |"
+    );
+    for (kind, rays) in sets {
+        for e in &entries {
+            if let Some((closest, any)) = e.engine.work(rays) {
+                println!(
+                    "| {kind} | {} | {} | {} |",
+                    e.name,
+                    work_cell(closest),
+                    work_cell(any)
+                );
+            }
+        }
+    }
+
+    println!(
+        "\nAgreement with the raylab core (same hit/miss and t within {} relative)\n\n\
+         | rays | engine | hits | closest agree | same triangle | hit vs miss | t differs | any-hit agree |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- |",
+        agreement::T_TOLERANCE
+    );
+    for (kind, rays) in sets {
+        let reference: Vec<_> = rays
+            .par_iter()
+            .map(|r| entries[0].engine.closest(r))
+            .collect();
+        let hits = reference.iter().filter(|h| h.is_some()).count();
+        for e in &entries[1..] {
+            let a = compare(e.engine.as_ref(), rays, &reference);
             println!(
-                "  {kind:<8} {:>7} rays ({:>4.1}% hit)  {threads} thread{}  closest-hit {:>6.2} Mrays/s  any-hit {:>6.2} Mrays/s",
+                "| {kind} | {} | {hits} of {} | {:.4} % | {:.4} % | {} | {} | {:.4} % |",
+                e.name,
                 rays.len(),
-                100.0 * hits as f64 / rays.len().max(1) as f64,
-                if threads == 1 { " " } else { "s" },
-                rays.len() as f64 / closest / 1e6,
-                rays.len() as f64 / any / 1e6,
+                100.0 * a.closest_rate(),
+                100.0 * a.same_triangle as f64 / hits.max(1) as f64,
+                a.hit_miss,
+                a.distance,
+                100.0 * a.any_rate(),
             );
         }
     }
+
+    println!(
+        "\nThroughput (Mrays/s, median of {} runs, engines interleaved; ratio = raylab core ÷ engine)\n\n\
+         | rays | threads | engine | closest-hit | any-hit | ratio closest | ratio any |\n\
+         | --- | --- | --- | --- | --- | --- | --- |",
+        args.runs
+    );
+    for (kind, rays) in sets {
+        for threads in [1, 2] {
+            let pool = thread_pool(threads)?;
+            let rates = pool.install(|| throughput(&entries, rays, args.runs));
+            let (core_closest, core_any) = rates[0];
+            for (e, (closest, any)) in entries.iter().zip(&rates) {
+                println!(
+                    "| {kind} ({}) | {threads} | {} | {closest:.2} | {any:.2} | {:.2} | {:.2} |",
+                    rays.len(),
+                    e.name,
+                    core_closest / closest,
+                    core_any / any,
+                );
+            }
+        }
+    }
     Ok(())
+}
+
+/// Closest-hit and any-hit rates (Mrays/s) of every engine on `rays` in the current thread
+/// pool: median of `runs`, the engines taking turns within each run so that all of them see the
+/// same machine load.
+fn throughput(entries: &[Entry<'_>], rays: &[Ray], runs: usize) -> Vec<(f64, f64)> {
+    let mut times = vec![(Vec::new(), Vec::new()); entries.len()];
+    for _ in 0..runs {
+        for (e, (closest, any)) in entries.iter().zip(&mut times) {
+            closest.push(time(&mut || {
+                let hits = rays.par_iter().filter(|r| e.engine.closest(r).is_some());
+                std::hint::black_box(hits.count());
+            }));
+            any.push(time(&mut || {
+                std::hint::black_box(rays.par_iter().filter(|r| e.engine.any(r)).count());
+            }));
+        }
+    }
+    let rate = |t: Vec<f64>| rays.len() as f64 / median(t) / 1e6;
+    times
+        .into_iter()
+        .map(|(closest, any)| (rate(closest), rate(any)))
+        .collect()
 }
 
 /// Runs `raylab bench`.
@@ -200,10 +239,32 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
             "warning: this is a debug build; measure with `cargo run --release -p raylab -- bench`"
         );
     }
-    measure(&builtin_scene("cornell")?, args)?;
+    if !cfg!(feature = "embree") {
+        eprintln!(
+            "note: Embree is not measured; build with `--features raylab/embree` (needs libembree-dev)"
+        );
+    }
+    // Load the mesh first, so that a bad path fails before the long measurements.
     let mesh = match &args.mesh {
         Some(path) => mesh_scene(&path.display().to_string(), load_obj(path)?.mesh)?,
         None => mesh_scene("bumpy sphere", bumpy_sphere(190, 185))?,
     };
+    measure(&builtin_scene("cornell")?, args)?;
     measure(&mesh, args)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_mesh_is_an_error_naming_the_path() {
+        let args = BenchArgs {
+            resolution: 4,
+            runs: 1,
+            mesh: Some(PathBuf::from("no/such/bunny.obj")),
+        };
+        let err = run(&args).unwrap_err().to_string();
+        assert!(err.contains("no/such/bunny.obj"), "{err}");
+    }
 }

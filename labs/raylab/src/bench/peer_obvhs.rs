@@ -1,0 +1,129 @@
+//! The fastest pure-Rust peer: obvhs's compressed 8-wide BVH (CWBVH, built with PLOC), traced
+//! with obvhs's own Möller–Trumbore test or with the framework's watertight kernel (which tells
+//! the two BVHs apart from the two triangle tests).
+
+use std::cell::Cell;
+use std::time::Duration;
+
+use framework::geometry::intersect_triangle;
+use framework::glam::{Vec3, Vec3A};
+use framework::math::Ray;
+use obvhs::BvhBuildParams;
+use obvhs::cwbvh::CwBvh;
+use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::ray::{Ray as ObRay, RayHit as ObHit};
+use obvhs::triangle::Triangle;
+
+use super::engine::{Engine, EngineHit, Work};
+
+/// Which triangle test the obvhs engine runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kernel {
+    /// obvhs's `Triangle::intersect` (Möller–Trumbore, not watertight).
+    Obvhs,
+    /// The framework's `intersect_triangle` (Woop et al., watertight).
+    Framework,
+}
+
+/// obvhs's CWBVH over a triangle list, with the triangles stored in the BVH's leaf order.
+pub struct Obvhs {
+    bvh: CwBvh,
+    /// Triangles in leaf order (`leaf_tris[i]` is face `bvh.primitive_indices[i]`).
+    leaf_tris: Vec<Triangle>,
+    leaf_verts: Vec<[Vec3; 3]>,
+    kernel: Kernel,
+}
+
+impl Obvhs {
+    /// Builds obvhs's CWBVH (`BvhBuildParams::medium_build`, which obvhs tunes to take about
+    /// Embree's build time) over `triangles`.
+    pub fn build(triangles: &[[Vec3; 3]], kernel: Kernel) -> Self {
+        let tris: Vec<Triangle> = triangles
+            .iter()
+            .map(|&[v0, v1, v2]| Triangle {
+                v0: v0.into(),
+                v1: v1.into(),
+                v2: v2.into(),
+            })
+            .collect();
+        let bvh = build_cwbvh_from_tris(
+            &tris,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        let order = bvh.primitive_indices.iter().map(|&i| i as usize);
+        Obvhs {
+            leaf_tris: order.clone().map(|i| tris[i]).collect(),
+            leaf_verts: order.map(|i| triangles[i]).collect(),
+            bvh,
+            kernel,
+        }
+    }
+
+    /// The ray parameter of a hit on leaf triangle `i` within `ob`'s interval, or infinity.
+    #[inline(always)]
+    fn test(&self, ray: &Ray, ob: &ObRay, i: usize) -> f32 {
+        match self.kernel {
+            Kernel::Obvhs => self.leaf_tris[i].intersect(ob),
+            Kernel::Framework => {
+                let [v0, v1, v2] = self.leaf_verts[i];
+                let r = Ray {
+                    tmax: ob.tmax,
+                    ..*ray
+                };
+                intersect_triangle(&r, v0, v1, v2).map_or(f32::INFINITY, |h| h.0)
+            }
+        }
+    }
+}
+
+fn ob_ray(ray: &Ray) -> ObRay {
+    ObRay::new(
+        Vec3A::from(ray.origin),
+        Vec3A::from(ray.direction),
+        ray.tmin,
+        ray.tmax,
+    )
+}
+
+impl Engine for Obvhs {
+    fn closest(&self, ray: &Ray) -> Option<EngineHit> {
+        let mut hit = ObHit::none();
+        self.bvh
+            .ray_traverse(ob_ray(ray), &mut hit, |ob, i| self.test(ray, ob, i))
+            .then(|| EngineHit {
+                t: hit.t,
+                prim: Some(self.bvh.primitive_indices[hit.primitive_id as usize]),
+            })
+    }
+
+    fn any(&self, ray: &Ray) -> bool {
+        !self
+            .bvh
+            .ray_traverse_miss(ob_ray(ray), |ob, i| self.test(ray, ob, i))
+    }
+
+    fn work(&self, rays: &[Ray]) -> Option<(Work, Work)> {
+        let tests = Cell::new(0u64);
+        let count = |ray: &Ray, ob: &ObRay, i: usize| {
+            tests.set(tests.get() + 1);
+            self.test(ray, ob, i)
+        };
+        for ray in rays {
+            let mut hit = ObHit::none();
+            self.bvh
+                .ray_traverse(ob_ray(ray), &mut hit, |ob, i| count(ray, ob, i));
+        }
+        let closest = tests.replace(0);
+        for ray in rays {
+            self.bvh
+                .ray_traverse_miss(ob_ray(ray), |ob, i| count(ray, ob, i));
+        }
+        let any = tests.get();
+        let per_ray = |n: u64| Work {
+            nodes: None,
+            triangles: n as f64 / rays.len().max(1) as f64,
+        };
+        Some((per_ray(closest), per_ray(any)))
+    }
+}
