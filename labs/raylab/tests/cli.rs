@@ -167,3 +167,59 @@ fn bench_reports_throughput() {
     assert_eq!(stdout.matches("| 2 | obvhs | ").count(), 4, "{stdout}");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn handout_and_grade_refuse_bad_input_clearly() {
+    let dir = scratch("instructor");
+    let not_empty = dir.join("not-empty");
+    std::fs::create_dir_all(&not_empty).unwrap();
+    std::fs::write(not_empty.join("keep.txt"), "mine").unwrap();
+    let submission = dir.join("alice");
+    std::fs::create_dir_all(&submission).unwrap();
+    let out = dir.join("grades");
+    let (o, s) = (out.to_str().unwrap(), submission.to_str().unwrap());
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["handout", "--out", not_empty.to_str().unwrap()],
+            "expected a directory that does not exist yet, or an empty one",
+        ),
+        (
+            &["handout", "--out", o, "--release-solutions", "7"],
+            "the solution of lab 7 uses the solution of lab 3",
+        ),
+        (
+            &["handout", "--out", o, "--release-solutions", "5"],
+            "invalid lab 5",
+        ),
+        (
+            &["grade", "no-such-submission", "--out", o],
+            "invalid submission no-such-submission: expected a directory",
+        ),
+        (
+            &[
+                "grade",
+                s,
+                "--out",
+                o,
+                "--lab",
+                "2",
+                "--release-solutions",
+                "1,2",
+            ],
+            "lab 2 is being graded: its solution must not be on disk",
+        ),
+        (&["grade", s, s, "--out", o], "must be unique"),
+    ];
+    for (args, expected) in cases {
+        let (ok, _, stderr) = raylab(args, &dir);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(not_empty.join("keep.txt")).unwrap(),
+        "mine"
+    );
+    assert!(!out.join("alice").exists(), "nothing graded on bad input");
+    std::fs::remove_dir_all(dir).ok();
+}

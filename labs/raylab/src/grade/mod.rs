@@ -105,6 +105,14 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         }
     }
     let released: BTreeSet<u32> = args.release_solutions.iter().copied().collect();
+    if let Some(lab) = labs.iter().find(|l| released.contains(l)) {
+        return Err(Error::Invalid {
+            what: format!("--release-solutions {released:?}"),
+            reason: format!(
+                "lab {lab} is being graded: its solution must not be on disk while student code runs; release only the labs it builds on"
+            ),
+        });
+    }
     let options = |hidden_tests| TreeOptions {
         released: released.clone(),
         hidden_tests,
