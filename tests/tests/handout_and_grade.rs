@@ -163,8 +163,9 @@ fn handout_then_grade_three_submissions() {
     fs::write(edited.join("labs/lab01/golden/extra.json"), "[]").unwrap();
 
     // In the handout (built in a target directory of its own: cargo would take a tree of the
-    // same layout for the repository's): stubs fail, correct code passes.
-    let handout_target = work.join("handout-target");
+    // same layout and version for the repository's; the grading tree below has a version of
+    // its own and shares this one): stubs fail, correct code passes.
+    let handout_target = work.join("target");
     let (ok, out) = cargo(&handout, &handout_target, &["test", "-p", "lab01"]);
     assert!(!ok && out.contains("is not implemented yet"), "{out}");
     let stubs = read(&handout.join("labs/lab01/src/lib.rs"));
@@ -190,6 +191,8 @@ fn handout_then_grade_three_submissions() {
         "3",
         "--timeout",
         "15",
+        "--target-dir",
+        handout_target.to_str().unwrap(),
     ]);
     assert!(ok, "{out}");
 

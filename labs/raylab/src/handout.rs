@@ -39,6 +39,12 @@ pub struct TreeOptions {
     pub released: BTreeSet<u32>,
     /// Keep the tests of hidden exercises (the grading tree) or leave them out (the handout).
     pub hidden_tests: bool,
+    /// A pre-release tag for the tree's own crates (`0.1.0-TAG`), so that their builds never
+    /// share artifacts with another tree's in one target directory: cargo names a path crate's
+    /// artifacts by its place in the workspace and its version, so two trees of the same layout
+    /// and version would share them, and one tree's file dates could make the other's changed
+    /// code look up to date.
+    pub version_tag: Option<String>,
 }
 
 /// The repository the command line was built from.
@@ -62,6 +68,7 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
     let options = TreeOptions {
         released: args.release_solutions.iter().copied().collect(),
         hidden_tests: false,
+        version_tag: None,
     };
     build_tree(&repository_root(), &args.out, &options)?;
     let released = if options.released.is_empty() {
@@ -87,15 +94,18 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
     }
     copy_dir(&root.join("framework"), &out.join("framework"))?;
     copy_dir(&root.join("docs"), &out.join("docs"))?;
-    write(
-        &out.join("Cargo.toml"),
-        &replace_once(
-            &read(&root.join("Cargo.toml"))?,
-            "    \"tests\",\n",
-            "",
-            "Cargo.toml",
-        )?,
+    let mut manifest = replace_once(
+        &read(&root.join("Cargo.toml"))?,
+        "    \"tests\",\n",
+        "",
+        "Cargo.toml",
     )?;
+    if let Some(tag) = &options.version_tag {
+        let version = format!("\nversion = \"{}\"\n", env!("CARGO_PKG_VERSION"));
+        let tagged = format!("\nversion = \"{}-{tag}\"\n", env!("CARGO_PKG_VERSION"));
+        manifest = replace_once(&manifest, &version, &tagged, "Cargo.toml")?;
+    }
+    write(&out.join("Cargo.toml"), &manifest)?;
     write(&out.join("README.md"), &readme(&options.released))?;
 
     copy_dir(&root.join("labs/raylab"), &out.join("labs/raylab"))?;

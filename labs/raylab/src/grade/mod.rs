@@ -40,6 +40,11 @@ pub struct GradeArgs {
     /// handout the students had). Labs not released use the student's own code there.
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<u32>,
+    /// Cargo's target directory for the builds (default: `DIR/.grading/target`). It may be
+    /// shared with other builds of the same toolchain to save compiling the dependencies again:
+    /// the grading tree's crates carry a version of their own (see `TreeOptions::version_tag`).
+    #[arg(long)]
+    pub target_dir: Option<PathBuf>,
     /// Seconds an exercise may run before it is stopped and fails (an infinite loop).
     #[arg(long, default_value_t = 60)]
     pub timeout: u64,
@@ -93,10 +98,10 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
     let handout = grading.join("handout");
     let workspace = Workspace {
         tree: grading.join("tree"),
-        // A target directory of its own: cargo names a path crate's artifacts by its path within
-        // the workspace, so another tree of the same layout (the repository, a handout) would
-        // share them, and its files' dates could make a student's changed code look up to date.
-        target: grading.join("target"),
+        target: args
+            .target_dir
+            .clone()
+            .unwrap_or_else(|| grading.join("target")),
         runs: grading.join("runs"),
     };
     for dir in [&handout, &workspace.tree, &workspace.runs] {
@@ -113,9 +118,15 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             ),
         });
     }
+    fs::create_dir_all(&grading).map_err(io(&grading))?;
+    let place = fs::canonicalize(&grading).map_err(io(&grading))?;
     let options = |hidden_tests| TreeOptions {
         released: released.clone(),
         hidden_tests,
+        // One tag per grading directory: its builds never mix with those of the repository, a
+        // handout, or another class's grading in a shared target directory.
+        version_tag: hidden_tests
+            .then(|| format!("grading.{:08x}", fnv1a(&place.to_string_lossy()))),
     };
     build_tree(&repository_root(), &handout, &options(false))?;
     build_tree(&repository_root(), &workspace.tree, &options(true))?;
@@ -164,6 +175,13 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         args.out.display()
     );
     Ok(())
+}
+
+/// 32-bit FNV-1a hash of `text`: stable across runs and toolchains.
+fn fnv1a(text: &str) -> u32 {
+    text.bytes().fold(0x811c_9dc5, |h, b| {
+        (h ^ u32::from(b)).wrapping_mul(0x0100_0193)
+    })
 }
 
 /// The labs to grade: `requested`, or every lab; each must be a lab of the course.
