@@ -276,13 +276,13 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<
 fn readme(released: &BTreeSet<u32>) -> String {
     let mut labs = String::new();
     for &(lab, title) in framework::labs::LABS {
+        let solution = if released.contains(&lab) {
+            format!("`reference/src/lab{lab:02}.rs`")
+        } else {
+            "not released yet".to_string()
+        };
         labs.push_str(&format!(
-            "| lab{lab:02} | {title} | [docs/lab{lab:02}.md](docs/lab{lab:02}.md) |{}\n",
-            if released.contains(&lab) {
-                " released: `reference/src/lab{lab:02}.rs`"
-            } else {
-                ""
-            }
+            "| lab{lab:02} | {title} | [docs/lab{lab:02}.md](docs/lab{lab:02}.md) | {solution} |\n"
         ));
     }
     format!(
