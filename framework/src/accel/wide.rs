@@ -16,14 +16,13 @@ const COUNT_SHIFT: u32 = 28;
 /// Largest number of primitives whose indices fit a leaf reference.
 pub(crate) const MAX_PRIMITIVES: usize = 1 << COUNT_SHIFT;
 
-/// A node of the 4-wide hierarchy: 112 bytes of data, padded and aligned to 128 so that a node
-/// always spans exactly two cache lines (unaligned, one in two nodes touched three).
+/// A node of the 4-wide hierarchy: 112 bytes.
 ///
 /// Lane `i` holds child `i`: its box (`min_x[i]` … `max_z[i]`) and its reference
 /// `children[i]`. Unused lanes have the empty box (`+∞` minima, `−∞` maxima), which no ray
 /// enters.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
+#[repr(C)]
 pub(crate) struct Node4 {
     pub min_x: Vec4,
     pub min_y: Vec4,
