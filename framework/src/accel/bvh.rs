@@ -273,15 +273,36 @@ impl Bvh {
             } else {
                 stats.node();
                 let node = &self.wide[current as usize];
-                let (entry, mut mask) = slabs.entry4(node, ray.tmin, ray.tmax);
-                // Lanes by array index (indexing a `Vec4` by a variable lane is a jump table).
+                let (entry, mask) = slabs.entry4(node, ray.tmin, ray.tmax);
+                // Lanes by array index (indexing a `Vec4` by a variable lane is a jump table);
+                // `& (WIDTH - 1)` tells the compiler the lane is in bounds (the mask has four
+                // bits).
                 let entry = entry.to_array();
+                let lane = |mask: u32| mask.trailing_zeros() as usize & (WIDTH - 1);
                 if mask != 0 {
-                    // The children hit, nearest first (insertion sort of at most four).
+                    // Most visits hit one or two children: those go without the sort below,
+                    // in the order it would give them (ties keep the lower lane first, which
+                    // decides which of two triangles at the same `t` a closest-hit reports).
+                    let (first, rest) = (lane(mask), mask & (mask - 1));
+                    if rest == 0 {
+                        current = node.children[first];
+                        continue;
+                    }
+                    let (second, rest) = (lane(rest), rest & (rest - 1));
+                    if rest == 0 {
+                        let a = (node.children[first], entry[first]);
+                        let b = (node.children[second], entry[second]);
+                        let (near, far) = if a.1 > b.1 { (b, a) } else { (a, b) };
+                        stack.push(far);
+                        current = near.0;
+                        continue;
+                    }
+                    // Three or four children hit, nearest first (insertion sort).
                     let mut hits = [(0u32, 0f32); WIDTH];
                     let mut n = 0;
+                    let mut mask = mask;
                     while mask != 0 {
-                        let lane = mask.trailing_zeros() as usize;
+                        let lane = lane(mask);
                         mask &= mask - 1;
                         let hit = (node.children[lane], entry[lane]);
                         let mut k = n;

@@ -7,7 +7,7 @@ mod triangle;
 
 pub use plane::intersect_plane;
 pub use sphere::intersect_sphere;
-pub use triangle::intersect_triangle;
+pub use triangle::{TriangleRay, intersect_triangle};
 
 mod builtin;
 

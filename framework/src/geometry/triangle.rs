@@ -15,62 +15,128 @@ use crate::math::Ray;
 /// edge function of an edge depends only on that edge's two vertices, so two triangles sharing
 /// an edge can never both miss a ray that crosses it (no cracks in closed meshes, also not
 /// through shared vertices); values that round to exactly zero are recomputed in `f64`.
+///
+/// To test one ray against many triangles, prepare it once with [`TriangleRay::new`] and call
+/// [`TriangleRay::intersect`]: the answers are bit for bit the same.
 #[inline(always)]
 pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
-    let d = ray.direction;
-    let o = ray.origin;
-    let (a, b, c) = (v0 - o, v1 - o, v2 - o);
-    // Permute the axes so that the direction's largest component is the last one. (The
-    // permutation is cyclic, so it keeps the handedness; and since both sides of the triangle
-    // count, the sign of that component needs no further care.)
-    let ad = d.abs();
-    let (d, a, b, c) = if ad.x > ad.y && ad.x > ad.z {
-        (d.yzx(), a.yzx(), b.yzx(), c.yzx())
-    } else if ad.y > ad.z {
-        (d.zxy(), a.zxy(), b.zxy(), c.zxy())
-    } else {
-        (d, a, b, c)
-    };
-    // Shear so that the direction becomes +z (up to the scale `sz` applied to `z` only).
-    let sz = 1.0 / d.z;
-    let sx = d.x * sz;
-    let sy = d.y * sz;
-    let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
-    let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
-    let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
-    // Scaled barycentrics: twice the signed areas of the sub-triangles opposite each vertex,
-    // as seen along the ray.
-    let mut u = cx * by - cy * bx;
-    let mut v = ax * cy - ay * cx;
-    let mut w = bx * ay - by * ax;
-    if u == 0.0 || v == 0.0 || w == 0.0 {
-        // On (or extremely close to) an edge: decide with the exact sign from double precision.
-        let f = |px: f32, py: f32, qx: f32, qy: f32| {
-            (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
+    TriangleRay::new(ray).intersect(ray, v0, v1, v2)
+}
+
+/// Which cyclic permutation of the axes makes the direction's largest component the last one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Permutation {
+    /// `(x, y, z)` as is.
+    Xyz,
+    /// `(y, z, x)`: `x` is largest.
+    Yzx,
+    /// `(z, x, y)`: `y` is largest.
+    Zxy,
+}
+
+impl Permutation {
+    #[inline(always)]
+    fn apply(self, v: Vec3) -> Vec3 {
+        match self {
+            Permutation::Xyz => v,
+            Permutation::Yzx => v.yzx(),
+            Permutation::Zxy => v.zxy(),
+        }
+    }
+}
+
+/// The part of the watertight triangle test ([`intersect_triangle`]) that depends on the ray
+/// only — its origin, the axis permutation and the shear — computed once for a ray that is
+/// tested against many triangles (Woop et al. precompute it the same way).
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleRay {
+    origin: Vec3,
+    permutation: Permutation,
+    /// Shear of the permuted `x` and `y` by the permuted `z` (`d.x / d.z`, `d.y / d.z`).
+    sx: f32,
+    sy: f32,
+    /// Scale of the permuted `z` (`1 / d.z`).
+    sz: f32,
+}
+
+impl TriangleRay {
+    /// Prepares the triangle test for rays with `ray`'s origin and direction.
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> Self {
+        let d = ray.direction;
+        // Permute the axes so that the direction's largest component is the last one. (The
+        // permutation is cyclic, so it keeps the handedness; and since both sides of the
+        // triangle count, the sign of that component needs no further care.)
+        let ad = d.abs();
+        let permutation = if ad.x > ad.y && ad.x > ad.z {
+            Permutation::Yzx
+        } else if ad.y > ad.z {
+            Permutation::Zxy
+        } else {
+            Permutation::Xyz
         };
-        u = f(cx, cy, bx, by);
-        v = f(ax, ay, cx, cy);
-        w = f(bx, by, ax, ay);
+        let d = permutation.apply(d);
+        // Shear so that the direction becomes +z (up to the scale `sz` applied to `z` only).
+        let sz = 1.0 / d.z;
+        TriangleRay {
+            origin: ray.origin,
+            permutation,
+            sx: d.x * sz,
+            sy: d.y * sz,
+            sz,
+        }
     }
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
-        return None;
+
+    /// [`intersect_triangle`] for `ray`, which must have the origin and direction this was
+    /// prepared for (its `tmin` and `tmax` may differ, a closest-hit search shrinks `tmax`).
+    #[inline(always)]
+    pub fn intersect(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+        debug_assert_eq!(
+            ray.origin.to_array().map(f32::to_bits),
+            self.origin.to_array().map(f32::to_bits)
+        );
+        let o = self.origin;
+        let p = self.permutation;
+        let (a, b, c) = (p.apply(v0 - o), p.apply(v1 - o), p.apply(v2 - o));
+        let (sx, sy, sz) = (self.sx, self.sy, self.sz);
+        let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
+        let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
+        let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
+        // Scaled barycentrics: twice the signed areas of the sub-triangles opposite each
+        // vertex, as seen along the ray.
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            // On (or extremely close to) an edge: decide with the exact sign from double
+            // precision.
+            let f = |px: f32, py: f32, qx: f32, qy: f32| {
+                (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
+            };
+            u = f(cx, cy, bx, by);
+            v = f(ax, ay, cx, cy);
+            w = f(bx, by, ax, ay);
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        // `t·det`, interpolating the vertices' sheared z.
+        let t_scaled = (u * a.z + v * b.z + w * c.z) * sz;
+        let inv_det = 1.0 / det;
+        let t = t_scaled * inv_det;
+        // Also rejects NaN, which only non-finite input or a zero direction can produce.
+        if !ray.accepts(t) {
+            return None;
+        }
+        // Clamp away rounding so the documented ranges hold exactly.
+        let beta = (v * inv_det).min(1.0);
+        let gamma = (w * inv_det).min(1.0 - beta);
+        Some((t, beta, gamma))
     }
-    let det = u + v + w;
-    if det == 0.0 {
-        return None;
-    }
-    // `t·det`, interpolating the vertices' sheared z.
-    let t_scaled = (u * a.z + v * b.z + w * c.z) * sz;
-    let inv_det = 1.0 / det;
-    let t = t_scaled * inv_det;
-    // Also rejects NaN, which only non-finite input or a zero direction can produce.
-    if !ray.accepts(t) {
-        return None;
-    }
-    // Clamp away rounding so the documented ranges hold exactly.
-    let beta = (v * inv_det).min(1.0);
-    let gamma = (w * inv_det).min(1.0 - beta);
-    Some((t, beta, gamma))
 }
 
 #[cfg(test)]

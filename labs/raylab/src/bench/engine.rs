@@ -3,7 +3,7 @@
 
 use framework::Error;
 use framework::accel::{TraversalStats, TriangleBvh};
-use framework::geometry::intersect_triangle;
+use framework::geometry::TriangleRay;
 use framework::glam::Vec3;
 use framework::math::Ray;
 use framework::scene::Scene;
@@ -54,26 +54,32 @@ impl Core {
     }
 }
 
+/// The triangle test for one ray: `intersect_triangle` with the ray's part prepared once.
 #[inline(always)]
-fn test(&[v0, v1, v2]: &[Vec3; 3], ray: &Ray) -> Option<f32> {
-    intersect_triangle(ray, v0, v1, v2).map(|h| h.0)
+fn test(prepared: &TriangleRay) -> impl Fn(&[Vec3; 3], &Ray) -> Option<f32> + '_ {
+    |&[v0, v1, v2], ray| prepared.intersect(ray, v0, v1, v2).map(|h| h.0)
 }
 
 impl Engine for Core {
     fn closest(&self, ray: &Ray) -> Option<EngineHit> {
+        let prepared = TriangleRay::new(ray);
         self.bvh
-            .closest_hit(ray, test)
+            .closest_hit(ray, test(&prepared))
             .map(|(f, t)| EngineHit { t, prim: Some(f) })
     }
 
     fn any(&self, ray: &Ray) -> bool {
+        let prepared = TriangleRay::new(ray);
+        let test = test(&prepared);
         self.bvh.any_hit(ray, |v, r| test(v, r).is_some())
     }
 
     fn work(&self, rays: &[Ray]) -> Option<(Work, Work)> {
         let (mut closest, mut any) = (TraversalStats::default(), TraversalStats::default());
         for ray in rays {
-            self.bvh.closest_hit_counted(ray, test, &mut closest);
+            let prepared = TriangleRay::new(ray);
+            let test = test(&prepared);
+            self.bvh.closest_hit_counted(ray, &test, &mut closest);
             self.bvh
                 .any_hit_counted(ray, |v, r| test(v, r).is_some(), &mut any);
         }

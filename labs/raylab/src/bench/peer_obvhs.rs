@@ -5,7 +5,7 @@
 use std::cell::Cell;
 use std::time::Duration;
 
-use framework::geometry::intersect_triangle;
+use framework::geometry::TriangleRay;
 use framework::glam::{Vec3, Vec3A};
 use framework::math::Ray;
 use obvhs::BvhBuildParams;
@@ -21,7 +21,8 @@ use super::engine::{Engine, EngineHit, Work};
 pub enum Kernel {
     /// obvhs's `Triangle::intersect` (Möller–Trumbore, not watertight).
     Obvhs,
-    /// The framework's `intersect_triangle` (Woop et al., watertight).
+    /// The framework's `intersect_triangle` (Woop et al., watertight), with the ray's part
+    /// prepared once per ray (`TriangleRay`) as the core does.
     Framework,
 }
 
@@ -60,9 +61,10 @@ impl Obvhs {
         }
     }
 
-    /// The ray parameter of a hit on leaf triangle `i` within `ob`'s interval, or infinity.
+    /// The ray parameter of a hit on leaf triangle `i` within `ob`'s interval, or infinity
+    /// (`prepared` is `ray`'s, for the framework's kernel).
     #[inline(always)]
-    fn test(&self, ray: &Ray, ob: &ObRay, i: usize) -> f32 {
+    fn test(&self, ray: &Ray, prepared: &TriangleRay, ob: &ObRay, i: usize) -> f32 {
         match self.kernel {
             Kernel::Obvhs => self.leaf_tris[i].intersect(ob),
             Kernel::Framework => {
@@ -71,7 +73,9 @@ impl Obvhs {
                     tmax: ob.tmax,
                     ..*ray
                 };
-                intersect_triangle(&r, v0, v1, v2).map_or(f32::INFINITY, |h| h.0)
+                prepared
+                    .intersect(&r, v0, v1, v2)
+                    .map_or(f32::INFINITY, |h| h.0)
             }
         }
     }
@@ -89,8 +93,11 @@ fn ob_ray(ray: &Ray) -> ObRay {
 impl Engine for Obvhs {
     fn closest(&self, ray: &Ray) -> Option<EngineHit> {
         let mut hit = ObHit::none();
+        let prepared = TriangleRay::new(ray);
         self.bvh
-            .ray_traverse(ob_ray(ray), &mut hit, |ob, i| self.test(ray, ob, i))
+            .ray_traverse(ob_ray(ray), &mut hit, |ob, i| {
+                self.test(ray, &prepared, ob, i)
+            })
             .then(|| EngineHit {
                 t: hit.t,
                 prim: Some(self.bvh.primitive_indices[hit.primitive_id as usize]),
@@ -98,16 +105,17 @@ impl Engine for Obvhs {
     }
 
     fn any(&self, ray: &Ray) -> bool {
+        let prepared = TriangleRay::new(ray);
         !self
             .bvh
-            .ray_traverse_miss(ob_ray(ray), |ob, i| self.test(ray, ob, i))
+            .ray_traverse_miss(ob_ray(ray), |ob, i| self.test(ray, &prepared, ob, i))
     }
 
     fn work(&self, rays: &[Ray]) -> Option<(Work, Work)> {
         let tests = Cell::new(0u64);
         let count = |ray: &Ray, ob: &ObRay, i: usize| {
             tests.set(tests.get() + 1);
-            self.test(ray, ob, i)
+            self.test(ray, &TriangleRay::new(ray), ob, i)
         };
         for ray in rays {
             let mut hit = ObHit::none();
