@@ -9,8 +9,10 @@ mod strata;
 
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
 pub use property::for_all;
-pub use snapshot::{PixelTolerance, SnapshotReport, compare_snapshot, write_failure_images};
-pub use strata::{StrataNames, cell_of, check_one_per_cell};
+pub use snapshot::{
+    PixelTolerance, SnapshotReport, compare_snapshot, mark_non_finite, write_failure_images,
+};
+pub use strata::{StrataNames, cell_name, cell_of, check_one_per_cell};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -67,6 +67,19 @@ pub fn compare_snapshot(render: &Film, reference: &Film, tol: &PixelTolerance) -
     report
 }
 
+/// `film` with every NaN or infinite pixel magenta, so that a failure image shows where they are.
+pub fn mark_non_finite(film: &Film) -> Film {
+    let magenta = Vec3::new(1.0, 0.0, 1.0);
+    Film {
+        pixels: film
+            .pixels
+            .iter()
+            .map(|p| if p.is_finite() { *p } else { magenta })
+            .collect(),
+        ..film.clone()
+    }
+}
+
 /// Writes `<name>-student.png`, `<name>-reference.png` and `<name>-difference.png` (a heat
 /// map: grey where the pixel is within tolerance, yellow to red by how far outside, magenta
 /// for NaN) into `dir`, and returns their paths.
@@ -81,21 +94,7 @@ pub fn write_failure_images(
     let student = dir.join(format!("{name}-student.png"));
     let expected = dir.join(format!("{name}-reference.png"));
     let difference = dir.join(format!("{name}-difference.png"));
-    let clean = Film {
-        pixels: render
-            .pixels
-            .iter()
-            .map(|p| {
-                if p.is_finite() {
-                    *p
-                } else {
-                    Vec3::new(1.0, 0.0, 1.0)
-                }
-            })
-            .collect(),
-        ..render.clone()
-    };
-    write_png(&clean, &student, tonemap)?;
+    write_png(&mark_non_finite(render), &student, tonemap)?;
     write_png(reference, &expected, tonemap)?;
     let heat = Film {
         width: reference.width,

@@ -8,6 +8,18 @@ pub fn cell_of(p: Vec2, n: u32) -> (u32, u32) {
     (c(p.x), c(p.y))
 }
 
+/// The cell `(i, j)` of an `n × n` grid as messages name it: `(i = 1, j = 0) = [0.5, 1) × [0, 0.5)`.
+pub fn cell_name(i: u32, j: u32, n: u32) -> String {
+    let f = |v: u32| v as f32 / n as f32;
+    format!(
+        "(i = {i}, j = {j}) = [{}, {}) × [{}, {})",
+        f(i),
+        f(i + 1),
+        f(j),
+        f(j + 1)
+    )
+}
+
 /// How a stratified set of points is named in messages.
 pub struct StrataNames<'a> {
     /// The call that produced the points, e.g. `stratified_samples(n = 4, rng)`.
@@ -50,17 +62,7 @@ pub fn check_one_per_cell(names: &StrataNames<'_>, n: u32, points: &[Vec2]) -> R
         let (i, j) = cell_of(*p, n);
         count[(j * n + i) as usize] += 1;
     }
-    let name = |k: usize| {
-        let (i, j) = (k as u32 % n, k as u32 / n);
-        let f = |v: u32| v as f32 / n as f32;
-        format!(
-            "(i = {i}, j = {j}) = [{}, {}) × [{}, {})",
-            f(i),
-            f(i + 1),
-            f(j),
-            f(j + 1)
-        )
-    };
+    let name = |k: usize| cell_name(k as u32 % n, k as u32 / n, n);
     if let (Some(empty), Some(full)) = (
         count.iter().position(|&c| c == 0),
         count.iter().position(|&c| c > 1),

@@ -25,7 +25,7 @@ use super::Shadows;
 use crate::film::{Film, ToneMap, luminance, write_png};
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
-    check_one_per_cell, compare_f32, compare_vec3, for_all,
+    check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
 };
 use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;
@@ -1481,22 +1481,7 @@ fn write_noise_images(
     let student_png = ctx.failure_dir.join(format!("{name}-student.png"));
     let reference_png = ctx.failure_dir.join(format!("{name}-reference.png"));
     let zmap_png = ctx.failure_dir.join(format!("{name}-zscore.png"));
-    let clean = Film {
-        pixels: student
-            .mean
-            .pixels
-            .iter()
-            .map(|p| {
-                if p.is_finite() {
-                    *p
-                } else {
-                    Vec3::new(1.0, 0.0, 1.0)
-                }
-            })
-            .collect(),
-        ..student.mean.clone()
-    };
-    write_png(&clean, &student_png, tonemap)?;
+    write_png(&mark_non_finite(&student.mean), &student_png, tonemap)?;
     write_png(&reference.mean, &reference_png, tonemap)?;
     let z = z_scores(student, reference, tol);
     let threshold = normal_two_sided_quantile(sidak(tol.family_alpha, 3 * z.len()));

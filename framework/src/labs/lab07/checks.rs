@@ -39,7 +39,7 @@ use proptest::prelude::*;
 use super::Antialiasing;
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_name, cell_of,
     check_one_per_cell, compare_vec3, for_all,
 };
 use crate::pipeline::{Pipeline, View};
@@ -263,17 +263,6 @@ pub fn offset_in_subpixel(p: Vec2, s: u32) -> DVec2 {
     .clamp(DVec2::ZERO, DVec2::ONE)
 }
 
-fn subpixel_name(i: u32, j: u32, s: u32) -> String {
-    let f = |k: u32| k as f32 / s as f32;
-    format!(
-        "(i = {i}, j = {j}) = [{}, {}) × [{}, {})",
-        f(i),
-        f(i + 1),
-        f(j),
-        f(j + 1)
-    )
-}
-
 /// One call's jitters: `s²` of them, finite, in the pixel, one per subpixel.
 fn check_strata(s: u32, jitters: &[Vec2]) -> Result<(), String> {
     let call = format!("compute_jitters(subdivisions = {s}, rng)");
@@ -335,7 +324,7 @@ fn check_subpixels(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), Strin
     let se_mean = (1.0 / (12.0 * n)).sqrt();
     let se_var = ((1.0 / 80.0 - 1.0 / 144.0) / n).sqrt();
     for (k, os) in offsets.iter().enumerate() {
-        let name = subpixel_name(k as u32 % s, k as u32 / s, s);
+        let name = cell_name(k as u32 % s, k as u32 / s, s);
         let mean = os.iter().sum::<DVec2>() / n;
         let var = os.iter().map(|o| (*o - mean) * (*o - mean)).sum::<DVec2>() / (n - 1.0);
         let fix = "each subpixel needs a uniformly random point: ((i + ξ₁)/s, (j + ξ₂)/s) with ξ = rng.next_vec2() drawn anew for every subpixel";

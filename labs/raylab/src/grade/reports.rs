@@ -44,6 +44,13 @@ fn by_lab(grade: &StudentGrade) -> Vec<(u32, Vec<&ExerciseGrade>)> {
     labs
 }
 
+/// Points earned and available in `exercises`.
+fn points(exercises: &[&ExerciseGrade]) -> (u32, u32) {
+    exercises
+        .iter()
+        .fold((0, 0), |(e, t), x| (e + x.score, t + x.info.points))
+}
+
 fn lab_title(lab: u32) -> &'static str {
     framework::labs::LABS
         .iter()
@@ -77,8 +84,7 @@ fn markdown(grade: &StudentGrade) -> String {
         md.push('\n');
     }
     for (lab, exercises) in by_lab(grade) {
-        let earned: u32 = exercises.iter().map(|e| e.score).sum();
-        let total: u32 = exercises.iter().map(|e| e.info.points).sum();
+        let (earned, total) = points(&exercises);
         let _ = writeln!(
             md,
             "## Lab {lab:02} — {} ({earned}/{total})\n\n| exercise | function | result | points |\n| --- | --- | --- | --- |",
@@ -155,8 +161,7 @@ fn html(grade: &StudentGrade) -> String {
         h.push_str("</ul>\n");
     }
     for (lab, exercises) in by_lab(grade) {
-        let earned: u32 = exercises.iter().map(|e| e.score).sum();
-        let total: u32 = exercises.iter().map(|e| e.info.points).sum();
+        let (earned, total) = points(&exercises);
         let _ = writeln!(
             h,
             "<h2>Lab {lab:02} — {} ({earned}/{total})</h2>\n<table><tr><th>exercise</th><th>function</th><th>result</th><th>points</th></tr>",
