@@ -1,10 +1,15 @@
 //! A binary bounding volume hierarchy over primitive bounding boxes, built with the binned
 //! surface area heuristic and traversed front to back with a fixed-size stack.
 
-use glam::{Vec3, Vec4};
+use std::mem::MaybeUninit;
 
+use glam::Vec3;
+
+#[cfg(target_arch = "x86_64")]
+use super::slabs::Avx;
+use super::slabs::{EXIT_SLACK, Portable, SlabTest, Slabs};
 use super::stats::{Counter, TraversalStats};
-use super::wide::{LEAF, MAX_PRIMITIVES, Node4, WIDTH, collapse, leaf_range};
+use super::wide::{LEAF, MAX_PRIMITIVES, WIDTH, WideNode, collapse, leaf_range};
 use crate::math::{Aabb, Ray};
 
 /// Number of SAH bins per axis.
@@ -21,11 +26,6 @@ const TRAVERSAL_COST: f32 = 1.0;
 const SAH_MAX_DEPTH: usize = 24;
 /// Largest depth of the tree (the builder checks `depth() ≤ MAX_DEPTH`).
 const MAX_DEPTH: usize = 64;
-/// `1 + 2γ₃` with `γ₃ = 3u/(1 − 3u)`, `u = ε/2`: scaling the exit distance of a slab test by
-/// this makes it conservative under floating-point rounding (Ize 2013, "Robust BVH Ray
-/// Traversal"; also PBRT), so rays through box edges and flat boxes are not lost.
-const EXIT_SLACK: f32 = 1.0 + 2.0 * (1.5 * f32::EPSILON) / (1.0 - 1.5 * f32::EPSILON);
-
 /// One node of the binary tree the builder makes: 32 bytes.
 ///
 /// Nodes are stored depth first: an interior node's first child directly follows it, and
@@ -47,16 +47,22 @@ pub(crate) struct Node {
 ///
 /// The builder makes a binary tree (kept for [`bounds`](Self::bounds),
 /// [`node_count`](Self::node_count) and [`depth`](Self::depth)); queries traverse the same tree
-/// collapsed into 4-wide nodes, whose four child boxes are tested at once.
+/// collapsed into 8-wide nodes, whose eight child boxes are tested at once.
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
     nodes: Vec<Node>,
-    /// The binary tree collapsed into 4-wide nodes, root first.
-    wide: Vec<Node4>,
-    /// Primitive indices in leaf order.
+    /// The binary tree collapsed into 8-wide nodes, root first.
+    wide: Vec<WideNode>,
+    /// Primitive indices in leaf order ([`HOLE`] between aligned leaves).
     indices: Vec<u32>,
+    /// Number of primitives.
+    len: usize,
     depth: usize,
 }
+
+/// A slot of [`Bvh::leaf_order`] that belongs to no leaf: padding before a leaf whose first
+/// slot is aligned (see `Bvh::build_with_leaf_alignment`).
+pub(crate) const HOLE: u32 = u32::MAX;
 
 impl Bvh {
     /// Builds the hierarchy over primitives with the given bounds (binned SAH, deterministic).
@@ -68,6 +74,12 @@ impl Bvh {
     ///
     /// If there are more than 2²⁸ (268 million) primitives.
     pub fn build(bounds: &[Aabb]) -> Bvh {
+        Self::build_with_leaf_alignment(bounds, 1)
+    }
+
+    /// [`build`](Self::build), with every leaf's first slot a multiple of `alignment`: the
+    /// slots between leaves are [`HOLE`]s. The tree is the same for every alignment.
+    pub(crate) fn build_with_leaf_alignment(bounds: &[Aabb], alignment: usize) -> Bvh {
         let n = bounds.len();
         assert!(
             n <= MAX_PRIMITIVES,
@@ -100,22 +112,45 @@ impl Bvh {
             "BVH depth {} exceeds {MAX_DEPTH}",
             builder.depth
         );
+        let Builder {
+            prims,
+            mut nodes,
+            depth,
+        } = builder;
+        // Lay the leaves out in slot order again, each starting at a multiple of `alignment`.
+        let mut indices = Vec::with_capacity(n);
+        for leaf in nodes.iter_mut().filter(|node| node.count > 0) {
+            indices.resize(indices.len().next_multiple_of(alignment), HOLE);
+            let first = leaf.index as usize;
+            leaf.index = indices.len() as u32;
+            indices.extend(
+                prims[first..first + leaf.count as usize]
+                    .iter()
+                    .map(|p| p.index),
+            );
+        }
+        assert!(
+            indices.len() <= MAX_PRIMITIVES,
+            "a BVH holds at most {MAX_PRIMITIVES} slots, got {}",
+            indices.len()
+        );
         Bvh {
-            wide: collapse(&builder.nodes),
-            nodes: builder.nodes,
-            indices: builder.prims.iter().map(|p| p.index).collect(),
-            depth: builder.depth,
+            wide: collapse(&nodes),
+            nodes,
+            indices,
+            len: n,
+            depth,
         }
     }
 
     /// Number of primitives.
     pub fn len(&self) -> usize {
-        self.indices.len()
+        self.len
     }
 
     /// Whether the hierarchy holds no primitives.
     pub fn is_empty(&self) -> bool {
-        self.indices.is_empty()
+        self.len == 0
     }
 
     /// Bounds of all primitives ([`Aabb::EMPTY`] for an empty hierarchy).
@@ -188,7 +223,8 @@ impl Bvh {
             .map(|(k, t)| (self.indices[k as usize], t))
     }
 
-    /// The primitive indices in leaf order: the primitive in leaf slot `k` is `leaf_order()[k]`.
+    /// The primitive indices in leaf order: the primitive in leaf slot `k` is `leaf_order()[k]`
+    /// ([`HOLE`] for a slot between aligned leaves).
     pub(crate) fn leaf_order(&self) -> &[u32] {
         &self.indices
     }
@@ -241,17 +277,55 @@ impl Bvh {
     }
 
     /// Front-to-back traversal calling `leaf_prim(slot, ray)` on the leaf slot of every
-    /// primitive in a reached leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal by returning `true`.
-    /// Returns whether it was stopped.
-    ///
-    /// Runs on the 4-wide nodes: each visit tests the boxes of up to four children at once,
-    /// continues with the nearest child hit and pushes the others, farthest first, with their
-    /// entry distances, so that a popped node starting beyond the closest hit is skipped.
+    /// primitive in a reached leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal
+    /// by returning `true`. Returns whether it was stopped.
     #[inline(always)]
     fn traverse(
         &self,
         ray: &mut Ray,
         mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool,
+        stats: &mut impl Counter,
+    ) -> bool {
+        self.traverse_leaves(
+            ray,
+            |first, count, ray| (first..first + count).any(|slot| leaf_prim(slot as u32, ray)),
+            stats,
+        )
+    }
+
+    /// Front-to-back traversal calling `leaf(first, count, ray)` on every reached leaf, which
+    /// holds the slots `first..first + count`; `leaf` may shrink `ray.tmax` and stops the
+    /// traversal by returning `true`. Returns whether it was stopped.
+    ///
+    /// Runs the AVX slab test where the CPU has AVX and the portable one elsewhere; both give
+    /// the same answers, so the visit order (and which of two hits at the same `t` wins) does
+    /// not depend on the CPU.
+    #[inline(always)]
+    pub(crate) fn traverse_leaves(
+        &self,
+        ray: &mut Ray,
+        leaf: impl FnMut(usize, usize, &mut Ray) -> bool,
+        stats: &mut impl Counter,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = Avx::detect() {
+            // SAFETY: an `Avx` value exists only where the CPU has AVX.
+            return unsafe { traverse_avx(self, avx, ray, leaf, stats) };
+        }
+        self.traverse_with(Portable, ray, leaf, stats)
+    }
+
+    /// [`traverse_leaves`](Self::traverse_leaves) with the slab test `slab_test`.
+    ///
+    /// Runs on the 8-wide nodes: each visit tests the boxes of up to eight children at once,
+    /// continues with the nearest child hit and pushes the others, farthest first, with their
+    /// entry distances, so that a popped node starting beyond the closest hit is skipped.
+    #[inline(always)]
+    fn traverse_with(
+        &self,
+        slab_test: impl SlabTest,
+        ray: &mut Ray,
+        mut leaf: impl FnMut(usize, usize, &mut Ray) -> bool,
         stats: &mut impl Counter,
     ) -> bool {
         if self.wide.is_empty() {
@@ -262,22 +336,17 @@ impl Bvh {
         let mut current = 0u32;
         loop {
             if current & LEAF != 0 {
-                stats.leaf();
                 let (first, count) = leaf_range(current);
-                for slot in first..first + count {
-                    stats.primitive();
-                    if leaf_prim(slot as u32, ray) {
-                        return true;
-                    }
+                stats.leaf(count);
+                if leaf(first, count, ray) {
+                    return true;
                 }
             } else {
                 stats.node();
                 let node = &self.wide[current as usize];
-                let (entry, mask) = slabs.entry4(node, ray.tmin, ray.tmax);
-                // Lanes by array index (indexing a `Vec4` by a variable lane is a jump table);
-                // `& (WIDTH - 1)` tells the compiler the lane is in bounds (the mask has four
-                // bits).
-                let entry = entry.to_array();
+                let (entry, mask) = slab_test.entries(&slabs, node, ray.tmin, ray.tmax);
+                // `& (WIDTH - 1)` tells the compiler the lane is in bounds (the mask has
+                // `WIDTH` bits).
                 let lane = |mask: u32| mask.trailing_zeros() as usize & (WIDTH - 1);
                 if mask != 0 {
                     // Most visits hit one or two children: those go without the sort below,
@@ -297,7 +366,7 @@ impl Bvh {
                         current = near.0;
                         continue;
                     }
-                    // Three or four children hit, nearest first (insertion sort).
+                    // Three or more children hit, nearest first (insertion sort).
                     let mut hits = [(0u32, 0f32); WIDTH];
                     let mut n = 0;
                     let mut mask = mask;
@@ -334,16 +403,32 @@ impl Bvh {
     }
 }
 
+/// [`Bvh::traverse_with`] the AVX slab test, compiled for AVX (so the whole loop, with the
+/// caller's primitive test, uses the 8-lane registers).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn traverse_avx(
+    bvh: &Bvh,
+    avx: Avx,
+    ray: &mut Ray,
+    leaf: impl FnMut(usize, usize, &mut Ray) -> bool,
+    stats: &mut impl Counter,
+) -> bool {
+    bvh.traverse_with(avx, ray, leaf, stats)
+}
+
 /// Entries of the traversal stack kept in place; deeper ones spill to the heap.
-const STACK_INLINE: usize = 32;
+const STACK_INLINE: usize = 64;
 
 /// The traversal stack of (node reference, entry distance) pairs.
 ///
-/// Each wide node pushes at most three children, so the stack can grow to three times the
+/// Each wide node pushes at most seven children, so the stack can grow to seven times the
 /// depth. Typical rays need far fewer entries than that: the first [`STACK_INLINE`] live in an
-/// array (cheap to set up for every ray), the rest, for rare rays in deep trees, in a vector.
+/// array (left uninitialised, so setting it up costs nothing per ray), the rest, for rare rays
+/// in deep trees, in a vector.
 struct Stack {
-    inline: [(u32, f32); STACK_INLINE],
+    /// `inline[..len.min(STACK_INLINE)]` are initialised.
+    inline: [MaybeUninit<(u32, f32)>; STACK_INLINE],
     len: usize,
     spill: Vec<(u32, f32)>,
 }
@@ -352,7 +437,7 @@ impl Stack {
     #[inline(always)]
     fn new() -> Self {
         Stack {
-            inline: [(0, 0.0); STACK_INLINE],
+            inline: [const { MaybeUninit::uninit() }; STACK_INLINE],
             len: 0,
             spill: Vec::new(),
         }
@@ -361,7 +446,7 @@ impl Stack {
     #[inline(always)]
     fn push(&mut self, entry: (u32, f32)) {
         if self.len < STACK_INLINE {
-            self.inline[self.len] = entry;
+            self.inline[self.len].write(entry);
         } else {
             self.spill.push(entry);
         }
@@ -372,80 +457,13 @@ impl Stack {
     fn pop(&mut self) -> Option<(u32, f32)> {
         self.len = self.len.checked_sub(1)?;
         if self.len < STACK_INLINE {
-            Some(self.inline[self.len])
+            // SAFETY: `push` wrote every inline entry below the old length, and `len` only
+            // shrinks by `pop`, so `inline[len]` was written and not yet popped.
+            Some(unsafe { self.inline[self.len].assume_init() })
         } else {
             self.spill.pop()
         }
     }
-}
-
-/// A ray prepared for slab tests: origin and reciprocal direction (each coordinate splat over
-/// four lanes) and which box corner is met first along each axis.
-struct Slabs {
-    origin: [Vec4; 3],
-    inv_dir: [Vec4; 3],
-    negative: [bool; 3],
-}
-
-impl Slabs {
-    #[inline(always)]
-    fn new(ray: &Ray) -> Self {
-        let inv_dir = ray.direction.recip();
-        Self {
-            origin: ray.origin.to_array().map(Vec4::splat),
-            inv_dir: inv_dir.to_array().map(Vec4::splat),
-            negative: inv_dir.to_array().map(|i| i.is_sign_negative()),
-        }
-    }
-
-    /// Entry distances of the ray into the four boxes of a wide node, clipped to
-    /// `[tmin, tmax]`, and the mask of the lanes whose clipped interval is not empty (with the
-    /// rounding slack [`EXIT_SLACK`]; bit `i` for lane `i`).
-    ///
-    /// Robust to zero direction components: each slab's entry (exit) distance comes from the
-    /// plane met first (last) for the direction's sign (Williams et al. 2005), so `0·∞ = NaN`
-    /// can only appear when the origin lies on that plane of a slab the ray runs parallel to —
-    /// exactly when the slab puts no limit on `t` — and NaN is then ignored by the `max` (`min`)
-    /// that accumulates the entry (exit) distances.
-    #[inline(always)]
-    fn entry4(&self, node: &Node4, tmin: f32, tmax: f32) -> (Vec4, u32) {
-        let [nx, ny, nz] = self.negative;
-        let (near_x, far_x) = if nx {
-            (node.max_x, node.min_x)
-        } else {
-            (node.min_x, node.max_x)
-        };
-        let (near_y, far_y) = if ny {
-            (node.max_y, node.min_y)
-        } else {
-            (node.min_y, node.max_y)
-        };
-        let (near_z, far_z) = if nz {
-            (node.max_z, node.min_z)
-        } else {
-            (node.min_z, node.max_z)
-        };
-        let ([ox, oy, oz], [ix, iy, iz]) = (self.origin, self.inv_dir);
-        let enter = max_ignoring_nan(Vec4::splat(tmin), (near_x - ox) * ix);
-        let enter = max_ignoring_nan(enter, (near_y - oy) * iy);
-        let enter = max_ignoring_nan(enter, (near_z - oz) * iz);
-        let exit = min_ignoring_nan(Vec4::splat(tmax), (far_x - ox) * ix);
-        let exit = min_ignoring_nan(exit, (far_y - oy) * iy);
-        let exit = min_ignoring_nan(exit, (far_z - oz) * iz);
-        (enter, enter.cmple(exit * EXIT_SLACK).bitmask())
-    }
-}
-
-/// Lane-wise `max(acc, x)`, or `acc` where `x` is NaN (a single `maxps` on x86).
-#[inline(always)]
-fn max_ignoring_nan(acc: Vec4, x: Vec4) -> Vec4 {
-    Vec4::select(x.cmpgt(acc), x, acc)
-}
-
-/// Lane-wise `min(acc, x)`, or `acc` where `x` is NaN (a single `minps` on x86).
-#[inline(always)]
-fn min_ignoring_nan(acc: Vec4, x: Vec4) -> Vec4 {
-    Vec4::select(x.cmplt(acc), x, acc)
 }
 
 /// A primitive during the build; the builder reorders these in place.
@@ -887,8 +905,14 @@ mod tests {
             wide.max_y[2] = n.max.y;
             wide.max_z[2] = n.max.z;
             (wide.min_x[0], wide.max_x[0]) = (f32::INFINITY, f32::NEG_INFINITY);
-            let (t, mask) =
-                Slabs::new(&Ray::unbounded(o, d, 0.0)).entry4(&wide, 0.0, f32::INFINITY);
+            let slabs = Slabs::new(&Ray::unbounded(o, d, 0.0));
+            let (t, mask) = Portable.entries(&slabs, &wide, 0.0, f32::INFINITY);
+            #[cfg(target_arch = "x86_64")]
+            if let Some(avx) = Avx::detect() {
+                let (t_avx, mask_avx) = avx.entries(&slabs, &wide, 0.0, f32::INFINITY);
+                assert_eq!(mask_avx, mask);
+                assert_eq!(t_avx.map(f32::to_bits), t.map(f32::to_bits));
+            }
             assert_eq!(mask & !0b100, 0, "empty lanes are never entered");
             (mask != 0).then_some(t[2])
         };
@@ -1074,6 +1098,6 @@ mod tests {
         }
         seen.sort_unstable();
         assert!(seen.iter().copied().eq(0..5000));
-        assert_eq!(std::mem::size_of::<Node4>(), 112);
+        assert_eq!(std::mem::size_of::<WideNode>(), 224);
     }
 }

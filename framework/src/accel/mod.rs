@@ -2,10 +2,11 @@
 //! and one over triangles that keeps their vertices in leaf order.
 
 mod bvh;
+mod slabs;
 mod stats;
 mod triangles;
 mod wide;
 
 pub use bvh::Bvh;
 pub use stats::TraversalStats;
-pub use triangles::TriangleBvh;
+pub use triangles::{MeshHit, TriangleBvh};

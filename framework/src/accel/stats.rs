@@ -11,7 +11,8 @@ pub struct TraversalStats {
     pub nodes: u64,
     /// Leaves reached.
     pub leaves: u64,
-    /// Calls of the primitive test.
+    /// Primitives in the leaves reached (each one tested, unless an any-hit query stopped
+    /// in the leaf; a SIMD test of several primitives counts each of them).
     pub primitives: u64,
 }
 
@@ -29,19 +30,15 @@ impl TraversalStats {
 pub(crate) trait Counter {
     /// An interior node was visited.
     fn node(&mut self);
-    /// A leaf was reached.
-    fn leaf(&mut self);
-    /// A primitive was tested.
-    fn primitive(&mut self);
+    /// A leaf with `primitives` primitives was reached.
+    fn leaf(&mut self, primitives: usize);
 }
 
 impl Counter for () {
     #[inline(always)]
     fn node(&mut self) {}
     #[inline(always)]
-    fn leaf(&mut self) {}
-    #[inline(always)]
-    fn primitive(&mut self) {}
+    fn leaf(&mut self, _: usize) {}
 }
 
 impl Counter for TraversalStats {
@@ -50,11 +47,8 @@ impl Counter for TraversalStats {
         self.nodes += 1;
     }
     #[inline(always)]
-    fn leaf(&mut self) {
+    fn leaf(&mut self, primitives: usize) {
         self.leaves += 1;
-    }
-    #[inline(always)]
-    fn primitive(&mut self) {
-        self.primitives += 1;
+        self.primitives += primitives as u64;
     }
 }

@@ -1,13 +1,13 @@
-//! The 4-wide form of the BVH that queries traverse: each node holds the boxes of up to four
-//! children side by side (one `Vec4` per coordinate), so one slab test in SIMD registers
-//! decides all four.
+//! The 8-wide form of the BVH that queries traverse: each node holds the boxes of up to eight
+//! children side by side (one array of eight per coordinate), so one slab test in SIMD
+//! registers decides all eight (see `slabs.rs`).
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 
 use super::bvh::Node;
 
 /// Children per wide node.
-pub(crate) const WIDTH: usize = 4;
+pub(crate) const WIDTH: usize = 8;
 /// Marks a child reference as a leaf: `LEAF | (count − 1) << COUNT_SHIFT | first`, owning
 /// `indices[first..first + count]`. Without it, a reference is the index of a wide node.
 pub(crate) const LEAF: u32 = 1 << 31;
@@ -16,35 +16,35 @@ const COUNT_SHIFT: u32 = 28;
 /// Largest number of primitives whose indices fit a leaf reference.
 pub(crate) const MAX_PRIMITIVES: usize = 1 << COUNT_SHIFT;
 
-/// A node of the 4-wide hierarchy: 112 bytes.
+/// A node of the 8-wide hierarchy: 224 bytes, aligned for 8-lane loads.
 ///
 /// Lane `i` holds child `i`: its box (`min_x[i]` … `max_z[i]`) and its reference
 /// `children[i]`. Unused lanes have the empty box (`+∞` minima, `−∞` maxima), which no ray
 /// enters.
 #[derive(Clone, Copy, Debug)]
-#[repr(C)]
-pub(crate) struct Node4 {
-    pub min_x: Vec4,
-    pub min_y: Vec4,
-    pub min_z: Vec4,
-    pub max_x: Vec4,
-    pub max_y: Vec4,
-    pub max_z: Vec4,
+#[repr(C, align(32))]
+pub(crate) struct WideNode {
+    pub min_x: [f32; WIDTH],
+    pub min_y: [f32; WIDTH],
+    pub min_z: [f32; WIDTH],
+    pub max_x: [f32; WIDTH],
+    pub max_y: [f32; WIDTH],
+    pub max_z: [f32; WIDTH],
     pub children: [u32; WIDTH],
 }
 
-impl Node4 {
-    const EMPTY: Node4 = Node4 {
-        min_x: Vec4::INFINITY,
-        min_y: Vec4::INFINITY,
-        min_z: Vec4::INFINITY,
-        max_x: Vec4::NEG_INFINITY,
-        max_y: Vec4::NEG_INFINITY,
-        max_z: Vec4::NEG_INFINITY,
+impl WideNode {
+    pub(crate) const EMPTY: WideNode = WideNode {
+        min_x: [f32::INFINITY; WIDTH],
+        min_y: [f32::INFINITY; WIDTH],
+        min_z: [f32::INFINITY; WIDTH],
+        max_x: [f32::NEG_INFINITY; WIDTH],
+        max_y: [f32::NEG_INFINITY; WIDTH],
+        max_z: [f32::NEG_INFINITY; WIDTH],
         children: [0; WIDTH],
     };
 
-    fn set_lane(&mut self, lane: usize, min: Vec3, max: Vec3, child: u32) {
+    pub(crate) fn set_lane(&mut self, lane: usize, min: Vec3, max: Vec3, child: u32) {
         self.min_x[lane] = min.x;
         self.min_y[lane] = min.y;
         self.min_z[lane] = min.z;
@@ -68,17 +68,17 @@ fn leaf_ref(node: &Node) -> u32 {
     LEAF | (node.count - 1) << COUNT_SHIFT | node.index
 }
 
-/// Collapses a binary hierarchy (depth first, as the builder lays it out) into 4-wide nodes,
+/// Collapses a binary hierarchy (depth first, as the builder lays it out) into 8-wide nodes,
 /// depth first; the root is `result[0]`. Each wide node takes its binary node's two children,
 /// then repeatedly replaces the interior child of largest surface area by its two children
-/// until it has four (the usual SAH-guided collapse).
-pub(crate) fn collapse(binary: &[Node]) -> Vec<Node4> {
+/// until it has eight (the usual SAH-guided collapse).
+pub(crate) fn collapse(binary: &[Node]) -> Vec<WideNode> {
     let mut wide = Vec::with_capacity(binary.len() / 2 + 1);
     match binary.first() {
         None => {}
         Some(root) if root.count > 0 => {
             // A single leaf: one wide node with one lane.
-            let mut node = Node4::EMPTY;
+            let mut node = WideNode::EMPTY;
             node.set_lane(0, root.min, root.max, leaf_ref(root));
             wide.push(node);
         }
@@ -90,7 +90,7 @@ pub(crate) fn collapse(binary: &[Node]) -> Vec<Node4> {
 }
 
 /// Appends the wide node for interior binary node `b` (and its subtree); returns its index.
-fn collapse_node(binary: &[Node], b: usize, wide: &mut Vec<Node4>) -> u32 {
+fn collapse_node(binary: &[Node], b: usize, wide: &mut Vec<WideNode>) -> u32 {
     let children = |i: usize| [i + 1, binary[i].index as usize];
     let area = |i: usize| {
         let d = (binary[i].max - binary[i].min).max(Vec3::ZERO);
@@ -111,7 +111,7 @@ fn collapse_node(binary: &[Node], b: usize, wide: &mut Vec<Node4>) -> u32 {
         lanes.splice(lane..=lane, [left, right]);
     }
     let index = wide.len();
-    wide.push(Node4::EMPTY);
+    wide.push(WideNode::EMPTY);
     for (lane, &c) in lanes.iter().enumerate() {
         let node = &binary[c];
         let child = if node.count > 0 {

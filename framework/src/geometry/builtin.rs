@@ -9,6 +9,16 @@ use crate::scene::{Plane, Sphere};
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BuiltinIntersection;
 
+impl BuiltinIntersection {
+    /// The unit normal of the triangle `(v0, v1, v2)` that
+    /// [`intersect_triangle`](Intersection::intersect_triangle) reports: `(v1 − v0) × (v2 − v0)`,
+    /// normalized.
+    #[inline(always)]
+    pub fn triangle_normal(v0: Vec3, v1: Vec3, v2: Vec3) -> Vec3 {
+        (v1 - v0).cross(v2 - v0).normalize()
+    }
+}
+
 impl Intersection for BuiltinIntersection {
     fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {
         super::intersect_plane(ray, plane.normal, plane.d).map(|distance| SurfaceHit {
@@ -22,7 +32,7 @@ impl Intersection for BuiltinIntersection {
             distance,
             beta,
             gamma,
-            normal: (v1 - v0).cross(v2 - v0).normalize(),
+            normal: Self::triangle_normal(v0, v1, v2),
         })
     }
 

@@ -7,6 +7,7 @@ mod triangle;
 
 pub use plane::intersect_plane;
 pub use sphere::intersect_sphere;
+pub(crate) use triangle::TriangleBlock;
 pub use triangle::{TriangleRay, intersect_triangle};
 
 mod builtin;

@@ -1,4 +1,4 @@
-use glam::{Vec3, Vec3Swizzles};
+use glam::{BVec4A, Vec3, Vec3Swizzles, Vec4};
 
 use crate::math::Ray;
 
@@ -43,6 +43,32 @@ impl Permutation {
             Permutation::Zxy => v.zxy(),
         }
     }
+
+    /// The axes that [`apply`](Self::apply) moves to `x`, `y` and `z`.
+    #[inline(always)]
+    fn axes(self) -> [usize; 3] {
+        match self {
+            Permutation::Xyz => [0, 1, 2],
+            Permutation::Yzx => [1, 2, 0],
+            Permutation::Zxy => [2, 0, 1],
+        }
+    }
+}
+
+/// The 2D edge function `p.x·q.y − p.y·q.x` in double precision, rounded to `f32`: its sign is
+/// exact for `f32` inputs (the watertight test's fallback on edges).
+#[inline(always)]
+fn edge_function_f64(px: f32, py: f32, qx: f32, qy: f32) -> f32 {
+    (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
+}
+
+/// The barycentrics `(β, γ)` from the scaled ones `v`, `w` and `1 / det`, clamped so that the
+/// documented ranges hold exactly despite rounding.
+#[inline(always)]
+fn clamped_barycentrics(v: f32, w: f32, inv_det: f32) -> (f32, f32) {
+    let beta = (v * inv_det).min(1.0);
+    let gamma = (w * inv_det).min(1.0 - beta);
+    (beta, gamma)
 }
 
 /// The part of the watertight triangle test ([`intersect_triangle`]) that depends on the ray
@@ -110,12 +136,9 @@ impl TriangleRay {
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // On (or extremely close to) an edge: decide with the exact sign from double
             // precision.
-            let f = |px: f32, py: f32, qx: f32, qy: f32| {
-                (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
-            };
-            u = f(cx, cy, bx, by);
-            v = f(ax, ay, cx, cy);
-            w = f(bx, by, ax, ay);
+            u = edge_function_f64(cx, cy, bx, by);
+            v = edge_function_f64(ax, ay, cx, cy);
+            w = edge_function_f64(bx, by, ax, ay);
         }
         if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
             return None;
@@ -132,10 +155,117 @@ impl TriangleRay {
         if !ray.accepts(t) {
             return None;
         }
-        // Clamp away rounding so the documented ranges hold exactly.
-        let beta = (v * inv_det).min(1.0);
-        let gamma = (w * inv_det).min(1.0 - beta);
+        let (beta, gamma) = clamped_barycentrics(v, w, inv_det);
         Some((t, beta, gamma))
+    }
+
+    /// [`intersect`](Self::intersect) for the four triangles of `block` at once (SIMD lanes):
+    /// the same operations in the same order, lane by lane, so each lane's answer is bit for bit
+    /// the one `intersect` gives for that triangle with the same `ray`.
+    #[inline(always)]
+    pub(crate) fn intersect4(&self, ray: &Ray, block: &TriangleBlock) -> BlockHits {
+        let [kx, ky, kz] = self.permutation.axes();
+        let o = [kx, ky, kz].map(|k| Vec4::splat(self.origin[k]));
+        let (sx, sy, sz) = (
+            Vec4::splat(self.sx),
+            Vec4::splat(self.sy),
+            Vec4::splat(self.sz),
+        );
+        // Translated, permuted and sheared, as in `intersect`: (x − sx·z, y − sy·z, z).
+        let vertex = |k: usize| {
+            let v = &block.vertices[k];
+            let (x, y, z) = (v[kx] - o[0], v[ky] - o[1], v[kz] - o[2]);
+            (x - sx * z, y - sy * z, z)
+        };
+        let (ax, ay, az) = vertex(0);
+        let (bx, by, bz) = vertex(1);
+        let (cx, cy, cz) = vertex(2);
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        let on_edge = (u.cmpeq(Vec4::ZERO) | v.cmpeq(Vec4::ZERO) | w.cmpeq(Vec4::ZERO)).bitmask();
+        if on_edge != 0 {
+            let (mut uu, mut vv, mut ww) = (u.to_array(), v.to_array(), w.to_array());
+            let [ax, ay, bx, by, cx, cy] = [ax, ay, bx, by, cx, cy].map(|x| x.to_array());
+            for lane in (0..4).filter(|lane| on_edge & (1 << lane) != 0) {
+                uu[lane] = edge_function_f64(cx[lane], cy[lane], bx[lane], by[lane]);
+                vv[lane] = edge_function_f64(ax[lane], ay[lane], cx[lane], cy[lane]);
+                ww[lane] = edge_function_f64(bx[lane], by[lane], ax[lane], ay[lane]);
+            }
+            (u, v, w) = (uu.into(), vv.into(), ww.into());
+        }
+        let zero = Vec4::ZERO;
+        let outside = (u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero))
+            & (u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero));
+        let det = u + v + w;
+        let t_scaled = (u * az + v * bz + w * cz) * sz;
+        let inv_det = Vec4::ONE / det;
+        let t = t_scaled * inv_det;
+        // `ray.accepts(t)` lane by lane (false for NaN).
+        let accepted = t.cmpge(Vec4::splat(ray.tmin)) & t.cmple(Vec4::splat(ray.tmax));
+        let hit = !outside & det.cmpne(zero) & accepted;
+        BlockHits {
+            mask: BVec4A::bitmask(hit),
+            t: t.to_array(),
+            v: v.to_array(),
+            w: w.to_array(),
+            inv_det: inv_det.to_array(),
+        }
+    }
+}
+
+/// Four triangles side by side (structure of arrays) for [`TriangleRay::intersect4`]:
+/// `vertices[k][axis]` holds coordinate `axis` of vertex `k` of the four triangles, one per
+/// lane. Lanes without a triangle have NaN coordinates, which no ray hits.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+pub(crate) struct TriangleBlock {
+    pub vertices: [[Vec4; 3]; 3],
+}
+
+impl TriangleBlock {
+    /// Four empty lanes.
+    pub(crate) const EMPTY: TriangleBlock = TriangleBlock {
+        vertices: [[Vec4::NAN; 3]; 3],
+    };
+
+    /// Puts the triangle `[v0, v1, v2]` in `lane`.
+    pub(crate) fn set(&mut self, lane: usize, triangle: [Vec3; 3]) {
+        for (k, v) in triangle.into_iter().enumerate() {
+            for axis in 0..3 {
+                self.vertices[k][axis][lane] = v[axis];
+            }
+        }
+    }
+
+    /// The triangle in `lane`.
+    #[inline(always)]
+    pub(crate) fn get(&self, lane: usize) -> [Vec3; 3] {
+        let lane = lane & 3;
+        self.vertices
+            .map(|[x, y, z]| Vec3::new(x.to_array()[lane], y.to_array()[lane], z.to_array()[lane]))
+    }
+}
+
+/// What [`TriangleRay::intersect4`] found: the lanes hit within the ray's `[tmin, tmax]`, and
+/// per lane the values `intersect` would have returned.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BlockHits {
+    /// Bit `i` set when lane `i`'s triangle is hit.
+    pub mask: u32,
+    /// Ray parameter of each lane's hit.
+    pub t: [f32; 4],
+    v: [f32; 4],
+    w: [f32; 4],
+    inv_det: [f32; 4],
+}
+
+impl BlockHits {
+    /// The barycentrics `(β, γ)` of lane `lane`'s hit, as `intersect` returns them.
+    #[inline(always)]
+    pub(crate) fn barycentrics(&self, lane: usize) -> (f32, f32) {
+        let lane = lane & 3;
+        clamped_barycentrics(self.v[lane], self.w[lane], self.inv_det[lane])
     }
 }
 

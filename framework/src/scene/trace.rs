@@ -16,14 +16,26 @@ enum Found {
 impl Scene {
     /// The closest surface along `ray` in `[tmin, tmax]` (DTU `RayTracer::trace_to_closest`),
     /// using the framework's intersection kernels.
+    ///
+    /// The same hit as `trace_to_closest_with(ray, &BuiltinIntersection)`, bit for bit, found
+    /// faster: the triangles are tested four at a time
+    /// ([`TriangleBvh::closest_hit_watertight`](crate::accel::TriangleBvh::closest_hit_watertight)).
     pub fn trace_to_closest(&self, ray: &Ray) -> Option<Hit> {
-        self.trace_to_closest_with(ray, &BuiltinIntersection)
+        self.closest_with(ray, &BuiltinIntersection, |r| {
+            self.triangle_bvh.closest_hit_watertight(r).map(|h| {
+                let [v0, v1, v2] = self.mesh.triangle(h.face as usize);
+                let normal = BuiltinIntersection::triangle_normal(v0, v1, v2);
+                (h.face, h.t, Vec2::new(h.beta, h.gamma), normal)
+            })
+        })
     }
 
     /// Whether anything lies along `ray` in `[tmin, tmax]` (DTU `RayTracer::trace_to_any`): the
     /// shadow-ray query, which may stop at the first hit it finds.
     pub fn trace_to_any(&self, ray: &Ray) -> bool {
-        self.trace_to_any_with(ray, &BuiltinIntersection)
+        self.any_with(ray, &BuiltinIntersection, |r| {
+            self.triangle_bvh.any_hit_watertight(r)
+        })
     }
 
     /// [`trace_to_closest`](Self::trace_to_closest) with the primitive tests of `isect`
@@ -33,6 +45,28 @@ impl Scene {
         &self,
         ray: &Ray,
         isect: &I,
+    ) -> Option<Hit> {
+        self.closest_with(ray, isect, |r| {
+            let mut last = (Vec2::ZERO, Vec3::ZERO);
+            self.triangle_bvh
+                .closest_hit(r, |&[v0, v1, v2], r| {
+                    isect.intersect_triangle(r, v0, v1, v2).map(|h| {
+                        last = (Vec2::new(h.beta, h.gamma), h.normal);
+                        h.distance
+                    })
+                })
+                .map(|(f, t)| (f, t, last.0, last.1))
+        })
+    }
+
+    /// The closest hit with `isect`'s plane and sphere tests and the triangle query
+    /// `triangles(ray)`, which returns the face, `t`, the barycentrics and the normal.
+    #[inline(always)]
+    fn closest_with<I: Intersection + ?Sized>(
+        &self,
+        ray: &Ray,
+        isect: &I,
+        triangles: impl FnOnce(&Ray) -> Option<(u32, f32, Vec2, Vec3)>,
     ) -> Option<Hit> {
         let mut r = *ray;
         let mut found = None;
@@ -54,15 +88,9 @@ impl Scene {
             r.tmax = t;
             found = Some(Found::Sphere(i as usize, sphere_normal));
         }
-        let mut last = (Vec2::ZERO, Vec3::ZERO);
-        if let Some((f, t)) = self.triangle_bvh.closest_hit(&r, |&[v0, v1, v2], r| {
-            isect.intersect_triangle(r, v0, v1, v2).map(|h| {
-                last = (Vec2::new(h.beta, h.gamma), h.normal);
-                h.distance
-            })
-        }) {
+        if let Some((f, t, bary, normal)) = triangles(&r) {
             r.tmax = t;
-            found = Some(Found::Triangle(f as usize, last.0, last.1));
+            found = Some(Found::Triangle(f as usize, bary, normal));
         }
         let found = found?;
         let t = r.tmax;
@@ -95,6 +123,22 @@ impl Scene {
 
     /// [`trace_to_any`](Self::trace_to_any) with the primitive tests of `isect`.
     pub fn trace_to_any_with<I: Intersection + ?Sized>(&self, ray: &Ray, isect: &I) -> bool {
+        self.any_with(ray, isect, |r| {
+            self.triangle_bvh.any_hit(r, |&[v0, v1, v2], r| {
+                isect.intersect_triangle(r, v0, v1, v2).is_some()
+            })
+        })
+    }
+
+    /// Whether `isect`'s plane or sphere tests or the triangle query `triangles(ray)` find
+    /// anything along `ray`.
+    #[inline(always)]
+    fn any_with<I: Intersection + ?Sized>(
+        &self,
+        ray: &Ray,
+        isect: &I,
+        triangles: impl FnOnce(&Ray) -> bool,
+    ) -> bool {
         self.planes
             .iter()
             .any(|p| isect.intersect_plane(ray, p).is_some())
@@ -103,9 +147,7 @@ impl Scene {
                     .intersect_sphere(r, &self.spheres[i as usize])
                     .is_some()
             })
-            || self.triangle_bvh.any_hit(ray, |&[v0, v1, v2], r| {
-                isect.intersect_triangle(r, v0, v1, v2).is_some()
-            })
+            || triangles(ray)
     }
 
     /// Shading normal and texture coordinates of face `f` at barycentrics `(β, γ)`: vertex

@@ -3,7 +3,6 @@
 
 use framework::Error;
 use framework::accel::{TraversalStats, TriangleBvh};
-use framework::geometry::TriangleRay;
 use framework::glam::Vec3;
 use framework::math::Ray;
 use framework::scene::Scene;
@@ -39,8 +38,9 @@ pub trait Engine: Sync {
 }
 
 /// The framework's core at the level of Embree's query: the SAH BVH over the triangles (in leaf
-/// order) with the built-in watertight triangle kernel, returning the hit's `t` and face — what
-/// `Scene::trace_to_closest` does before it fills in the hit record.
+/// order, four to a block) with the built-in watertight triangle test run on four triangles at
+/// once, returning the hit's `t` and face — what `Scene::trace_to_closest` does before it fills
+/// in the hit record.
 pub struct Core {
     bvh: TriangleBvh,
 }
@@ -54,34 +54,23 @@ impl Core {
     }
 }
 
-/// The triangle test for one ray: `intersect_triangle` with the ray's part prepared once.
-#[inline(always)]
-fn test(prepared: &TriangleRay) -> impl Fn(&[Vec3; 3], &Ray) -> Option<f32> + '_ {
-    |&[v0, v1, v2], ray| prepared.intersect(ray, v0, v1, v2).map(|h| h.0)
-}
-
 impl Engine for Core {
     fn closest(&self, ray: &Ray) -> Option<EngineHit> {
-        let prepared = TriangleRay::new(ray);
-        self.bvh
-            .closest_hit(ray, test(&prepared))
-            .map(|(f, t)| EngineHit { t, prim: Some(f) })
+        self.bvh.closest_hit_watertight(ray).map(|h| EngineHit {
+            t: h.t,
+            prim: Some(h.face),
+        })
     }
 
     fn any(&self, ray: &Ray) -> bool {
-        let prepared = TriangleRay::new(ray);
-        let test = test(&prepared);
-        self.bvh.any_hit(ray, |v, r| test(v, r).is_some())
+        self.bvh.any_hit_watertight(ray)
     }
 
     fn work(&self, rays: &[Ray]) -> Option<(Work, Work)> {
         let (mut closest, mut any) = (TraversalStats::default(), TraversalStats::default());
         for ray in rays {
-            let prepared = TriangleRay::new(ray);
-            let test = test(&prepared);
-            self.bvh.closest_hit_counted(ray, &test, &mut closest);
-            self.bvh
-                .any_hit_counted(ray, |v, r| test(v, r).is_some(), &mut any);
+            self.bvh.closest_hit_watertight_counted(ray, &mut closest);
+            self.bvh.any_hit_watertight_counted(ray, &mut any);
         }
         let per_ray = |s: TraversalStats| Work {
             nodes: Some(s.nodes as f64 / rays.len().max(1) as f64),

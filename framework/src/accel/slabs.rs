@@ -1,0 +1,283 @@
+//! The ray–box slab test of the traversal: a ray's entry distances into the eight child boxes
+//! of a wide node at once. Two implementations compute the same IEEE single-precision
+//! operations lane by lane, so they give bit-identical answers (and images do not depend on the
+//! CPU): [`Avx`], one 8-lane register per coordinate, where the CPU has AVX; and [`Portable`],
+//! two 4-lane halves (SSE on x86-64, NEON on ARM, scalar elsewhere).
+
+use glam::{Vec3, Vec4};
+
+use super::wide::{WIDTH, WideNode};
+use crate::math::Ray;
+
+/// `1 + 2γ₃` with `γ₃ = 3u/(1 − 3u)`, `u = ε/2`: scaling the exit distance of a slab test by
+/// this makes it conservative under floating-point rounding (Ize 2013, "Robust BVH Ray
+/// Traversal"; also PBRT), so rays through box edges and flat boxes are not lost.
+pub(crate) const EXIT_SLACK: f32 = 1.0 + 2.0 * (1.5 * f32::EPSILON) / (1.0 - 1.5 * f32::EPSILON);
+
+/// A ray prepared for slab tests: origin, reciprocal direction, and which box corner is met
+/// first along each axis.
+pub(crate) struct Slabs {
+    origin: Vec3,
+    inv_dir: Vec3,
+    negative: [bool; 3],
+}
+
+/// The lanes of a wide node the ray enters (bit `i` for lane `i`) and the entry distances.
+pub(crate) type Entries = ([f32; WIDTH], u32);
+
+impl Slabs {
+    #[inline(always)]
+    pub(crate) fn new(ray: &Ray) -> Self {
+        let inv_dir = ray.direction.recip();
+        Self {
+            origin: ray.origin,
+            inv_dir,
+            negative: inv_dir.to_array().map(|i| i.is_sign_negative()),
+        }
+    }
+
+    /// The node's (near, far) planes along `axis` for this ray: minima then maxima, or the
+    /// other way round for a negative direction.
+    #[inline(always)]
+    fn planes<'a>(&self, node: &'a WideNode, axis: usize) -> (&'a [f32; WIDTH], &'a [f32; WIDTH]) {
+        let (min, max) = match axis {
+            0 => (&node.min_x, &node.max_x),
+            1 => (&node.min_y, &node.max_y),
+            _ => (&node.min_z, &node.max_z),
+        };
+        if self.negative[axis] {
+            (max, min)
+        } else {
+            (min, max)
+        }
+    }
+}
+
+/// An implementation of the slab test: entry distances of the ray into the boxes of a wide
+/// node, clipped to `[tmin, tmax]`, and the mask of the lanes whose clipped interval is not
+/// empty (with the rounding slack [`EXIT_SLACK`]).
+///
+/// Robust to zero direction components: each slab's entry (exit) distance comes from the plane
+/// met first (last) for the direction's sign (Williams et al. 2005), so `0·∞ = NaN` can only
+/// appear when the origin lies on that plane of a slab the ray runs parallel to — exactly when
+/// the slab puts no limit on `t` — and NaN is then ignored by the `max` (`min`) that accumulates
+/// the entry (exit) distances.
+pub(crate) trait SlabTest: Copy {
+    /// The entries of `slabs`'s ray into `node`'s boxes.
+    fn entries(self, slabs: &Slabs, node: &WideNode, tmin: f32, tmax: f32) -> Entries;
+}
+
+/// The slab test in two 4-lane halves, on every target.
+#[derive(Clone, Copy)]
+pub(crate) struct Portable;
+
+impl SlabTest for Portable {
+    #[inline(always)]
+    fn entries(self, slabs: &Slabs, node: &WideNode, tmin: f32, tmax: f32) -> Entries {
+        let mut entries = [0.0; WIDTH];
+        let mut mask = 0;
+        for half in 0..WIDTH / 4 {
+            let lanes = 4 * half..4 * half + 4;
+            let mut enter = Vec4::splat(tmin);
+            let mut exit = Vec4::splat(tmax);
+            for axis in 0..3 {
+                let (near, far) = slabs.planes(node, axis);
+                let (o, i) = (
+                    Vec4::splat(slabs.origin[axis]),
+                    Vec4::splat(slabs.inv_dir[axis]),
+                );
+                enter = max_ignoring_nan(enter, (Vec4::from_slice(&near[lanes.clone()]) - o) * i);
+                exit = min_ignoring_nan(exit, (Vec4::from_slice(&far[lanes.clone()]) - o) * i);
+            }
+            enter.write_to_slice(&mut entries[lanes]);
+            mask |= enter.cmple(exit * EXIT_SLACK).bitmask() << (4 * half);
+        }
+        (entries, mask)
+    }
+}
+
+/// Lane-wise `max(acc, x)`, or `acc` where `x` is NaN: one `maxps` on x86-64.
+#[inline(always)]
+fn max_ignoring_nan(acc: Vec4, x: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // `maxps x, acc` is `x > acc ? x : acc`, lane by lane (false for NaN). SSE is part of
+        // every x86-64 target.
+        use std::arch::x86_64::_mm_max_ps;
+        #[allow(unused_unsafe)]
+        unsafe { _mm_max_ps(x.into(), acc.into()) }.into()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    Vec4::select(x.cmpgt(acc), x, acc)
+}
+
+/// Lane-wise `min(acc, x)`, or `acc` where `x` is NaN: one `minps` on x86-64.
+#[inline(always)]
+fn min_ignoring_nan(acc: Vec4, x: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // `minps x, acc` is `x < acc ? x : acc`, lane by lane (false for NaN).
+        use std::arch::x86_64::_mm_min_ps;
+        #[allow(unused_unsafe)]
+        unsafe { _mm_min_ps(x.into(), acc.into()) }.into()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    Vec4::select(x.cmplt(acc), x, acc)
+}
+
+/// The slab test in one 8-lane AVX register per coordinate. A value exists only on a CPU that
+/// has AVX ([`Avx::detect`]), which is what makes calling the AVX code sound.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+pub(crate) struct Avx(());
+
+#[cfg(target_arch = "x86_64")]
+impl Avx {
+    /// `Some` where the CPU has AVX (the check is cached by the standard library).
+    #[inline(always)]
+    pub(crate) fn detect() -> Option<Avx> {
+        std::arch::is_x86_feature_detected!("avx").then_some(Avx(()))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl SlabTest for Avx {
+    #[inline(always)]
+    fn entries(self, slabs: &Slabs, node: &WideNode, tmin: f32, tmax: f32) -> Entries {
+        // SAFETY: an `Avx` value exists only where the CPU has AVX.
+        unsafe { entries_avx(slabs, node, tmin, tmax) }
+    }
+}
+
+/// [`Portable::entries`] with 8-lane registers: the same operations in the same order.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+fn entries_avx(slabs: &Slabs, node: &WideNode, tmin: f32, tmax: f32) -> Entries {
+    use std::arch::x86_64::*;
+    let mut enter = _mm256_set1_ps(tmin);
+    let mut exit = _mm256_set1_ps(tmax);
+    for axis in 0..3 {
+        let (near, far) = slabs.planes(node, axis);
+        let o = _mm256_set1_ps(slabs.origin[axis]);
+        let i = _mm256_set1_ps(slabs.inv_dir[axis]);
+        // SAFETY: `near` and `far` are arrays of eight floats at 32-byte aligned offsets of a
+        // 32-byte aligned `WideNode`.
+        let (near, far) = unsafe { (_mm256_load_ps(near.as_ptr()), _mm256_load_ps(far.as_ptr())) };
+        // `maxps x, acc` / `minps x, acc` keep `acc` where `x` is NaN, as in `Portable`.
+        enter = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near, o), i), enter);
+        exit = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far, o), i), exit);
+    }
+    let inside =
+        _mm256_cmp_ps::<_CMP_LE_OQ>(enter, _mm256_mul_ps(exit, _mm256_set1_ps(EXIT_SLACK)));
+    let mut entries = [0.0; WIDTH];
+    // SAFETY: `entries` holds eight floats.
+    unsafe { _mm256_storeu_ps(entries.as_mut_ptr(), enter) };
+    (entries, _mm256_movemask_ps(inside) as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tiny deterministic generator (PCG-like LCG), values in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+        }
+        /// A coordinate in [-1, 1), exactly 0 or ±1 one time in eight each.
+        fn coord(&mut self) -> f32 {
+            match (self.next() * 16.0) as u32 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => 1.0,
+                3 => -1.0,
+                _ => self.next() * 2.0 - 1.0,
+            }
+        }
+        fn vec(&mut self) -> Vec3 {
+            Vec3::new(self.coord(), self.coord(), self.coord())
+        }
+    }
+
+    /// A node with random boxes, some flat, some lanes empty.
+    fn random_node(rng: &mut Rng) -> WideNode {
+        let mut node = WideNode::EMPTY;
+        for lane in 0..WIDTH {
+            if rng.next() < 0.2 {
+                continue;
+            }
+            let (a, b) = (rng.vec(), rng.vec());
+            let (mut min, max) = (a.min(b), a.max(b));
+            if rng.next() < 0.2 {
+                min.y = max.y;
+            }
+            node.set_lane(lane, min, max, lane as u32);
+        }
+        node
+    }
+
+    #[test]
+    fn portable_test_finds_the_boxes_a_ray_crosses() {
+        let mut rng = Rng(3);
+        for _ in 0..2000 {
+            let node = random_node(&mut rng);
+            let ray = Ray::unbounded(rng.vec() * 2.0, rng.vec(), 0.0);
+            let (entries, mask) = Portable.entries(&Slabs::new(&ray), &node, 0.0, f32::INFINITY);
+            for (lane, &entry) in entries.iter().enumerate() {
+                // A point of the box on the ray (the entry point) is inside the box, up to
+                // rounding; lanes not entered have no point of the ray inside.
+                if mask & (1 << lane) != 0 {
+                    let p = ray.at(entry);
+                    let min = Vec3::new(node.min_x[lane], node.min_y[lane], node.min_z[lane]);
+                    let max = Vec3::new(node.max_x[lane], node.max_y[lane], node.max_z[lane]);
+                    let slack = 1e-4 * (1.0 + p.abs().max_element());
+                    assert!(
+                        p.cmpge(min - slack).all() && p.cmple(max + slack).all(),
+                        "lane {lane}: {p} outside {min}..{max}"
+                    );
+                } else if node.min_x[lane] <= node.max_x[lane] {
+                    let centre = 0.5
+                        * Vec3::new(
+                            node.min_x[lane] + node.max_x[lane],
+                            node.min_y[lane] + node.max_y[lane],
+                            node.min_z[lane] + node.max_z[lane],
+                        );
+                    // The ray through the box's centre enters it.
+                    let towards = Ray::unbounded(ray.origin, centre - ray.origin, 0.0);
+                    let (_, m) = Portable.entries(&Slabs::new(&towards), &node, 0.0, f32::INFINITY);
+                    assert!(m & (1 << lane) != 0 || centre == ray.origin, "lane {lane}");
+                }
+            }
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx_and_portable_tests_agree_bit_for_bit() {
+        let Some(avx) = Avx::detect() else {
+            eprintln!("this CPU has no AVX: nothing to compare");
+            return;
+        };
+        let mut rng = Rng(11);
+        for _ in 0..20_000 {
+            let node = random_node(&mut rng);
+            // Directions with zero components and origins on box planes included.
+            let ray = Ray::unbounded(rng.vec(), rng.vec(), 0.0);
+            let (tmin, tmax) = (
+                rng.next(),
+                [f32::INFINITY, 2.0 * rng.next()][(rng.next() * 2.0) as usize],
+            );
+            let slabs = Slabs::new(&ray);
+            let (t, mask) = Portable.entries(&slabs, &node, tmin, tmax);
+            let (t_avx, mask_avx) = avx.entries(&slabs, &node, tmin, tmax);
+            assert_eq!(mask_avx, mask, "{ray:?}");
+            assert_eq!(t_avx.map(f32::to_bits), t.map(f32::to_bits), "{ray:?}");
+        }
+    }
+}
