@@ -209,3 +209,127 @@ impl TriangleBvh {
             .any_hit_in_leaf_order(ray, |k, r| intersect(&self.triangle(k), r), stats)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::TriangleRay;
+
+    /// Tiny deterministic generator (PCG-like LCG), values in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+        }
+        fn vec(&mut self) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
+        }
+    }
+
+    /// A bumpy grid of `n × n` quads (two triangles each) over [-1, 1]², sharing edges and
+    /// vertices, and a few random triangles through it.
+    fn mesh(rng: &mut Rng, n: usize) -> Vec<[Vec3; 3]> {
+        let p = |i: usize, j: usize| {
+            let (x, y) = (
+                i as f32 / n as f32 * 2.0 - 1.0,
+                j as f32 / n as f32 * 2.0 - 1.0,
+            );
+            Vec3::new(x, y, 0.1 * (3.0 * x).sin() * (2.0 * y).cos())
+        };
+        let mut tris = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+                tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+            }
+        }
+        tris.extend((0..n).map(|_| [rng.vec(), rng.vec(), rng.vec()]));
+        tris
+    }
+
+    #[test]
+    fn watertight_queries_agree_with_one_triangle_at_a_time() {
+        let mut rng = Rng(17);
+        let tris = mesh(&mut rng, 24);
+        let bvh = TriangleBvh::build(&tris);
+        // The blocks hold every triangle once, in leaf order.
+        let mut faces: Vec<u32> = bvh
+            .bvh
+            .leaf_order()
+            .iter()
+            .copied()
+            .filter(|&f| f != HOLE)
+            .collect();
+        faces.sort_unstable();
+        assert!(faces.iter().copied().eq(0..tris.len() as u32));
+        for (slot, &f) in bvh.bvh.leaf_order().iter().enumerate() {
+            if f != HOLE {
+                assert_eq!(bvh.triangle(slot as u32), tris[f as usize]);
+            }
+        }
+        for i in 0..20_000 {
+            // Rays at grid vertices and edges (shared by several triangles: ties in `t`) and at
+            // random points, some with a shrunk interval.
+            let k = 2.0 / 24.0;
+            let target = match i % 3 {
+                0 => Vec3::new(
+                    (rng.next() * 24.0).floor() * k - 1.0,
+                    (rng.next() * 24.0).floor() * k - 1.0,
+                    0.0,
+                ),
+                1 => Vec3::new(
+                    (rng.next() * 24.0).floor() * k - 1.0,
+                    rng.next() * 2.0 - 1.0,
+                    0.0,
+                ),
+                _ => rng.vec(),
+            };
+            let origin = rng.vec() * 3.0;
+            let mut ray = Ray::unbounded(origin, target - origin, 0.0);
+            if i % 4 == 0 {
+                (ray.tmin, ray.tmax) = (0.5 * rng.next(), 0.5 + rng.next());
+            }
+            let prepared = TriangleRay::new(&ray);
+            let mut last = (0.0, 0.0);
+            let scalar = bvh
+                .closest_hit(&ray, |&[a, b, c], r| {
+                    prepared.intersect(r, a, b, c).map(|(t, beta, gamma)| {
+                        last = (beta, gamma);
+                        t
+                    })
+                })
+                .map(|(face, t)| MeshHit {
+                    face,
+                    t,
+                    beta: last.0,
+                    gamma: last.1,
+                });
+            let simd = bvh.closest_hit_watertight(&ray);
+            let bits =
+                |h: Option<MeshHit>| h.map(|h| (h.face, [h.t, h.beta, h.gamma].map(f32::to_bits)));
+            assert_eq!(bits(simd), bits(scalar), "{ray:?}");
+            let any = bvh.any_hit(&ray, |&[a, b, c], r| {
+                prepared.intersect(r, a, b, c).is_some()
+            });
+            assert_eq!(bvh.any_hit_watertight(&ray), any, "{ray:?}");
+            assert_eq!(any, scalar.is_some());
+        }
+    }
+
+    #[test]
+    fn empty_and_tiny_meshes() {
+        let empty = TriangleBvh::build(&[]);
+        let ray = Ray::unbounded(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, 0.0);
+        assert_eq!(empty.closest_hit_watertight(&ray), None);
+        assert!(!empty.any_hit_watertight(&ray));
+        let one = TriangleBvh::build(&[[Vec3::ZERO, Vec3::X, Vec3::Y]]);
+        let hit = one.closest_hit_watertight(&ray).unwrap();
+        assert_eq!(hit.face, 0);
+        assert!((hit.t - 1.0).abs() < 1e-6 && (hit.beta - 0.2).abs() < 1e-6);
+        assert!(one.any_hit_watertight(&ray));
+    }
+}

@@ -478,4 +478,82 @@ mod tests {
         let (t, _, _) = intersect_triangle(&ray, v[0], v[1], v[2]).unwrap();
         assert!((t - 2.0).abs() < 1e-6);
     }
+
+    /// `intersect4` on the block of `triangles` (padded with empty lanes) agrees lane by lane,
+    /// bit for bit, with `intersect`.
+    fn assert_block_agrees(ray: &Ray, triangles: &[[Vec3; 3]]) {
+        let mut block = TriangleBlock::EMPTY;
+        for (lane, &t) in triangles.iter().enumerate() {
+            block.set(lane, t);
+            assert_eq!(block.get(lane), t);
+        }
+        let prepared = TriangleRay::new(ray);
+        let hits = prepared.intersect4(ray, &block);
+        for lane in 0..4 {
+            let scalar = triangles
+                .get(lane)
+                .and_then(|&[a, b, c]| prepared.intersect(ray, a, b, c));
+            let simd = (hits.mask & (1 << lane) != 0).then(|| {
+                let (beta, gamma) = hits.barycentrics(lane);
+                (hits.t[lane], beta, gamma)
+            });
+            let bits = |h: Option<(f32, f32, f32)>| h.map(|(t, b, g)| [t, b, g].map(f32::to_bits));
+            assert_eq!(
+                bits(simd),
+                bits(scalar),
+                "lane {lane} of {triangles:?}, {ray:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn four_lanes_agree_with_one_at_a_time() {
+        let mut rng = Rng(5);
+        // Random triangles and rays, with shrunk intervals.
+        for _ in 0..20_000 {
+            let n = 1 + (rng.next() * 4.0) as usize;
+            let triangles: Vec<[Vec3; 3]> =
+                (0..n).map(|_| [rng.vec(), rng.vec(), rng.vec()]).collect();
+            let mut ray = Ray::unbounded(rng.vec() * 2.0, rng.vec(), 0.0);
+            if rng.next() < 0.3 {
+                (ray.tmin, ray.tmax) = (rng.next(), 1.0 + rng.next());
+            }
+            assert_block_agrees(&ray, &triangles);
+        }
+        // Rays through shared edges and vertices of a fan, where the edge functions round to
+        // zero and the `f64` fallback decides, and axis-aligned directions.
+        let fan = [
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+            [Vec3::ZERO, Vec3::Y, -Vec3::X],
+            [Vec3::ZERO, -Vec3::X, -Vec3::Y],
+            [Vec3::ZERO, -Vec3::Y, Vec3::X],
+        ];
+        for i in 0..20_000 {
+            let target = match i % 3 {
+                0 => Vec3::ZERO,
+                1 => Vec3::X * rng.next(),
+                _ => Vec3::new(rng.next(), 1.0 - rng.next(), 0.0) * 0.5,
+            };
+            let origin = if i % 5 == 0 {
+                target + Vec3::Z
+            } else {
+                rng.vec() + Vec3::Z * 2.0
+            };
+            let ray = Ray::unbounded(origin, target - origin, 0.0);
+            assert_block_agrees(&ray, &fan);
+        }
+        // Degenerate triangles, a ray in their plane, a zero direction.
+        let degenerate = [
+            [Vec3::ZERO, Vec3::ONE, Vec3::ONE * 2.0],
+            [Vec3::ZERO; 3],
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+        ];
+        for ray in [
+            Ray::unbounded(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, 0.0),
+            Ray::unbounded(Vec3::new(-1.0, 0.25, 0.0), Vec3::X, 0.0),
+            Ray::unbounded(Vec3::new(0.2, 0.2, 0.0), Vec3::ZERO, 0.0),
+        ] {
+            assert_block_agrees(&ray, &degenerate);
+        }
+    }
 }
