@@ -1,5 +1,6 @@
-//! A binary bounding volume hierarchy over primitive bounding boxes, built with the binned
-//! surface area heuristic and traversed front to back with a fixed-size stack.
+//! A bounding volume hierarchy over primitive bounding boxes: a binary tree built with the
+//! binned surface area heuristic, collapsed into 8-wide nodes that are traversed front to back
+//! with a small stack.
 
 use std::mem::MaybeUninit;
 
@@ -18,8 +19,8 @@ const BINS: usize = 16;
 const MIN_LEAF: usize = 1;
 /// Nodes with more primitives than this are split even when the SAH prefers a leaf.
 const MAX_LEAF: usize = 8;
-/// SAH cost of traversing an interior node (testing its two children), relative to one
-/// intersection of a block of primitives.
+/// SAH cost of traversing an interior node (testing its two children): the unit of
+/// [`leaf_cost`].
 const TRAVERSAL_COST: f32 = 1.0;
 /// Below this depth the builder switches from the SAH to balanced median splits, which bounds
 /// the depth by `SAH_MAX_DEPTH + ⌈log₂ n⌉ ≤ 24 + 32 < MAX_DEPTH`.
@@ -617,18 +618,19 @@ fn choose_split(
 }
 
 /// SAH cost of intersecting a leaf of `n` primitives that are tested `block` at a time, in
-/// units of one test ([`TRAVERSAL_COST`] is a node visit in the same units).
+/// units of one node visit ([`TRAVERSAL_COST`]).
 ///
-/// One at a time, that is `n`. In blocks (four triangles in SIMD lanes), it is one test per
-/// block plus a quarter per primitive for what still grows with them (reading the block,
-/// accepting hits lane by lane): of the models measured on the Cornell box and the bunny
-/// (docs/performance.md), counting blocks alone made leaves too big for the Cornell box's
-/// walls, counting primitives alone too small for the bunny.
+/// One at a time, a test costs one unit, so the leaf costs `n`. In blocks (four triangles in
+/// SIMD lanes), a block costs two units plus half a unit per primitive for what still grows
+/// with them (reading the block, accepting hits lane by lane): `2·(⌈n/4⌉ + n/4)`. Of the
+/// models measured on the Cornell box and the bunny (docs/performance.md), counting blocks
+/// alone made leaves too big for the Cornell box's walls, counting primitives alone too small
+/// for the bunny, and a block at one node visit made the tree too shallow.
 fn leaf_cost(n: usize, block: usize) -> f32 {
     if block == 1 {
         n as f32
     } else {
-        n.div_ceil(block) as f32 + n as f32 / block as f32
+        2.0 * (n.div_ceil(block) as f32 + n as f32 / block as f32)
     }
 }
 
@@ -1053,16 +1055,30 @@ mod tests {
 
     #[test]
     fn build_is_deterministic_and_well_formed() {
+        for alignment in [1, 4] {
+            check_well_formed(alignment);
+        }
+    }
+
+    /// A build over 5000 random triangles with leaves aligned to `alignment` slots.
+    fn check_well_formed(alignment: usize) {
         let mut rng = Rng(9);
         let tris = random_triangles(&mut rng, 5000);
         let boxes = triangle_bounds(&tris);
-        let a = Bvh::build(&boxes);
-        let b = Bvh::build(&boxes);
+        let a = Bvh::build_with_leaf_alignment(&boxes, alignment);
+        let b = Bvh::build_with_leaf_alignment(&boxes, alignment);
         assert_eq!(format!("{a:?}"), format!("{b:?}"));
-        // Every primitive appears exactly once, node bounds contain their contents.
-        let mut seen = a.indices.clone();
+        assert_eq!(a.len(), 5000);
+        // Every primitive appears exactly once, node bounds contain their contents, leaves
+        // start at aligned slots.
+        let mut seen: Vec<u32> = a.indices.iter().copied().filter(|&p| p != HOLE).collect();
         seen.sort_unstable();
         assert!(seen.iter().copied().eq(0..5000));
+        assert!(
+            a.nodes
+                .iter()
+                .all(|n| n.count == 0 || n.index as usize % alignment == 0)
+        );
         let contains = |outer: &Node, inner: Aabb| {
             outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
         };
