@@ -112,10 +112,13 @@ fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
 }
 
 fn work_cell(w: Work) -> String {
-    match w.nodes {
-        Some(n) => format!("{n:.1} | {:.1}", w.triangles),
-        None => format!("– | {:.1}", w.triangles),
-    }
+    let count = |x: Option<f64>| x.map_or("–".to_string(), |x| format!("{x:.1}"));
+    format!(
+        "{} | {} | {:.1}",
+        count(w.nodes),
+        count(w.leaves),
+        w.triangles
+    )
 }
 
 fn measure(scene: &Scene, args: &BenchArgs) -> Result<(), Error> {
@@ -134,9 +137,10 @@ fn measure(scene: &Scene, args: &BenchArgs) -> Result<(), Error> {
     let sets = [("primary", &primary), ("diffuse", &diffuse)];
 
     println!(
-        "\nWork per ray (nodes: interior nodes visited; tris: triangle tests)\n\n\
-         | rays | engine | closest nodes | closest tris | any nodes | any tris |\n\
-         | --- | --- | --- | --- | --- | --- |"
+        "\nWork per ray (nodes: interior nodes visited; leaves: leaves reached, whose triangles the \
+         core tests four at a time; tris: triangle tests)\n\n\
+         | rays | engine | closest nodes | closest leaves | closest tris | any nodes | any leaves | any tris |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- |"
     );
     for (kind, rays) in sets {
         for e in &entries {

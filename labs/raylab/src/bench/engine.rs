@@ -16,11 +16,13 @@ pub struct EngineHit {
     pub prim: Option<u32>,
 }
 
-/// Work per query, averaged over a ray set: BVH nodes and triangle tests.
+/// Work per query, averaged over a ray set: BVH nodes, leaves and triangle tests.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Work {
     /// Interior nodes visited per ray (`None` when the engine cannot count them).
     pub nodes: Option<f64>,
+    /// Leaves reached per ray (`None` when the engine cannot count them).
+    pub leaves: Option<f64>,
     /// Triangle tests per ray.
     pub triangles: f64,
 }
@@ -74,6 +76,7 @@ impl Engine for Core {
         }
         let per_ray = |s: TraversalStats| Work {
             nodes: Some(s.nodes as f64 / rays.len().max(1) as f64),
+            leaves: Some(s.leaves as f64 / rays.len().max(1) as f64),
             triangles: s.primitives as f64 / rays.len().max(1) as f64,
         };
         Some((per_ray(closest), per_ray(any)))

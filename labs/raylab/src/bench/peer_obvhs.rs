@@ -130,6 +130,7 @@ impl Engine for Obvhs {
         let any = tests.get();
         let per_ray = |n: u64| Work {
             nodes: None,
+            leaves: None,
             triangles: n as f64 / rays.len().max(1) as f64,
         };
         Some((per_ray(closest), per_ray(any)))
