@@ -19,6 +19,8 @@ pub mod pipeline;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+#[cfg(test)]
+mod test_rng;
 
 pub use error::{Error, PanicError};
 pub use glam;

@@ -672,25 +672,7 @@ fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Tiny deterministic generator (LCG), values in [0, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-        }
-        /// A point in [-1, 1]³.
-        fn vec(&mut self) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
-        }
-        fn below(&mut self, n: usize) -> usize {
-            ((self.next() * n as f32) as usize).min(n - 1)
-        }
-    }
+    use crate::test_rng::Rng;
 
     /// Möller–Trumbore in `f64`, test-only: accurate enough that its hits lie in the boxes.
     fn hit_triangle(ray: &Ray, tri: [Vec3; 3]) -> Option<f32> {

@@ -179,31 +179,7 @@ fn entries_avx(slabs: &Slabs, node: &WideNode, tmin: f32, tmax: f32) -> Entries 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Tiny deterministic generator (PCG-like LCG), values in [0, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-        }
-        /// A coordinate in [-1, 1), exactly 0 or ±1 one time in eight each.
-        fn coord(&mut self) -> f32 {
-            match (self.next() * 16.0) as u32 {
-                0 => 0.0,
-                1 => -0.0,
-                2 => 1.0,
-                3 => -1.0,
-                _ => self.next() * 2.0 - 1.0,
-            }
-        }
-        fn vec(&mut self) -> Vec3 {
-            Vec3::new(self.coord(), self.coord(), self.coord())
-        }
-    }
+    use crate::test_rng::Rng;
 
     /// A node with random boxes, some flat, some lanes empty.
     fn random_node(rng: &mut Rng) -> WideNode {
@@ -212,7 +188,7 @@ mod tests {
             if rng.next() < 0.2 {
                 continue;
             }
-            let (a, b) = (rng.vec(), rng.vec());
+            let (a, b) = (rng.coords(), rng.coords());
             let (mut min, max) = (a.min(b), a.max(b));
             if rng.next() < 0.2 {
                 min.y = max.y;
@@ -227,7 +203,7 @@ mod tests {
         let mut rng = Rng(3);
         for _ in 0..2000 {
             let node = random_node(&mut rng);
-            let ray = Ray::unbounded(rng.vec() * 2.0, rng.vec(), 0.0);
+            let ray = Ray::unbounded(rng.coords() * 2.0, rng.coords(), 0.0);
             let (entries, mask) = Portable.entries(&Slabs::new(&ray), &node, 0.0, f32::INFINITY);
             for (lane, &entry) in entries.iter().enumerate() {
                 // A point of the box on the ray (the entry point) is inside the box, up to
@@ -268,7 +244,7 @@ mod tests {
         for _ in 0..20_000 {
             let node = random_node(&mut rng);
             // Directions with zero components and origins on box planes included.
-            let ray = Ray::unbounded(rng.vec(), rng.vec(), 0.0);
+            let ray = Ray::unbounded(rng.coords(), rng.coords(), 0.0);
             let (tmin, tmax) = (
                 rng.next(),
                 [f32::INFINITY, 2.0 * rng.next()][(rng.next() * 2.0) as usize],

@@ -214,21 +214,7 @@ impl TriangleBvh {
 mod tests {
     use super::*;
     use crate::geometry::TriangleRay;
-
-    /// Tiny deterministic generator (PCG-like LCG), values in [0, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-        }
-        fn vec(&mut self) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
-        }
-    }
+    use crate::test_rng::Rng;
 
     /// A bumpy grid of `n × n` quads (two triangles each) over [-1, 1]², sharing edges and
     /// vertices, and a few random triangles through it.

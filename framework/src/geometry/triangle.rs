@@ -272,21 +272,7 @@ impl BlockHits {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Tiny deterministic generator (PCG-like LCG), values in [0, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-        }
-        fn vec(&mut self) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
-        }
-    }
+    use crate::test_rng::Rng;
 
     fn check_hit(ray: &Ray, v: [Vec3; 3], hit: (f32, f32, f32)) {
         let (t, b, g) = hit;
