@@ -907,13 +907,8 @@ mod tests {
         // The box in lane 2 of a wide node, the other lanes empty.
         let entry = |o: Vec3, d: Vec3, n: &Node| {
             let mut wide = collapse(&[*n])[0];
-            wide.min_x[2] = n.min.x;
-            wide.min_y[2] = n.min.y;
-            wide.min_z[2] = n.min.z;
-            wide.max_x[2] = n.max.x;
-            wide.max_y[2] = n.max.y;
-            wide.max_z[2] = n.max.z;
-            (wide.min_x[0], wide.max_x[0]) = (f32::INFINITY, f32::NEG_INFINITY);
+            wide.set_lane(2, n.min, n.max, 0);
+            wide.set_lane(0, Vec3::INFINITY, Vec3::NEG_INFINITY, 0);
             let slabs = Slabs::new(&Ray::unbounded(o, d, 0.0));
             let (t, mask) = Portable.entries(&slabs, &wide, 0.0, f32::INFINITY);
             #[cfg(target_arch = "x86_64")]
@@ -1111,8 +1106,7 @@ mod tests {
             }
             let node = &a.wide[child as usize];
             for lane in 0..WIDTH {
-                let min = Vec3::new(node.min_x[lane], node.min_y[lane], node.min_z[lane]);
-                let max = Vec3::new(node.max_x[lane], node.max_y[lane], node.max_z[lane]);
+                let (min, max) = node.lane_box(lane);
                 if min.x <= max.x {
                     assert!(bounds.min.cmple(min).all() && bounds.max.cmpge(max).all());
                     stack.push((node.children[lane], Aabb::new(min, max)));

@@ -14,12 +14,16 @@ use crate::math::Ray;
 /// Traversal"; also PBRT), so rays through box edges and flat boxes are not lost.
 pub(crate) const EXIT_SLACK: f32 = 1.0 + 2.0 * (1.5 * f32::EPSILON) / (1.0 - 1.5 * f32::EPSILON);
 
-/// A ray prepared for slab tests: origin, reciprocal direction, and which box corner is met
-/// first along each axis.
+/// A ray prepared for slab tests: origin, reciprocal direction, and which planes of a box it
+/// meets first along each axis.
 pub(crate) struct Slabs {
     origin: Vec3,
     inv_dir: Vec3,
-    negative: [bool; 3],
+    /// `near[axis]`: the index in [`WideNode::planes`] of the plane met first along `axis`
+    /// (the minimum for a positive direction, the maximum for a negative one).
+    near: [usize; 3],
+    /// `far[axis]`: the index of the other plane along `axis`.
+    far: [usize; 3],
 }
 
 /// The lanes of a wide node the ray enters (bit `i` for lane `i`) and the entry distances.
@@ -29,27 +33,21 @@ impl Slabs {
     #[inline(always)]
     pub(crate) fn new(ray: &Ray) -> Self {
         let inv_dir = ray.direction.recip();
+        let negative = inv_dir.to_array().map(|i| i.is_sign_negative() as usize);
         Self {
             origin: ray.origin,
             inv_dir,
-            negative: inv_dir.to_array().map(|i| i.is_sign_negative()),
+            near: [0, 1, 2].map(|axis| axis + 3 * negative[axis]),
+            far: [0, 1, 2].map(|axis| axis + 3 * (1 - negative[axis])),
         }
     }
 
     /// The node's (near, far) planes along `axis` for this ray: minima then maxima, or the
-    /// other way round for a negative direction.
+    /// other way round for a negative direction. Chosen by index, not by a branch per node:
+    /// the direction's signs change from ray to ray.
     #[inline(always)]
     fn planes<'a>(&self, node: &'a WideNode, axis: usize) -> (&'a [f32; WIDTH], &'a [f32; WIDTH]) {
-        let (min, max) = match axis {
-            0 => (&node.min_x, &node.max_x),
-            1 => (&node.min_y, &node.max_y),
-            _ => (&node.min_z, &node.max_z),
-        };
-        if self.negative[axis] {
-            (max, min)
-        } else {
-            (min, max)
-        }
+        (&node.planes[self.near[axis]], &node.planes[self.far[axis]])
     }
 }
 
@@ -210,20 +208,16 @@ mod tests {
                 // rounding; lanes not entered have no point of the ray inside.
                 if mask & (1 << lane) != 0 {
                     let p = ray.at(entry);
-                    let min = Vec3::new(node.min_x[lane], node.min_y[lane], node.min_z[lane]);
-                    let max = Vec3::new(node.max_x[lane], node.max_y[lane], node.max_z[lane]);
+                    let (min, max) = node.lane_box(lane);
                     let slack = 1e-4 * (1.0 + p.abs().max_element());
                     assert!(
                         p.cmpge(min - slack).all() && p.cmple(max + slack).all(),
                         "lane {lane}: {p} outside {min}..{max}"
                     );
-                } else if node.min_x[lane] <= node.max_x[lane] {
-                    let centre = 0.5
-                        * Vec3::new(
-                            node.min_x[lane] + node.max_x[lane],
-                            node.min_y[lane] + node.max_y[lane],
-                            node.min_z[lane] + node.max_z[lane],
-                        );
+                } else if let (min, max) = node.lane_box(lane)
+                    && min.x <= max.x
+                {
+                    let centre = 0.5 * (min + max);
                     // The ray through the box's centre enters it.
                     let towards = Ray::unbounded(ray.origin, centre - ray.origin, 0.0);
                     let (_, m) = Portable.entries(&Slabs::new(&towards), &node, 0.0, f32::INFINITY);

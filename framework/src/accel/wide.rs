@@ -18,40 +18,43 @@ pub(crate) const MAX_PRIMITIVES: usize = 1 << COUNT_SHIFT;
 
 /// A node of the 8-wide hierarchy: 224 bytes, aligned for 8-lane loads.
 ///
-/// Lane `i` holds child `i`: its box (`min_x[i]` … `max_z[i]`) and its reference
-/// `children[i]`. Unused lanes have the empty box (`+∞` minima, `−∞` maxima), which no ray
-/// enters.
+/// Lane `i` holds child `i`: its box (`planes[axis][i]` the minimum along `axis`,
+/// `planes[3 + axis][i]` the maximum) and its reference `children[i]`. Unused lanes have the
+/// empty box (`+∞` minima, `−∞` maxima), which no ray enters.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 pub(crate) struct WideNode {
-    pub min_x: [f32; WIDTH],
-    pub min_y: [f32; WIDTH],
-    pub min_z: [f32; WIDTH],
-    pub max_x: [f32; WIDTH],
-    pub max_y: [f32; WIDTH],
-    pub max_z: [f32; WIDTH],
+    /// The children's box planes: minima along x, y, z, then maxima along x, y, z.
+    pub planes: [[f32; WIDTH]; 6],
     pub children: [u32; WIDTH],
 }
 
 impl WideNode {
     pub(crate) const EMPTY: WideNode = WideNode {
-        min_x: [f32::INFINITY; WIDTH],
-        min_y: [f32::INFINITY; WIDTH],
-        min_z: [f32::INFINITY; WIDTH],
-        max_x: [f32::NEG_INFINITY; WIDTH],
-        max_y: [f32::NEG_INFINITY; WIDTH],
-        max_z: [f32::NEG_INFINITY; WIDTH],
+        planes: [
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+        ],
         children: [0; WIDTH],
     };
 
     pub(crate) fn set_lane(&mut self, lane: usize, min: Vec3, max: Vec3, child: u32) {
-        self.min_x[lane] = min.x;
-        self.min_y[lane] = min.y;
-        self.min_z[lane] = min.z;
-        self.max_x[lane] = max.x;
-        self.max_y[lane] = max.y;
-        self.max_z[lane] = max.z;
+        for axis in 0..3 {
+            self.planes[axis][lane] = min[axis];
+            self.planes[3 + axis][lane] = max[axis];
+        }
         self.children[lane] = child;
+    }
+
+    /// The box of lane `lane`: (minimum, maximum).
+    #[cfg(test)]
+    pub(crate) fn lane_box(&self, lane: usize) -> (Vec3, Vec3) {
+        let plane = |k: usize| Vec3::from_array([0, 1, 2].map(|axis| self.planes[k + axis][lane]));
+        (plane(0), plane(3))
     }
 }
 
