@@ -797,7 +797,7 @@ mod tests {
         let bvh = Bvh::build(boxes);
         assert_eq!(bvh.len(), n);
         assert!(bvh.depth() <= MAX_DEPTH);
-        let mut rng = Rng(seed);
+        let mut rng = Rng::new(seed);
         let mut hits = 0;
         for _ in 0..rays {
             let ray = random_ray(&mut rng, boxes);
@@ -840,7 +840,7 @@ mod tests {
 
     #[test]
     fn triangle_soup_matches_brute_force() {
-        let mut rng = Rng(1);
+        let mut rng = Rng::new(1);
         let tris = random_triangles(&mut rng, 3000);
         let boxes = triangle_bounds(&tris);
         check_against_brute_force(tris.len(), &boxes, 5000, 2, |i, r| hit_triangle(r, tris[i]));
@@ -848,7 +848,7 @@ mod tests {
 
     #[test]
     fn sphere_set_matches_brute_force() {
-        let mut rng = Rng(3);
+        let mut rng = Rng::new(3);
         let spheres: Vec<(Vec3, f32)> = (0..2000)
             .map(|i| {
                 (
@@ -1023,7 +1023,7 @@ mod tests {
             .collect();
         let bvh = Bvh::build(&boxes);
         assert!(bvh.depth() <= MAX_DEPTH, "depth {}", bvh.depth());
-        let mut rng = Rng(8);
+        let mut rng = Rng::new(8);
         for _ in 0..200 {
             let ray = Ray::unbounded(Vec3::new(-1.0, rng.next(), rng.next()), Vec3::X, 0.0);
             assert!(bvh.any_hit(&ray, |i, _| i < 20_000));
@@ -1039,7 +1039,7 @@ mod tests {
 
     /// A build over 5000 random triangles with leaves aligned to `alignment` slots.
     fn check_well_formed(alignment: usize) {
-        let mut rng = Rng(9);
+        let mut rng = Rng::new(9);
         let tris = random_triangles(&mut rng, 5000);
         let boxes = triangle_bounds(&tris);
         let a = Bvh::build_with_leaf_alignment(&boxes, alignment);

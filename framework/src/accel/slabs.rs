@@ -198,7 +198,7 @@ mod tests {
 
     #[test]
     fn portable_test_finds_the_boxes_a_ray_crosses() {
-        let mut rng = Rng(3);
+        let mut rng = Rng::new(3);
         for _ in 0..2000 {
             let node = random_node(&mut rng);
             let ray = Ray::unbounded(rng.coords() * 2.0, rng.coords(), 0.0);
@@ -234,7 +234,7 @@ mod tests {
             eprintln!("this CPU has no AVX: nothing to compare");
             return;
         };
-        let mut rng = Rng(11);
+        let mut rng = Rng::new(11);
         for _ in 0..20_000 {
             let node = random_node(&mut rng);
             // Directions with zero components and origins on box planes included.

@@ -239,7 +239,7 @@ mod tests {
 
     #[test]
     fn watertight_queries_agree_with_one_triangle_at_a_time() {
-        let mut rng = Rng(17);
+        let mut rng = Rng::new(17);
         let tris = mesh(&mut rng, 24);
         let bvh = TriangleBvh::build(&tris);
         // The blocks hold every triangle once, in leaf order.

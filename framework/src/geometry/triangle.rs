@@ -300,7 +300,7 @@ mod tests {
 
     #[test]
     fn random_rays_agree_with_barycentric_reference() {
-        let mut rng = Rng(7);
+        let mut rng = Rng::new(7);
         let mut hits = 0;
         for _ in 0..20_000 {
             let v = [rng.vec(), rng.vec(), rng.vec()];
@@ -387,7 +387,7 @@ mod tests {
             [3, 1, 5],
             [0, 3, 5],
         ];
-        let mut rng = Rng(99);
+        let mut rng = Rng::new(99);
         let center = Vec3::new(0.1, 0.2, 0.3);
         for i in 0..50_000 {
             // Aim at points on edges (and vertices) of the mesh from random inside points.
@@ -494,7 +494,7 @@ mod tests {
 
     #[test]
     fn four_lanes_agree_with_one_at_a_time() {
-        let mut rng = Rng(5);
+        let mut rng = Rng::new(5);
         // Random triangles and rays, with shrunk intervals.
         for _ in 0..20_000 {
             let n = 1 + (rng.next() * 4.0) as usize;
