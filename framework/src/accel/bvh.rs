@@ -1054,7 +1054,7 @@ mod tests {
         assert!(
             a.nodes
                 .iter()
-                .all(|n| n.count == 0 || n.index as usize % alignment == 0)
+                .all(|n| n.count == 0 || (n.index as usize).is_multiple_of(alignment))
         );
         let contains = |outer: &Node, inner: Aabb| {
             outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()

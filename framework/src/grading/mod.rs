@@ -6,6 +6,7 @@ mod golden;
 mod property;
 mod snapshot;
 mod strata;
+pub mod verdict;
 
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
 pub use property::for_all;
@@ -169,17 +170,25 @@ fn unfinished_exercise(message: &str) -> Option<&str> {
 }
 
 /// [`run_exercise`] for a `#[test]`: panics with the failure message.
+///
+/// Under `raylab grade` it instead ends the process with the verdict record
+/// ([`verdict::VerdictChannel`]); the channel is taken before the student's code first runs.
 pub fn assert_exercise<S: ?Sized>(
     exercises: &[Exercise<S>],
     id: &str,
     subject: &Arc<S>,
     ctx: &LabContext,
 ) {
+    let channel = verdict::VerdictChannel::take();
     let exercise = exercises
         .iter()
         .find(|e| e.id == id)
         .unwrap_or_else(|| panic!("no exercise {id} in lab {}", ctx.lab));
-    if let Err(message) = run_exercise(exercise, subject, ctx) {
+    let outcome = run_exercise(exercise, subject, ctx);
+    if let Some(channel) = channel {
+        channel.report(id, &outcome);
+    }
+    if let Err(message) = outcome {
         // Print the message and unwind without the panic hook: the test fails with the message
         // alone, without a backtrace into the grading library.
         println!("{message}");

@@ -290,7 +290,7 @@ fn readme(released: &BTreeSet<u32>) -> String {
 
 Each lab is a crate in `labs/`. Read `docs/labNN.md`, then fill in the functions in
 `labs/labNN/src/lib.rs` (each stub says which exercise it is, what to compute and where the
-formula comes from) and run that lab's checks. You need a Rust toolchain (1.86 or newer).
+formula comes from) and run that lab's checks. You need a Rust toolchain (1.87 or newer).
 
 | lab | topic | docs | solution |
 | --- | --- | --- | --- |

@@ -1,15 +1,22 @@
 //! `raylab grade SUBMISSION... --out DIR`: grades each submission's `labs/labNN/src/` with the
 //! course's own tests, golden data and snapshots, one exercise per process.
 //!
-//! For each submission: its lab sources go into the grading tree (the handout with the hidden
-//! tests put back, so no unreleased solution is on disk), each lab is compiled (a lab that does
-//! not compile is graded as failing and replaced by its stubs so the others still build), the
-//! checks are built once, and every exercise's test runs in a process of its own with a time
-//! limit. The results go to per-student reports and the class gradebooks ([`reports`]).
+//! For each submission: its lab sources — regular files only ([`submission`]) — go into the
+//! grading tree (the handout with the hidden tests put back, so no unreleased solution is on
+//! disk); sources that read files outside their lab at compile time are flagged and not
+//! compiled ([`scan`]); each lab is compiled in the sandbox ([`sandbox`]; a lab that does not
+//! compile is graded as failing and replaced by its stubs so the others still build), the
+//! checks are built once, and every exercise's test runs in a sandboxed process of its own with
+//! a time limit, passing only on the check's verdict record ([`runner`]). After each
+//! submission the tree is verified against its hashes. The results go to per-student reports
+//! and the class gradebooks ([`reports`]), written when every student process has ended.
 
 mod reports;
 mod runner;
+mod sandbox;
+mod scan;
 mod submission;
+mod tree;
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -22,7 +29,9 @@ use framework::grading::ExerciseInfo;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::handout::{TreeOptions, build_tree, io, repository_root};
-use runner::Workspace;
+use runner::{ExerciseRun, Workspace};
+use sandbox::{Limits, Sandbox};
+use tree::Manifest;
 
 /// Options of `raylab grade`.
 #[derive(Args, Debug)]
@@ -48,6 +57,16 @@ pub struct GradeArgs {
     /// Seconds an exercise may run before it is stopped and fails (an infinite loop).
     #[arg(long, default_value_t = 60)]
     pub timeout: u64,
+    /// Address space an exercise's process may use, MiB (more fails it: "ran out of memory").
+    #[arg(long, default_value_t = 4096)]
+    pub memory_limit: u64,
+    /// Seconds one build of a submission may take.
+    #[arg(long, default_value_t = 900)]
+    pub build_timeout: u64,
+    /// Run student code without the bubblewrap sandbox (where it cannot be installed). Student
+    /// code then runs as your user, able to read and write what you can; every report says so.
+    #[arg(long)]
+    pub unsandboxed: bool,
 }
 
 /// The grade of one exercise.
@@ -58,8 +77,10 @@ pub struct ExerciseGrade {
     pub passed: bool,
     /// Points earned.
     pub score: u32,
-    /// Why it failed, or empty.
+    /// Why it failed, or empty (the grader's words, or the check's).
     pub output: String,
+    /// What the student's code printed while it ran (cut), apart from the verdict.
+    pub program_output: String,
     /// Images of the failing check, relative to the student's report directory.
     pub images: Vec<PathBuf>,
     /// Wall time of its test.
@@ -76,6 +97,12 @@ pub struct StudentGrade {
     pub changed_files: Vec<String>,
     /// Other remarks (a lab's sources missing, a lab that did not compile).
     pub notes: Vec<String>,
+    /// Entries of `labs/labNN/src/` that were not taken (links, special files, too large).
+    pub rejected: Vec<String>,
+    /// Source lines that read files outside their lab at compile time.
+    pub flagged: Vec<String>,
+    /// How the student's code was isolated (the sandbox and its limits).
+    pub sandbox: String,
 }
 
 impl StudentGrade {
@@ -88,12 +115,64 @@ impl StudentGrade {
     pub fn max_score(&self) -> u32 {
         self.exercises.iter().map(|e| e.info.points).sum()
     }
+
+    /// The grade of a submission that could not be graded: every exercise of `labs` failed,
+    /// with `why`.
+    fn ungraded(student: &str, labs: &[u32], why: &str) -> Self {
+        let reason = format!("the submission could not be graded: {why}");
+        let exercises = labs
+            .iter()
+            .flat_map(|&lab| framework::labs::exercise_infos(lab).unwrap_or_default())
+            .map(|info| ExerciseGrade::failed(info, reason.clone()))
+            .collect();
+        Self {
+            student: student.to_string(),
+            exercises,
+            changed_files: Vec::new(),
+            notes: vec![reason],
+            rejected: Vec::new(),
+            flagged: Vec::new(),
+            sandbox: String::new(),
+        }
+    }
+}
+
+impl ExerciseGrade {
+    /// A failed exercise that did not run, with `why`.
+    fn failed(info: ExerciseInfo, why: String) -> Self {
+        Self {
+            info,
+            passed: false,
+            score: 0,
+            output: why,
+            program_output: String::new(),
+            images: Vec::new(),
+            seconds: 0.0,
+        }
+    }
 }
 
 /// Runs `raylab grade`.
 pub fn run(args: &GradeArgs) -> Result<(), Error> {
     let labs = graded_labs(&args.labs)?;
     let students = student_names(&args.submissions)?;
+    let memory = args.memory_limit << 20;
+    let sandbox = Sandbox::new(
+        args.unsandboxed,
+        Limits {
+            memory,
+            build_memory: memory.max(8 << 30),
+            processes: 256,
+            file_size: 64 << 20,
+            // Two threads may each use the whole wall-clock limit.
+            cpu_seconds: 2 * args.timeout + 5,
+        },
+    )?;
+    if !sandbox.is_sandboxed() {
+        eprintln!(
+            "warning: --unsandboxed: student code runs as your user and can read and write everything you can"
+        );
+    }
     let grading = args.out.join(".grading");
     let handout = grading.join("handout");
     let workspace = Workspace {
@@ -103,6 +182,8 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             .clone()
             .unwrap_or_else(|| grading.join("target")),
         runs: grading.join("runs"),
+        sandbox,
+        build_timeout: Duration::from_secs(args.build_timeout),
     };
     for dir in [&handout, &workspace.tree, &workspace.runs] {
         if dir.exists() {
@@ -129,12 +210,21 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             .then(|| format!("grading.{:08x}", fnv1a(&place.to_string_lossy()))),
     };
     build_tree(&repository_root(), &handout, &options(false))?;
-    build_tree(&repository_root(), &workspace.tree, &options(true))?;
+    let make_tree = || -> Result<Manifest, Error> {
+        if workspace.tree.exists() {
+            fs::remove_dir_all(&workspace.tree).map_err(io(&workspace.tree))?;
+        }
+        build_tree(&repository_root(), &workspace.tree, &options(true))?;
+        workspace.prepare()?;
+        Manifest::of(&workspace.tree)
+    };
+    let mut pristine = make_tree()?;
 
     let bar = ProgressBar::new(args.submissions.len() as u64).with_style(
         ProgressStyle::with_template("grading {bar:30} {pos}/{len} {msg}")
             .expect("the progress template is valid"),
     );
+    let timeout = Duration::from_secs(args.timeout);
     let mut grades = Vec::new();
     for (submission, student) in args.submissions.iter().zip(&students) {
         bar.set_message(student.clone());
@@ -142,15 +232,22 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         if dir.exists() {
             fs::remove_dir_all(&dir).map_err(io(&dir))?;
         }
-        let grade = grade_submission(
-            submission,
-            student,
-            &handout,
-            &workspace,
-            &labs,
-            &dir,
-            Duration::from_secs(args.timeout),
-        )?;
+        // One submission that cannot be graded costs that submission, not the class.
+        let mut grade = grade_submission(
+            submission, student, &handout, &workspace, &labs, &dir, timeout,
+        )
+        .unwrap_or_else(|e| StudentGrade::ungraded(student, &labs, &e.to_string()));
+        grade.sandbox = workspace.sandbox.describe();
+        // The sandbox keeps the tree read-only; should it change all the same (unsandboxed),
+        // the submission is named and the next one gets a fresh tree.
+        let changes = pristine.changes(&workspace.tree)?;
+        if !changes.is_empty() {
+            grade.notes.push(format!(
+                "the grading tree was changed while this submission ran ({}); it was rebuilt for the next submission",
+                changes.join(", ")
+            ));
+            pristine = make_tree()?;
+        }
         reports::write_student(&grade, &dir)?;
         bar.println(format!(
             "{student}: {}/{} points{}",
@@ -249,19 +346,36 @@ fn grade_submission(
     timeout: Duration,
 ) -> Result<StudentGrade, Error> {
     let mut notes = Vec::new();
+    let mut rejected = Vec::new();
+    let mut flagged = Vec::new();
     let changed_files = submission::changed_files(submission, handout)?;
 
     // Every lab's code goes in, graded or not: the labs whose solutions are not released are
-    // the base of the others.
+    // the base of the others. Sources that name files outside their lab are not compiled at
+    // all: their stubs go in instead.
     let mut broken = std::collections::BTreeMap::new();
     for &lab in crate::students::labs() {
-        if let Some(note) =
-            submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?
-        {
-            notes.push(note);
+        let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
+        notes.extend(intake.missing);
+        rejected.extend(intake.rejected);
+        let flags = scan::scan_lab(&workspace.tree, lab);
+        if !flags.is_empty() {
+            submission::install_stubs(handout, &workspace.tree, lab)?;
+            broken.insert(
+                lab,
+                format!(
+                    "labs/lab{lab:02}/src was flagged and not compiled: it names files outside labs/lab{lab:02}/src/ at compile time:\n{}",
+                    flags.join("\n")
+                ),
+            );
+            flagged.extend(flags);
+            continue;
         }
         if let Err(errors) = workspace.build_lib(&format!("lab{lab:02}"))? {
-            broken.insert(lab, errors);
+            broken.insert(
+                lab,
+                format!("labs/lab{lab:02}/src does not compile:\n{errors}"),
+            );
         }
     }
     // The base pipeline uses the `Student` of every lab not released: one that compiles but no
@@ -269,13 +383,15 @@ fn grade_submission(
     if let Err(errors) = workspace.build_lib("reference")? {
         for &lab in crate::students::labs() {
             if errors.contains(&format!("lab{lab:02}")) {
-                broken.entry(lab).or_insert_with(|| errors.clone());
+                broken.entry(lab).or_insert_with(|| {
+                    format!("labs/lab{lab:02}/src does not compile with the framework:\n{errors}")
+                });
             }
         }
     }
     for &lab in broken.keys() {
         notes.push(format!(
-            "labs/lab{lab:02}/src does not compile with the framework; its exercises fail and the other labs use its stubs"
+            "labs/lab{lab:02}/src was not used: its exercises fail and the other labs use its stubs"
         ));
         submission::install_stubs(handout, &workspace.tree, lab)?;
     }
@@ -289,18 +405,13 @@ fn grade_submission(
     let mut exercises = Vec::new();
     for &lab in labs {
         let infos = framework::labs::exercise_infos(lab).unwrap_or_default();
-        let failure = |info: ExerciseInfo, output: String| ExerciseGrade {
-            info,
-            passed: false,
-            score: 0,
-            output,
-            images: Vec::new(),
-            seconds: 0.0,
-        };
         let executable = match (broken.get(&lab), build.executables.get(&lab)) {
-            (Some(errors), _) => {
-                let why = format!("labs/lab{lab:02}/src does not compile:\n{errors}");
-                exercises.extend(infos.into_iter().map(|i| failure(i, why.clone())));
+            (Some(why), _) => {
+                exercises.extend(
+                    infos
+                        .into_iter()
+                        .map(|i| ExerciseGrade::failed(i, why.clone())),
+                );
                 continue;
             }
             (None, None) => {
@@ -308,12 +419,23 @@ fn grade_submission(
                 let why = format!(
                     "the lab's checks do not compile against labs/lab{lab:02}/src (was a public item renamed or removed?):\n{errors}"
                 );
-                exercises.extend(infos.into_iter().map(|i| failure(i, why.clone())));
+                exercises.extend(
+                    infos
+                        .into_iter()
+                        .map(|i| ExerciseGrade::failed(i, why.clone())),
+                );
                 continue;
             }
             (None, Some(executable)) => executable,
         };
-        let tests = runner::list_tests(executable)?;
+        let lab_dir = workspace.tree.join(format!("labs/lab{lab:02}"));
+        let runs = workspace.runs.join(student);
+        let tests = runner::list_tests(
+            &workspace.sandbox,
+            executable,
+            &lab_dir,
+            &runs.join(format!("list-lab{lab:02}")),
+        )?;
         for info in infos {
             let Some(test) = tests.iter().find(|t| t.starts_with(&info.test_prefix())) else {
                 let why = format!(
@@ -321,14 +443,22 @@ fn grade_submission(
                     info.test_prefix(),
                     info.id
                 );
-                exercises.push(failure(info, why));
+                exercises.push(ExerciseGrade::failed(info, why));
                 continue;
             };
-            let scratch = workspace.runs.join(student).join(info.id);
+            let scratch = runs.join(info.id);
             if scratch.exists() {
                 fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
             }
-            let run = runner::run_exercise(executable, test, &info, &scratch, timeout)?;
+            let how = ExerciseRun {
+                sandbox: &workspace.sandbox,
+                executable,
+                lab_dir: &lab_dir,
+                scratch: &scratch,
+                timeout,
+                memory_limit: workspace.sandbox.memory_limit(),
+            };
+            let run = runner::run_exercise(&how, test, &info)?;
             let mut images = Vec::new();
             for image in &run.images {
                 let name = format!(
@@ -347,6 +477,7 @@ fn grade_submission(
                 info,
                 passed: run.passed,
                 output: run.output,
+                program_output: run.program_output,
                 images,
                 seconds: run.seconds,
             });
@@ -357,5 +488,8 @@ fn grade_submission(
         exercises,
         changed_files,
         notes,
+        rejected,
+        flagged,
+        sandbox: String::new(),
     })
 }

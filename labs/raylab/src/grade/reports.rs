@@ -83,6 +83,23 @@ fn markdown(grade: &StudentGrade) -> String {
         }
         md.push('\n');
     }
+    if !grade.rejected.is_empty() {
+        md.push_str("## Files not taken from the submission\n\n");
+        for line in &grade.rejected {
+            let _ = writeln!(md, "- {line}");
+        }
+        md.push('\n');
+    }
+    if !grade.flagged.is_empty() {
+        md.push_str("## Flagged: sources that read files outside their lab at compile time\n\n");
+        for line in &grade.flagged {
+            let _ = writeln!(md, "- flagged: {line}");
+        }
+        md.push('\n');
+    }
+    if !grade.sandbox.is_empty() {
+        let _ = writeln!(md, "Student code was {}.\n", grade.sandbox);
+    }
     for (lab, exercises) in by_lab(grade) {
         let (earned, total) = points(&exercises);
         let _ = writeln!(
@@ -103,12 +120,20 @@ fn markdown(grade: &StudentGrade) -> String {
             );
         }
         md.push('\n');
-        for e in exercises.iter().filter(|e| !e.passed) {
+        for e in exercises
+            .iter()
+            .filter(|e| !e.passed || !e.program_output.is_empty())
+        {
             let _ = writeln!(
                 md,
-                "### Exercise {} — `{}`\n\n```text\n{}\n```\n",
-                e.info.id, e.info.function, e.output
+                "### Exercise {} — `{}`\n\n{}",
+                e.info.id,
+                e.info.function,
+                fenced(&e.output)
             );
+            if !e.program_output.is_empty() {
+                let _ = writeln!(md, "{PROGRAM_OUTPUT}:\n\n{}", fenced(&e.program_output));
+            }
             for image in &e.images {
                 let _ = writeln!(md, "![{}]({})", image_caption(image), image.display());
             }
@@ -118,6 +143,16 @@ fn markdown(grade: &StudentGrade) -> String {
         }
     }
     md
+}
+
+/// The heading of what the student's code printed, set apart from the verdict.
+const PROGRAM_OUTPUT: &str = "Output of your code (as it printed it; not part of the verdict)";
+
+/// `text` as a Markdown code block whose fence no line of `text` can close.
+fn fenced(text: &str) -> String {
+    let longest = text.split(|c| c != '`').map(str::len).max().unwrap_or(0);
+    let fence = "`".repeat(longest.max(2) + 1);
+    format!("{fence}text\n{text}\n{fence}\n")
 }
 
 /// "student", "reference" or "difference", from a failure image's file name.
@@ -136,6 +171,7 @@ fn escape(text: &str) -> String {
 const STYLE: &str = "body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em}\
 table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.3em .6em;text-align:left}\
 .passed{color:#060}.failed{color:#a00}pre{background:#f4f4f4;padding:.6em;white-space:pre-wrap}\
+pre.program{border-left:4px solid #c90}\
 .images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{image-rendering:pixelated;\
 width:320px;border:1px solid #ccc}";
 
@@ -153,12 +189,25 @@ fn html(grade: &StudentGrade) -> String {
         }
         h.push_str("</ul>\n");
     }
-    if !grade.notes.is_empty() {
-        h.push_str("<h2>Notes</h2><ul>\n");
-        for note in &grade.notes {
-            let _ = writeln!(h, "<li>{}</li>", escape(note));
+    for (title, lines) in [
+        ("Notes", &grade.notes),
+        ("Files not taken from the submission", &grade.rejected),
+        (
+            "Flagged: sources that read files outside their lab at compile time",
+            &grade.flagged,
+        ),
+    ] {
+        if lines.is_empty() {
+            continue;
+        }
+        let _ = writeln!(h, "<h2>{title}</h2><ul>");
+        for line in lines {
+            let _ = writeln!(h, "<li>{}</li>", escape(line));
         }
         h.push_str("</ul>\n");
+    }
+    if !grade.sandbox.is_empty() {
+        let _ = writeln!(h, "<p>Student code was {}.</p>", escape(&grade.sandbox));
     }
     for (lab, exercises) in by_lab(grade) {
         let (earned, total) = points(&exercises);
@@ -180,7 +229,10 @@ fn html(grade: &StudentGrade) -> String {
             );
         }
         h.push_str("</table>\n");
-        for e in exercises.iter().filter(|e| !e.passed) {
+        for e in exercises
+            .iter()
+            .filter(|e| !e.passed || !e.program_output.is_empty())
+        {
             let _ = writeln!(
                 h,
                 "<h3 id=\"ex-{0}\">Exercise {0} — <code>{1}</code></h3>\n<pre>{2}</pre>",
@@ -188,6 +240,13 @@ fn html(grade: &StudentGrade) -> String {
                 escape(e.info.function),
                 escape(&e.output)
             );
+            if !e.program_output.is_empty() {
+                let _ = writeln!(
+                    h,
+                    "<p>{PROGRAM_OUTPUT}:</p>\n<pre class=\"program\">{}</pre>",
+                    escape(&e.program_output)
+                );
+            }
             if !e.images.is_empty() {
                 h.push_str("<div class=\"images\">\n");
                 for image in &e.images {
@@ -219,7 +278,11 @@ fn gradescope(grade: &StudentGrade) -> serde_json::Value {
                 "score": e.score,
                 "max_score": e.info.points,
                 "status": verdict(e),
-                "output": e.output,
+                "output": if e.program_output.is_empty() {
+                    e.output.clone()
+                } else {
+                    format!("{}\n\n{PROGRAM_OUTPUT}:\n{}", e.output, e.program_output)
+                },
                 "visibility": match e.info.visibility {
                     Visibility::Visible => "visible",
                     Visibility::Hidden => "after_published",
@@ -230,6 +293,15 @@ fn gradescope(grade: &StudentGrade) -> serde_json::Value {
     let mut output = String::new();
     for line in grade.notes.iter().chain(&grade.changed_files) {
         let _ = writeln!(output, "{line}");
+    }
+    for line in &grade.rejected {
+        let _ = writeln!(output, "not taken: {line}");
+    }
+    for line in &grade.flagged {
+        let _ = writeln!(output, "flagged: {line}");
+    }
+    if !grade.sandbox.is_empty() {
+        let _ = writeln!(output, "Student code was {}.", grade.sandbox);
     }
     serde_json::json!({
         "score": grade.score(),
@@ -301,17 +373,28 @@ fn junit(grades: &[StudentGrade]) -> String {
                 escape(e.info.function),
                 e.seconds
             );
-            if e.passed {
+            if e.passed && e.program_output.is_empty() {
                 xml.push_str("/>\n");
-            } else {
+                continue;
+            }
+            xml.push_str(">\n");
+            if !e.passed {
                 let first = e.output.lines().next().unwrap_or("failed");
                 let _ = writeln!(
                     xml,
-                    ">\n      <failure message=\"{}\">{}</failure>\n    </testcase>",
+                    "      <failure message=\"{}\">{}</failure>",
                     escape(first),
                     escape(&e.output)
                 );
             }
+            if !e.program_output.is_empty() {
+                let _ = writeln!(
+                    xml,
+                    "      <system-out>{}</system-out>",
+                    escape(&e.program_output)
+                );
+            }
+            xml.push_str("    </testcase>\n");
         }
         xml.push_str("  </testsuite>\n");
     }

@@ -1,19 +1,23 @@
 //! Building a submission's labs in the grading tree and running each exercise's test in a
-//! process of its own, with a time limit.
+//! sandboxed process of its own, with a time limit; a pass is the check's verdict record.
 
 use std::collections::BTreeMap;
-use std::fs::{self, File};
+use std::fs;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Command, ExitStatus, Stdio};
+use std::sync::{Arc, Mutex, mpsc};
 use std::time::{Duration, Instant};
 
 use framework::Error;
 use framework::grading::ExerciseInfo;
+use framework::grading::verdict::{self, RecordScanner};
 
+use super::sandbox::Sandbox;
 use crate::handout::io;
 
 /// Where cargo runs: the grading tree and the target directory shared by every submission (so
-/// the framework is compiled once per class, not once per student).
+/// the framework is compiled once per class, not once per student), inside the sandbox.
 pub struct Workspace {
     /// The grading tree (`raylab handout` with the hidden tests put back).
     pub tree: PathBuf,
@@ -21,6 +25,10 @@ pub struct Workspace {
     pub target: PathBuf,
     /// Where each exercise runs, in an empty directory of its own.
     pub runs: PathBuf,
+    /// The sandbox builds and exercises run in.
+    pub sandbox: Sandbox,
+    /// How long one `cargo` invocation may take.
+    pub build_timeout: Duration,
 }
 
 /// How a build went.
@@ -32,54 +40,71 @@ pub struct Build {
 }
 
 impl Workspace {
-    fn cargo(&self) -> Command {
-        let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-        command
+    /// Fetches the tree's dependencies and settles its lock file, outside the sandbox (which
+    /// has no network) and before any student code is in the tree.
+    pub fn prepare(&self) -> Result<(), Error> {
+        let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
+            .args(["fetch", "--quiet"])
             .current_dir(&self.tree)
             .env("CARGO_TARGET_DIR", &self.target)
-            .env("CARGO_TERM_COLOR", "never")
-            .stdin(Stdio::null());
-        command
+            .stdin(Stdio::null())
+            .output()
+            .map_err(io(&self.tree))?;
+        if !output.status.success() {
+            return Err(Error::Invalid {
+                what: format!("cargo fetch in {}", self.tree.display()),
+                reason: String::from_utf8_lossy(&output.stderr).trim().to_string(),
+            });
+        }
+        fs::create_dir_all(&self.target).map_err(io(&self.target))
+    }
+
+    /// Runs `cargo ARGS --offline --locked` in the sandbox, killed after the build time
+    /// limit; `Err` only when it could not be started.
+    fn cargo(&self, args: &[&str]) -> Result<Captured, Error> {
+        let mut all = args.to_vec();
+        all.extend(["--offline", "--locked"]);
+        let command = self.sandbox.cargo(&self.tree, &self.target, &all);
+        run_captured(command, None, self.build_timeout, COMPILER_OUTPUT_LIMIT)
     }
 
     /// `cargo build --lib -p PACKAGE`: `Err` with the compiler's messages when it does not
     /// compile.
     pub fn build_lib(&self, package: &str) -> Result<Result<(), String>, Error> {
-        let output = self
-            .cargo()
-            .args([
-                "build",
-                "--quiet",
-                "--message-format=short",
-                "--lib",
-                "-p",
-                package,
-            ])
-            .output()
-            .map_err(io(&self.tree))?;
-        Ok(if output.status.success() {
-            Ok(())
-        } else {
-            Err(compiler_errors(&String::from_utf8_lossy(&output.stderr)))
+        let run = self.cargo(&[
+            "build",
+            "--quiet",
+            "--message-format=short",
+            "--lib",
+            "-p",
+            package,
+        ])?;
+        Ok(match run.status {
+            Some(status) if status.success() => Ok(()),
+            Some(_) => Err(compiler_errors(&run.text())),
+            None => Err(format!(
+                "the build did not finish within {} s and was stopped",
+                self.build_timeout.as_secs()
+            )),
         })
     }
 
     /// `cargo test --no-run` for the checks of `labs`: the executable of each lab that built, the
     /// compiler's messages for each that did not.
     pub fn build_checks(&self, labs: &[u32]) -> Result<Build, Error> {
-        let mut command = self.cargo();
-        command.args([
+        let mut args = vec![
             "test",
             "--no-run",
             "--no-fail-fast",
             "--message-format=json-render-diagnostics",
-        ]);
-        for lab in labs {
-            command.arg("-p").arg(format!("lab{lab:02}"));
+        ];
+        let packages: Vec<String> = labs.iter().map(|l| format!("lab{l:02}")).collect();
+        for package in &packages {
+            args.extend(["-p", package]);
         }
-        let output = command.output().map_err(io(&self.tree))?;
+        let run = self.cargo(&args)?;
         let mut executables = BTreeMap::new();
-        for line in String::from_utf8_lossy(&output.stdout).lines() {
+        for line in String::from_utf8_lossy(&run.output).lines() {
             let Ok(message) = serde_json::from_str::<serde_json::Value>(line) else {
                 continue;
             };
@@ -98,7 +123,12 @@ impl Workspace {
                 executables.insert(lab, PathBuf::from(executable));
             }
         }
-        let stderr = compiler_errors(&String::from_utf8_lossy(&output.stderr));
+        let text: String = String::from_utf8_lossy(&run.output)
+            .lines()
+            .filter(|l| !l.starts_with('{'))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let stderr = compiler_errors(&text);
         let errors = labs
             .iter()
             .filter(|l| !executables.contains_key(l))
@@ -113,6 +143,7 @@ impl Workspace {
 
 /// The error lines of cargo's output, without its progress lines; at most 60 lines.
 fn compiler_errors(stderr: &str) -> String {
+    let stderr = printable(stderr);
     let lines: Vec<&str> = stderr
         .lines()
         .filter(|l| {
@@ -134,130 +165,331 @@ fn compiler_errors(stderr: &str) -> String {
     text
 }
 
+/// Output kept of one build (a test build's list of artifacts is long).
+const COMPILER_OUTPUT_LIMIT: usize = 4 << 20;
+
+/// Output of one exercise's process kept for the report.
+pub const OUTPUT_LIMIT: usize = 64 << 10;
+
+/// How long the output pipe is read after the process ended (processes it left behind, when
+/// not sandboxed, may hold it open).
+const DRAIN_GRACE: Duration = Duration::from_secs(2);
+
+/// What a process printed (standard output and error together) and how it ended.
+struct Captured {
+    /// The first bytes of the output, up to the limit.
+    output: Vec<u8>,
+    /// Bytes printed in all.
+    total: u64,
+    /// How it ended; `None` when it was stopped at the time limit.
+    status: Option<ExitStatus>,
+    /// The verdict record found in the output, when a secret was given.
+    scanner: Option<RecordScanner>,
+    /// Wall time.
+    seconds: f64,
+}
+
+impl Captured {
+    fn text(&self) -> String {
+        String::from_utf8_lossy(&self.output).into_owned()
+    }
+}
+
+/// What the reading thread has seen so far.
+#[derive(Default)]
+struct Stream {
+    output: Vec<u8>,
+    total: u64,
+    scanner: Option<RecordScanner>,
+}
+
+/// Runs `command` in a process group of its own, with standard output and error read into one
+/// stream (its first `limit` bytes kept, all of it scanned for the record of `secret`, which is
+/// written to its standard input); the whole group is killed after `timeout`, and when the
+/// process has ended.
+fn run_captured(
+    mut command: Command,
+    secret: Option<&str>,
+    timeout: Duration,
+    limit: usize,
+) -> Result<Captured, Error> {
+    let program = PathBuf::from(command.get_program());
+    let (mut reader, writer) = std::io::pipe().map_err(io(&program))?;
+    command
+        .stdout(writer.try_clone().map_err(io(&program))?)
+        .stderr(writer)
+        .stdin(if secret.is_some() {
+            Stdio::piped()
+        } else {
+            Stdio::null()
+        });
+    std::os::unix::process::CommandExt::process_group(&mut command, 0);
+    let start = Instant::now();
+    let mut child = command.spawn().map_err(io(&program))?;
+    // The command holds the pipe's writing ends: without dropping it the stream never ends.
+    drop(command);
+    if let (Some(secret), Some(mut stdin)) = (secret, child.stdin.take()) {
+        // A process that exits at once closes its end: that is its failure, not the grader's.
+        let _ = writeln!(stdin, "{secret}");
+    }
+
+    let stream = Arc::new(Mutex::new(Stream {
+        scanner: secret.map(RecordScanner::new),
+        ..Stream::default()
+    }));
+    let (done_tx, done_rx) = mpsc::channel();
+    let shared = Arc::clone(&stream);
+    std::thread::spawn(move || {
+        let mut buffer = vec![0u8; 64 << 10];
+        loop {
+            match reader.read(&mut buffer) {
+                Ok(0) | Err(_) => break,
+                Ok(n) => {
+                    let mut s = shared.lock().unwrap_or_else(|e| e.into_inner());
+                    let room = limit.saturating_sub(s.output.len());
+                    s.output.extend_from_slice(&buffer[..n.min(room)]);
+                    s.total += n as u64;
+                    if let Some(scanner) = &mut s.scanner {
+                        scanner.feed(&buffer[..n]);
+                    }
+                }
+            }
+        }
+        let _ = done_tx.send(());
+    });
+
+    let group = child.id();
+    let status = loop {
+        if let Some(status) = child.try_wait().map_err(io(&program))? {
+            break Some(status);
+        }
+        if start.elapsed() >= timeout {
+            kill_group(group);
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    // What the process left running in its group goes with it.
+    kill_group(group);
+    let _ = done_rx.recv_timeout(DRAIN_GRACE);
+    let mut s = stream.lock().unwrap_or_else(|e| e.into_inner());
+    Ok(Captured {
+        output: std::mem::take(&mut s.output),
+        total: s.total,
+        status,
+        scanner: s.scanner.take(),
+        seconds,
+    })
+}
+
+/// Sends SIGKILL to the process group `group`.
+fn kill_group(group: u32) {
+    if let Ok(group) = i32::try_from(group) {
+        // SAFETY: kill has no memory-safety preconditions; a group that is gone gives ESRCH.
+        unsafe {
+            libc::kill(-group, libc::SIGKILL);
+        }
+    }
+}
+
 /// The outcome of running one exercise's test.
 pub struct Run {
-    /// The test passed.
+    /// The check's verdict record said it passed.
     pub passed: bool,
-    /// Why it failed (the check's message, the panic, the time-out), or empty.
+    /// Why it failed (the check's message, the time-out, the crash), or empty.
     pub output: String,
+    /// What the student's code printed (cut to [`OUTPUT_LIMIT`]), apart from the verdict.
+    pub program_output: String,
     /// Images the check wrote (student render, expected image, difference heat map).
     pub images: Vec<PathBuf>,
     /// Wall time of the run.
     pub seconds: f64,
 }
 
-/// The test names of a checks executable.
-pub fn list_tests(executable: &Path) -> Result<Vec<String>, Error> {
-    let output = Command::new(executable)
-        .args(["--list", "--format", "terse"])
-        .stdin(Stdio::null())
-        .output()
-        .map_err(io(executable))?;
-    Ok(String::from_utf8_lossy(&output.stdout)
+/// The test names of a checks executable, listed in the sandbox (in `scratch`).
+pub fn list_tests(
+    sandbox: &Sandbox,
+    executable: &Path,
+    lab_dir: &Path,
+    scratch: &Path,
+) -> Result<Vec<String>, Error> {
+    fs::create_dir_all(scratch).map_err(io(scratch))?;
+    let command = sandbox.exercise(
+        executable,
+        lab_dir,
+        scratch,
+        &["--list", "--format", "terse"],
+        &[],
+    );
+    let run = run_captured(command, None, Duration::from_secs(60), OUTPUT_LIMIT)?;
+    Ok(run
+        .text()
         .lines()
         .filter_map(|l| l.strip_suffix(": test"))
         .map(str::to_string)
         .collect())
 }
 
-/// Runs the test `test` of `executable` in a process of its own, in the empty directory
-/// `scratch`, killing it after `timeout`.
-pub fn run_exercise(
-    executable: &Path,
-    test: &str,
-    info: &ExerciseInfo,
-    scratch: &Path,
-    timeout: Duration,
-) -> Result<Run, Error> {
-    fs::create_dir_all(scratch).map_err(io(scratch))?;
-    let log_path = scratch.join("output.txt");
-    let log = File::create(&log_path).map_err(io(&log_path))?;
-    let log_err = log.try_clone().map_err(io(&log_path))?;
-    let start = Instant::now();
-    let mut child = Command::new(executable)
-        .args([test, "--exact", "--nocapture", "--test-threads=1"])
-        .current_dir(scratch)
-        .env("CARGO_TARGET_DIR", scratch)
-        .env("RUST_BACKTRACE", "0")
-        .stdin(Stdio::null())
-        .stdout(log)
-        .stderr(log_err)
-        .spawn()
-        .map_err(io(executable))?;
-    let status = loop {
-        if let Some(status) = child.try_wait().map_err(io(executable))? {
-            break Some(status);
-        }
-        if start.elapsed() >= timeout {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let seconds = start.elapsed().as_secs_f64();
-    let text = fs::read_to_string(&log_path).unwrap_or_default();
+/// How an exercise is run.
+pub struct ExerciseRun<'a> {
+    /// The sandbox.
+    pub sandbox: &'a Sandbox,
+    /// The lab's checks executable.
+    pub executable: &'a Path,
+    /// The lab's directory in the grading tree (golden data, snapshots).
+    pub lab_dir: &'a Path,
+    /// The exercise's own empty directory.
+    pub scratch: &'a Path,
+    /// The time limit.
+    pub timeout: Duration,
+    /// The memory limit, for the message when it is reached.
+    pub memory_limit: u64,
+}
+
+/// Runs the test `test` of exercise `info` in a sandboxed process of its own. It passes only
+/// when the output holds the check's verdict record, with this run's secret, saying so.
+pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Result<Run, Error> {
+    fs::create_dir_all(how.scratch).map_err(io(how.scratch))?;
+    let secret = verdict::new_secret().map_err(io(Path::new("/dev/urandom")))?;
+    let scratch = how.scratch.to_string_lossy();
+    let command = how.sandbox.exercise(
+        how.executable,
+        how.lab_dir,
+        how.scratch,
+        &[test, "--exact", "--nocapture", "--test-threads=1"],
+        &[
+            ("CARGO_TARGET_DIR", &scratch),
+            ("RUST_BACKTRACE", "0"),
+            (verdict::CHANNEL_VAR, "stdin"),
+        ],
+    );
+    let run = run_captured(command, Some(&secret), how.timeout, OUTPUT_LIMIT)?;
     let images = failure_images(
-        &scratch
+        &how.scratch
             .join("raylab-failures")
             .join(format!("lab{:02}", info.lab)),
     );
-    let (passed, output) = match status {
-        None => (
+    let record = run.scanner.as_ref().and_then(|s| s.record(info.id));
+    let printed = printable(&run.text());
+    let (passed, output) = match (&record, run.status) {
+        (_, None) => (
             false,
             format!(
                 "Exercise {} — `{}` did not finish within {} s and was stopped (an infinite loop?).",
                 info.id,
                 info.function,
-                timeout.as_secs()
+                how.timeout.as_secs()
             ),
         ),
-        Some(s) if s.success() => (true, String::new()),
-        Some(s) => (false, failure_message(&text, test, s.code().is_none())),
+        (Some(record), Some(_)) => (record.passed, printable(&record.message)),
+        (None, Some(status)) => (false, no_verdict(info, status, &printed, how.memory_limit)),
     };
     Ok(Run {
         passed,
         output,
+        program_output: program_output(
+            &printed,
+            test,
+            &secret,
+            (run.total > run.output.len() as u64).then_some(run.total),
+        ),
         images,
-        seconds,
+        seconds: run.seconds,
     })
 }
 
-/// The check's message from a failed test's output: what the test printed after libtest's
-/// `test NAME ... ` and before its verdict, or a note on how the process died.
-fn failure_message(output: &str, test: &str, killed_by_signal: bool) -> String {
-    let start = format!("test {test} ... ");
-    let message = match output.find(&start) {
-        Some(at) => output[at + start.len()..]
-            .lines()
-            .take_while(|l| *l != "FAILED" && !l.starts_with("failures:"))
-            .filter(|l| !l.starts_with("note: run with `RUST_BACKTRACE"))
-            .collect::<Vec<_>>()
-            .join("\n")
-            .trim()
-            .to_string(),
-        None => String::new(),
-    };
-    match (killed_by_signal, message.is_empty()) {
-        (true, _) => format!(
-            "the test process crashed (a stack overflow or an abort) before the check could finish.\n{message}"
-        )
-        .trim()
-        .to_string(),
-        (false, false) => message,
-        (false, true) => output.trim().to_string(),
+/// Why an exercise whose process ended without a verdict record failed.
+fn no_verdict(info: &ExerciseInfo, status: ExitStatus, printed: &str, memory_limit: u64) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    let place = format!("Exercise {} — `{}`", info.id, info.function);
+    if printed.contains("memory allocation of") {
+        return format!(
+            "{place} did not complete: the test process ran out of memory (the limit is {} MiB of address space).",
+            memory_limit >> 20
+        );
+    }
+    match status.signal() {
+        Some(libc::SIGXCPU) => format!(
+            "{place} did not complete: the test process used up its CPU time and was stopped."
+        ),
+        Some(signal) => format!(
+            "{place} did not complete: the test process crashed (signal {signal}{}) before the check could finish.",
+            match signal {
+                libc::SIGSEGV => ", a segmentation fault or stack overflow",
+                libc::SIGABRT => ", an abort",
+                libc::SIGKILL => ", killed",
+                libc::SIGXFSZ => ", a file over the size limit",
+                _ => "",
+            }
+        ),
+        None => format!(
+            "{place} did not complete: the test process ended (exit code {}) without the check's verdict — did a student function end the process (`std::process::exit`) or stop the check?",
+            status.code().unwrap_or(-1)
+        ),
     }
 }
+
+/// `text` with control characters (terminal escapes, NUL, …) other than newlines and tabs
+/// replaced, so that no report can carry them to a terminal, an XML parser or a browser.
+fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() && c != '\n' && c != '\t' {
+                '\u{fffd}'
+            } else {
+                c
+            }
+        })
+        .collect()
+}
+
+/// What the student's code printed: the process's output without libtest's own framing
+/// lines and the verdict record, with a note when it was cut.
+fn program_output(printed: &str, test: &str, secret: &str, cut_from: Option<u64>) -> String {
+    let framing = format!("test {test} ... ");
+    let record = format!("{}{secret} ", verdict::RECORD_TAG);
+    let mut text: String = printed
+        .lines()
+        .filter(|l| !l.starts_with(&record))
+        .map(|l| l.strip_prefix(&framing).unwrap_or(l))
+        .filter(|l| *l != "running 1 test" && *l != "ok" && *l != "FAILED")
+        .collect::<Vec<_>>()
+        .join("\n")
+        .trim()
+        .to_string();
+    if let Some(total) = cut_from {
+        text.push_str(&format!(
+            "\n[output cut: {total} bytes in all, the first {} KiB kept]",
+            OUTPUT_LIMIT >> 10
+        ));
+    }
+    text
+}
+
+/// The largest failure image copied into a report, bytes.
+const IMAGE_LIMIT: u64 = 8 << 20;
+
+/// The most failure images copied into a report for one exercise.
+const MAX_IMAGES: usize = 12;
 
 /// The PNG files a failing check wrote into `dir`: the student's render first, then the
 /// reference, then the difference.
 fn failure_images(dir: &Path) -> Vec<PathBuf> {
+    // Only regular files (never a link the student's code left there), of a sane size.
     let mut images: Vec<PathBuf> = fs::read_dir(dir)
         .into_iter()
         .flatten()
         .flatten()
+        .filter(|e| {
+            e.file_type().is_ok_and(|t| t.is_file())
+                && e.metadata().is_ok_and(|m| m.len() <= IMAGE_LIMIT)
+        })
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .take(MAX_IMAGES)
         .collect();
     images.sort_by_key(|p| {
         let name = p
@@ -282,16 +514,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_message_is_what_the_check_printed() {
-        let output = "\nrunning 1 test\ntest exercise_1_2_camera_basis ... Exercise 1.2 — `camera_basis` is wrong:\nup is not unit\n(see docs/lab01.md, Exercise 1.2)\nFAILED\n\nfailures:\n\nfailures:\n    exercise_1_2_camera_basis\n";
+    fn program_output_leaves_out_the_framing_and_the_record() {
+        let printed = "\nrunning 1 test\ntest exercise_1_2_camera_basis ... hello\nRAYLAB-VERDICT 00 {}\nRAYLAB-VERDICT abc {}\n";
         assert_eq!(
-            failure_message(output, "exercise_1_2_camera_basis", false),
-            "Exercise 1.2 — `camera_basis` is wrong:\nup is not unit\n(see docs/lab01.md, Exercise 1.2)"
+            program_output(printed, "exercise_1_2_camera_basis", "abc", None),
+            "hello\nRAYLAB-VERDICT 00 {}",
+            "a forged record stays in the student's output"
         );
         assert!(
-            failure_message("running 1 test\n", "t", true).starts_with("the test process crashed")
+            program_output("x", "t", "abc", Some(1 << 30))
+                .ends_with("[output cut: 1073741824 bytes in all, the first 64 KiB kept]")
         );
-        assert_eq!(failure_message("garbage", "t", false), "garbage");
     }
 
     #[test]

@@ -73,12 +73,16 @@ pub fn changed_files(submission: &Path, handout: &Path) -> Result<Vec<String>, E
 /// Puts lab `lab`'s code into the grading tree: the submission's `labs/labNN/src/` if it has
 /// one, otherwise (or for `None`) the handout's stubs. Returns a note when a submission's code
 /// was missing.
+pub struct LabIntake {
+    pub missing: Option<String>,
+    pub rejected: Vec<String>,
+}
 pub fn install_lab_code(
     submission: Option<&Path>,
     handout: &Path,
     tree: &Path,
     lab: u32,
-) -> Result<Option<String>, Error> {
+) -> Result<LabIntake, Error> {
     let src = format!("labs/lab{lab:02}/src");
     let target = tree.join(&src);
     if target.exists() {
@@ -95,7 +99,10 @@ pub fn install_lab_code(
     for file in files(&from)? {
         copy_file(&from.join(&file), &target.join(&file))?;
     }
-    Ok(note)
+    Ok(LabIntake {
+        missing: note,
+        rejected: Vec::new(),
+    })
 }
 
 /// Replaces lab `lab`'s code in the grading tree by the handout's stubs.

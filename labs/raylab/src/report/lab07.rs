@@ -320,7 +320,7 @@ fn dashed(film: &mut Film, a: Vec2, b: Vec2, colour: Vec3) {
     for k in 0..=steps {
         let t = k as f32 / steps.max(1) as f32;
         let p = a.lerp(b, t);
-        let on = (t * length / 6.0) as u32 % 2 == 0;
+        let on = ((t * length / 6.0) as u32).is_multiple_of(2);
         if on && p.x >= left && p.x <= right && p.y >= top && p.y <= bottom {
             disc(film, p, 0.7, colour);
         }
