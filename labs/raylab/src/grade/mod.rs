@@ -255,11 +255,9 @@ fn grade_submission(
     // the base of the others.
     let mut broken = std::collections::BTreeMap::new();
     for &lab in crate::students::labs() {
-        if let Some(note) =
-            submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?
-        {
-            notes.push(note);
-        }
+        let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
+        notes.extend(intake.missing);
+        notes.extend(intake.rejected);
         if let Err(errors) = workspace.build_lib(&format!("lab{lab:02}"))? {
             broken.insert(lab, errors);
         }
