@@ -9,6 +9,7 @@
 
 mod reports;
 mod runner;
+mod scan;
 mod submission;
 
 use std::collections::BTreeSet;
