@@ -129,7 +129,11 @@ fn markdown(grade: &StudentGrade) -> String {
                 "### Exercise {} — `{}`\n\n{}",
                 e.info.id,
                 e.info.function,
-                fenced(&e.output)
+                if e.passed {
+                    "Passed.\n".to_string()
+                } else {
+                    fenced(&e.output)
+                }
             );
             if !e.program_output.is_empty() {
                 let _ = writeln!(md, "{PROGRAM_OUTPUT}:\n\n{}", fenced(&e.program_output));
@@ -235,10 +239,14 @@ fn html(grade: &StudentGrade) -> String {
         {
             let _ = writeln!(
                 h,
-                "<h3 id=\"ex-{0}\">Exercise {0} — <code>{1}</code></h3>\n<pre>{2}</pre>",
+                "<h3 id=\"ex-{0}\">Exercise {0} — <code>{1}</code></h3>\n{2}",
                 e.info.id,
                 escape(e.info.function),
-                escape(&e.output)
+                if e.passed {
+                    "<p>Passed.</p>".to_string()
+                } else {
+                    format!("<pre>{}</pre>", escape(&e.output))
+                }
             );
             if !e.program_output.is_empty() {
                 let _ = writeln!(
