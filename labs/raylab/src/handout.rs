@@ -309,9 +309,12 @@ your camera from lab 1 until its solution is out. A failing test names the exerc
 function to fix; for images it writes your render, the expected image and a difference heat map
 to `target/raylab-failures/labNN/`.
 
-Hand in the whole directory. Only `labs/labNN/src/` is graded: the tests, golden data and
-snapshots come from the course's own copy, and a change to any other file is reported to
-your instructor. Some exercises have tests that run only at grading.
+Hand in the whole directory. Only the regular files of `labs/labNN/src/` are graded (no
+symbolic links, nothing over 1 MiB): the tests, golden data and snapshots come from the
+course's own copy, and a change to any other file is reported to your instructor. Code that
+reads files outside its lab at compile time (`#[path]`, `include_str!`, …) is not compiled,
+and `unsafe` code is not allowed. Grading runs your code in a sandbox with time and memory
+limits. Some exercises have tests that run only at grading.
 "#
     )
 }
