@@ -223,3 +223,26 @@ fn handout_and_grade_refuse_bad_input_clearly() {
     assert!(!out.join("alice").exists(), "nothing graded on bad input");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn grade_without_bubblewrap_refuses_to_run_unsandboxed_code() {
+    let dir = scratch("no-bwrap");
+    std::fs::create_dir_all(dir.join("student")).unwrap();
+    let empty = dir.join("empty-path");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["grade", "student", "--out", "grades"])
+        .current_dir(&dir)
+        .env("PATH", &empty)
+        .output()
+        .expect("raylab runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("bubblewrap (`bwrap`) is not installed")
+            && stderr.contains("--unsandboxed"),
+        "{stderr}"
+    );
+    assert!(!dir.join("grades").exists(), "nothing is written");
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -162,11 +162,21 @@ fn compiler_errors(stderr: &str) -> String {
     if lines.len() > 60 {
         text.push_str(&format!("\n… ({} more lines)", lines.len() - 60));
     }
+    if text.len() > COMPILER_MESSAGE_LIMIT {
+        let mut end = COMPILER_MESSAGE_LIMIT;
+        while !text.is_char_boundary(end) {
+            end -= 1;
+        }
+        text = format!("{}\n… (cut: {} bytes in all)", &text[..end], text.len());
+    }
     text
 }
 
 /// Output kept of one build (a test build's list of artifacts is long).
 const COMPILER_OUTPUT_LIMIT: usize = 4 << 20;
+
+/// The compiler's messages kept for a report, bytes.
+const COMPILER_MESSAGE_LIMIT: usize = 16 << 10;
 
 /// Output of one exercise's process kept for the report.
 pub const OUTPUT_LIMIT: usize = 64 << 10;

@@ -71,6 +71,11 @@ impl Sandbox {
     /// The sandbox of this machine: bubblewrap, checked to start; `unsandboxed` only when the
     /// instructor asked for it. An error says what is missing and how to get it.
     pub fn new(unsandboxed: bool, limits: Limits) -> Result<Self, Error> {
+        let bwrap = if unsandboxed {
+            None
+        } else {
+            Some(find_bwrap()?)
+        };
         let sysroot = toolchain_sysroot()?;
         let cargo_home = std::env::var_os("CARGO_HOME")
             .map(PathBuf::from)
@@ -79,11 +84,6 @@ impl Sandbox {
                 what: "CARGO_HOME".into(),
                 reason: "neither CARGO_HOME nor HOME is set: cannot find cargo's registry".into(),
             })?;
-        let bwrap = if unsandboxed {
-            None
-        } else {
-            Some(find_bwrap()?)
-        };
         let pids_cgroup = pids_cgroup(limits.processes);
         let sandbox = Self {
             bwrap,
