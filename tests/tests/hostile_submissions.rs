@@ -1,0 +1,815 @@
+//! `raylab grade` against hostile students: one run grades the corpus of attacks in
+//! `tests/hostile/` (each a lab 02 `src/lib.rs`; see its README) between honest submissions —
+//! `a-honest` (the answer key's code, graded first), `z-stubs` (the handout's stubs, graded after
+//! the vandal) and `z-honest` (graded last) — and checks that no attack gains anything: every
+//! attack scores 0 (`output_flood` its honest 11 of 14), the honest students keep their due,
+//! the grades and the grading tree are intact, no answer key reaches a report, no process
+//! outlives the run, and each attack's report says what was done about it.
+//!
+//! `RAYLAB_HOSTILE_ONLY=exit_zero,vandal` grades only those attacks (with the honest
+//! submissions). The trees are kept in `target/raylab-hostile-test/` to be looked at.
+
+use std::fs;
+use std::os::unix::fs::symlink;
+use std::os::unix::process::CommandExt;
+use std::path::{Component, Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
+const ATTACKS: [(&str, &str); 12] = [
+    ("exit_zero", include_str!("../hostile/exit_zero.rs")),
+    ("forged_output", include_str!("../hostile/forged_output.rs")),
+    ("unsafe_fd", include_str!("../hostile/unsafe_fd.rs")),
+    ("path_to_key", include_str!("../hostile/path_to_key.rs")),
+    (
+        "path_to_key_absolute",
+        include_str!("../hostile/path_to_key_absolute.rs"),
+    ),
+    ("include_key", include_str!("../hostile/include_key.rs")),
+    (
+        "runtime_search",
+        include_str!("../hostile/runtime_search.rs"),
+    ),
+    ("symlinks", include_str!("../hostile/symlinks.rs")),
+    ("memory_hog", include_str!("../hostile/memory_hog.rs")),
+    ("output_flood", include_str!("../hostile/output_flood.rs")),
+    ("process_flood", include_str!("../hostile/process_flood.rs")),
+    ("vandal", include_str!("../hostile/vandal.rs")),
+];
+
+/// Lab 02's exercises and their points.
+const EXERCISES: [(&str, u32); 6] = [
+    ("2.1", 2),
+    ("2.2", 3),
+    ("2.3", 3),
+    ("2.4", 2),
+    ("2.5", 1),
+    ("2.6", 3),
+];
+
+/// `--timeout` of the run, in seconds.
+const TIMEOUT: u64 = 20;
+
+/// How long `raylab grade` may go without a sign of progress (a report, a file in the grades
+/// directory, a line of output) before it counts as hung.
+const IDLE_LIMIT: Duration = Duration::from_secs(20 * 60);
+
+/// What the vandal writes into the grades.
+const VANDAL_MARKS: [&str; 2] = ["vandal,99", "FORGED-BY-VANDAL"];
+
+fn root() -> PathBuf {
+    fs::canonicalize(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."))
+        .expect("the repository exists")
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"))
+}
+
+/// Runs cargo in the repository; returns (success, stdout + stderr).
+fn cargo(args: &[&str]) -> (bool, String) {
+    let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
+        .args(args)
+        .current_dir(root())
+        .env("CARGO_TARGET_DIR", target_dir())
+        .output()
+        .expect("cargo runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (output.status.success(), text)
+}
+
+fn read(path: &Path) -> String {
+    fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Lab 02's reference solution as a student would hand it in.
+fn correct_code() -> String {
+    read(&root().join("reference/src/lab02.rs")).replace("Lab02", "Student")
+}
+
+fn copy_tree(from: &Path, to: &Path) {
+    fs::create_dir_all(to).unwrap();
+    for entry in fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        if entry.file_name() == "target" {
+            continue;
+        }
+        if entry.path().is_dir() {
+            copy_tree(&entry.path(), &to.join(entry.file_name()));
+        } else {
+            fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
+        }
+    }
+}
+
+/// Every file under `dir` (not following links) with its contents, by path relative to `dir`;
+/// `skip` names directories left out.
+fn files(dir: &Path, skip: &[&str]) -> Vec<(PathBuf, Vec<u8>)> {
+    fn walk(root: &Path, dir: &Path, skip: &[&str], out: &mut Vec<(PathBuf, Vec<u8>)>) {
+        let Ok(entries) = fs::read_dir(dir) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let Ok(kind) = entry.file_type() else {
+                continue;
+            };
+            if kind.is_dir() {
+                if !skip.iter().any(|s| entry.file_name() == *s) {
+                    walk(root, &path, skip, out);
+                }
+            } else if kind.is_file() {
+                let relative = path.strip_prefix(root).unwrap().to_path_buf();
+                out.push((relative, fs::read(&path).unwrap_or_default()));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(dir, dir, skip, &mut out);
+    out.sort();
+    out
+}
+
+/// `path` without `.` and `..` components (lexically).
+fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// The relative path from the directory `from` to `to` (both absolute, without `..`).
+fn relative_path(from: &Path, to: &Path) -> PathBuf {
+    let a: Vec<_> = from.components().collect();
+    let b: Vec<_> = to.components().collect();
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = PathBuf::new();
+    for _ in common..a.len() {
+        out.push("..");
+    }
+    for c in &b[common..] {
+        out.push(c);
+    }
+    assert_eq!(normalize(&from.join(&out)), to, "{}", out.display());
+    out
+}
+
+/// Code lines of the answer keys of labs 2, 3 and 7 that occur nowhere in the handout: the
+/// longest three of each, none with a character that HTML or JSON would escape. (A released
+/// lab's key is in the handout and gives none: with `--release-solutions 1,3,4,7` only lab 02's
+/// key is secret.)
+fn key_markers(handout: &Path) -> Vec<(u32, String)> {
+    let text: String = files(handout, &[])
+        .iter()
+        .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut markers = Vec::new();
+    for lab in [2, 3, 7] {
+        let key = read(&root().join(format!("reference/src/lab{lab:02}.rs")));
+        let mut lines: Vec<&str> = key
+            .lines()
+            .map(str::trim)
+            .filter(|l| l.len() >= 24 && !l.starts_with("//"))
+            .filter(|l| !l.contains(['"', '<', '>', '&', '\\', '\'']))
+            .filter(|l| !text.contains(l))
+            .collect();
+        lines.sort_unstable();
+        lines.dedup();
+        lines.sort_by_key(|l| std::cmp::Reverse(l.len()));
+        markers.extend(lines.into_iter().take(3).map(|l| (lab, l.to_string())));
+    }
+    assert!(
+        markers.iter().any(|(lab, _)| *lab == 2),
+        "no line of lab 02's key is absent from the handout: {markers:?}"
+    );
+    markers
+}
+
+/// The pids of the processes whose command line matches `pattern`.
+fn pgrep(pattern: &str) -> Vec<String> {
+    let output = Command::new("pgrep")
+        .args(["-f", pattern])
+        .output()
+        .expect("pgrep runs");
+    String::from_utf8_lossy(&output.stdout)
+        .split_whitespace()
+        .map(str::to_string)
+        .collect()
+}
+
+/// Ends the processes `pids` (left behind by a submission), one by one.
+fn kill(pids: &[String]) {
+    for pid in pids {
+        let _ = Command::new("kill").args(["-s", "KILL", pid]).status();
+    }
+}
+
+fn csv_row<'a>(csv: &'a str, student: &str) -> Option<Vec<&'a str>> {
+    csv.lines()
+        .find(|l| l.starts_with(&format!("{student},")))
+        .map(|l| l.split(',').collect())
+}
+
+/// The `time` of each `<testcase>` of `student`'s lab 02 in `junit.xml`.
+fn junit_times(junit: &str, student: &str) -> Vec<f64> {
+    let start = format!("<testcase classname=\"{student}.lab02\"");
+    junit
+        .match_indices(&start)
+        .filter_map(|(at, _)| {
+            let rest = &junit[at..];
+            let rest = &rest[rest.find(" time=\"")? + 7..];
+            rest[..rest.find('"')?].parse().ok()
+        })
+        .collect()
+}
+
+/// The points submission `name` is due for Exercise `id` (or `"total"`): full marks for the
+/// honest ones, `output_flood`'s honest 11, nothing for an attack.
+fn due(name: &str, id: &str) -> u32 {
+    let points = |id: &str| {
+        let full = EXERCISES.iter().find(|(e, _)| *e == id).map_or(0, |e| e.1);
+        match name {
+            "a-honest" | "z-honest" => full,
+            "output_flood" if id != "2.2" => full,
+            _ => 0,
+        }
+    };
+    match id {
+        "total" => EXERCISES.iter().map(|(e, _)| points(e)).sum(),
+        _ => points(id),
+    }
+}
+
+/// `2.1=… 2.2=… … total=…` with the score `score(id)` of each exercise and the total.
+fn scores(score: impl Fn(&str) -> String) -> String {
+    EXERCISES
+        .iter()
+        .map(|(id, _)| *id)
+        .chain(["total"])
+        .map(|id| format!("{id}={}", score(id)))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The problems found, each naming the submission.
+#[derive(Default)]
+struct Problems(Vec<String>);
+
+impl Problems {
+    fn check(&mut self, ok: bool, who: &str, what: impl FnOnce() -> String) {
+        if !ok {
+            self.0.push(format!("{who}: {}", what()));
+        }
+    }
+
+    fn report(&self) -> String {
+        format!(
+            "{} problem(s) grading hostile submissions:\n- {}",
+            self.0.len(),
+            self.0.join("\n- ")
+        )
+    }
+}
+
+/// How `raylab grade` went.
+struct GradeRun {
+    /// It exited with success.
+    ok: bool,
+    /// It was stopped for showing no progress.
+    hung: bool,
+    /// How many submissions had their reports when it ended.
+    reports: usize,
+    /// Wall time.
+    seconds: f64,
+}
+
+/// Runs `raylab grade` with its output to `log`, stopping it (and every process of its group)
+/// when it shows no sign of progress for [`IDLE_LIMIT`].
+fn run_grade(raylab: &Path, args: &[String], grades: &Path, log: &Path) -> GradeRun {
+    let out = fs::File::create(log).unwrap();
+    let err = out.try_clone().unwrap();
+    let start = Instant::now();
+    let mut child = Command::new(raylab)
+        .args(args)
+        .current_dir(root())
+        .env("PWD", root())
+        .stdin(Stdio::null())
+        .stdout(out)
+        .stderr(err)
+        .process_group(0)
+        .spawn()
+        .expect("raylab runs");
+    // Submissions with their reports, and signs of life: the entries of the grades directory
+    // three levels deep, the length of the output.
+    let reports = || {
+        fs::read_dir(grades)
+            .map(|d| {
+                d.flatten()
+                    .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+                    .filter(|e| e.path().join("results.json").is_file())
+                    .count()
+            })
+            .unwrap_or(0)
+    };
+    fn entries(dir: &Path, depth: u32) -> usize {
+        fs::read_dir(dir).map_or(0, |d| {
+            d.flatten()
+                .map(|e| match e.file_type() {
+                    Ok(t) if t.is_dir() && depth > 0 => 1 + entries(&e.path(), depth - 1),
+                    _ => 1,
+                })
+                .sum()
+        })
+    }
+    let life = || {
+        (
+            reports(),
+            entries(grades, 3),
+            fs::metadata(log).map_or(0, |m| m.len()),
+        )
+    };
+    let (mut seen, mut since) = (life(), Instant::now());
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break Some(status);
+        }
+        std::thread::sleep(Duration::from_secs(2));
+        let now = life();
+        if now != seen {
+            (seen, since) = (now, Instant::now());
+        }
+        if since.elapsed() > IDLE_LIMIT {
+            let _ = Command::new("kill")
+                .args(["-s", "KILL", "--", &format!("-{}", child.id())])
+                .status();
+            let _ = child.wait();
+            break None;
+        }
+    };
+    GradeRun {
+        ok: status.is_some_and(|s| s.success()),
+        hung: status.is_none(),
+        reports: reports(),
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+#[test]
+fn hostile_submissions_gain_nothing() {
+    let work = target_dir().join("raylab-hostile-test");
+    fs::create_dir_all(&work).unwrap();
+    let work = fs::canonicalize(&work).unwrap();
+    let handout = work.join("handout");
+    let subs = work.join("submissions");
+    let grades = work.join("grades");
+    for dir in [&handout, &subs, &grades] {
+        let _ = fs::remove_dir_all(dir);
+    }
+    // What an earlier run's attacks may have left running.
+    for pattern in ["sleep 61.25", "FORGED-BY-VANDAL"] {
+        kill(&pgrep(pattern));
+    }
+    let repo = root();
+    let only: Option<Vec<String>> = std::env::var("RAYLAB_HOSTILE_ONLY")
+        .ok()
+        .map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
+    let attacks: Vec<(&str, &str)> = ATTACKS
+        .iter()
+        .copied()
+        .filter(|(name, _)| only.as_ref().is_none_or(|o| o.iter().any(|n| n == name)))
+        .collect();
+    let has = |name: &str| attacks.iter().any(|(n, _)| *n == name);
+
+    let (ok, out) = cargo(&["build", "--quiet", "-p", "raylab"]);
+    assert!(ok, "{out}");
+    let raylab = target_dir().join("debug/raylab");
+    let status = Command::new(&raylab)
+        .args(["handout", "--out"])
+        .arg(&handout)
+        .args(["--release-solutions", "1,3,4,7"])
+        .status()
+        .unwrap();
+    assert!(status.success(), "raylab handout failed");
+    let markers = key_markers(&handout);
+    let lab02 = |tree: &Path| tree.join("labs/lab02");
+    let handout_checks = read(&lab02(&handout).join("tests/checks.rs"));
+    let handout_data = |tree: &Path| {
+        let mut data = files(&lab02(tree).join("golden"), &[]);
+        data.extend(
+            files(&lab02(tree).join("snapshots"), &[])
+                .into_iter()
+                .map(|(p, b)| (Path::new("snapshots").join(p), b)),
+        );
+        data
+    };
+    let expected_data = handout_data(&handout);
+
+    // The submissions.
+    let tree_src = grades.join(".grading/tree/labs/lab02/src");
+    let key = repo.join("reference/src/lab02.rs");
+    let substitute = |code: &str| {
+        code.replace(
+            "@KEY_RELATIVE@",
+            &relative_path(&tree_src, &key).to_string_lossy(),
+        )
+        .replace("@REPO@", &repo.to_string_lossy())
+        .replace("@GRADES@", &grades.to_string_lossy())
+    };
+    let honest = correct_code();
+    let mut order: Vec<(&str, String)> = vec![("a-honest", honest.clone())];
+    order.extend(attacks.iter().map(|(n, c)| (*n, substitute(c))));
+    order.push(("z-stubs", read(&lab02(&handout).join("src/lib.rs"))));
+    order.push(("z-honest", honest));
+    for (name, code) in &order {
+        let dir = subs.join(name);
+        copy_tree(&handout, &dir);
+        fs::write(lab02(&dir).join("src/lib.rs"), code).unwrap();
+    }
+    let mkfifo = |path: &Path| {
+        let status = Command::new("mkfifo").arg(path).status().unwrap();
+        assert!(status.success(), "mkfifo {}", path.display());
+    };
+    if has("symlinks") {
+        let dir = subs.join("symlinks");
+        let src = lab02(&dir).join("src");
+        symlink(&key, src.join("key.rs")).unwrap();
+        symlink("/nonexistent/file.rs", src.join("dangling.rs")).unwrap();
+        symlink("loop_b", src.join("loop_a")).unwrap();
+        symlink("loop_a", src.join("loop_b")).unwrap();
+        mkfifo(&src.join("pipe"));
+        symlink("loop", dir.join("docs/loop")).unwrap();
+        mkfifo(&dir.join("notes.fifo"));
+    }
+
+    // One run grades them all.
+    let mut args: Vec<String> = vec!["grade".into()];
+    args.extend(
+        order
+            .iter()
+            .map(|(n, _)| subs.join(n).to_string_lossy().into_owned()),
+    );
+    args.extend([
+        "--out".into(),
+        grades.to_string_lossy().into_owned(),
+        "--lab".into(),
+        "2".into(),
+        "--release-solutions".into(),
+        "1,3,4,7".into(),
+        "--timeout".into(),
+        TIMEOUT.to_string(),
+        "--target-dir".into(),
+        work.join("target").to_string_lossy().into_owned(),
+    ]);
+    let log = work.join("grade-output.txt");
+    let run = run_grade(&raylab, &args, &grades, &log);
+    // The vandal's leftovers would strike within these seconds.
+    std::thread::sleep(Duration::from_secs(6));
+
+    let mut problems = Problems::default();
+    let output = String::from_utf8_lossy(&fs::read(&log).unwrap_or_default()).into_owned();
+    let tail: String = {
+        let lines: Vec<&str> = output.lines().collect();
+        lines[lines.len().saturating_sub(40)..].join("\n")
+    };
+    let next = order.get(run.reports).map_or("?", |(n, _)| *n);
+    if run.hung {
+        problems.check(false, next, || {
+            format!(
+                "raylab grade showed no progress for {} min after {} report(s) and was stopped (it hangs on `{next}`?); its output ends:\n{tail}",
+                IDLE_LIMIT.as_secs() / 60,
+                run.reports
+            )
+        });
+    } else {
+        problems.check(run.ok, "raylab grade", || {
+            format!(
+                "exited with a failure after {} report(s) (at `{next}`?); its output ends:\n{tail}",
+                run.reports
+            )
+        });
+    }
+    let panic = ["panicked at", "stack backtrace"]
+        .iter()
+        .find_map(|p| output.find(p));
+    problems.check(panic.is_none(), "raylab grade", || {
+        let at = panic.unwrap_or_default();
+        let from = output[..at].rfind('\n').map_or(0, |n| n + 1);
+        let lines: Vec<&str> = output[from..].lines().take(20).collect();
+        format!("its output holds a panic of its own:\n{}", lines.join("\n"))
+    });
+    problems.check(output.len() < 1 << 20, "raylab grade", || {
+        format!(
+            "printed {} bytes (a submission's output passed through?)",
+            output.len()
+        )
+    });
+    println!("raylab grade took {:.0} s", run.seconds);
+
+    // Processes left behind.
+    for (who, pattern) in [
+        ("process_flood", "sleep 61.25"),
+        ("vandal", "FORGED-BY-VANDAL"),
+    ] {
+        let left = pgrep(pattern);
+        problems.check(left.is_empty(), who, || {
+            format!(
+                "{} process(es) matching `{pattern}` outlived raylab grade",
+                left.len()
+            )
+        });
+        kill(&left);
+    }
+
+    let csv = fs::read_to_string(grades.join("gradebook.csv")).unwrap_or_else(|e| {
+        problems.check(false, "raylab grade", || format!("no gradebook.csv ({e})"));
+        String::new()
+    });
+    let header: Vec<&str> = csv.lines().next().unwrap_or_default().split(',').collect();
+    let column = |id: &str| header.iter().position(|h| *h == id);
+
+    // Every submission: a report, a row, its due score in the gradebook and in results.json.
+    let results = |name: &str| -> Option<serde_json::Value> {
+        serde_json::from_str(&fs::read_to_string(grades.join(name).join("results.json")).ok()?).ok()
+    };
+    for (name, _) in &order {
+        let dir = grades.join(name);
+        let missing: Vec<&str> = ["report.md", "report.html", "results.json"]
+            .into_iter()
+            .filter(|f| !dir.join(f).is_file())
+            .collect();
+        problems.check(missing.is_empty(), name, || {
+            format!("no {}", missing.join(", "))
+        });
+        let expected = scores(|id| due(name, id).to_string());
+        match csv_row(&csv, name) {
+            Some(row) => {
+                let cell = |id: &str| column(id).and_then(|c| row.get(c)).copied();
+                let got = scores(|id| cell(id).unwrap_or("missing").to_string());
+                problems.check(
+                    got == expected && cell("max_score") == Some("14"),
+                    name,
+                    || {
+                        format!(
+                            "scored {got} of {:?} in gradebook.csv, expected {expected} of 14",
+                            cell("max_score")
+                        )
+                    },
+                );
+            }
+            None => problems.check(false, name, || "no row in gradebook.csv".into()),
+        }
+        if let Some(r) = results(name) {
+            let tests = r["tests"].as_array().cloned().unwrap_or_default();
+            let got = scores(|id| {
+                let score = match id {
+                    "total" => &r["score"],
+                    _ => tests
+                        .iter()
+                        .find(|t| t["number"] == id)
+                        .map_or(&serde_json::Value::Null, |t| &t["score"]),
+                };
+                score.as_f64().map_or("missing".into(), |s| s.to_string())
+            });
+            problems.check(
+                got == expected && r["max_score"].as_f64() == Some(14.0),
+                name,
+                || {
+                    format!(
+                        "scored {got} of {} in results.json, expected {expected} of 14",
+                        r["max_score"]
+                    )
+                },
+            );
+        }
+    }
+
+    // What each report says, for each submission that has its reports.
+    let graded = |name: &str| {
+        ["report.md", "report.html", "results.json"]
+            .iter()
+            .all(|f| grades.join(name).join(f).is_file())
+    };
+    let seen = |name: &str| has(name) && graded(name);
+    let reasons = |name: &str| -> Vec<(String, String)> {
+        results(name)
+            .and_then(|r| r["tests"].as_array().cloned())
+            .unwrap_or_default()
+            .iter()
+            .map(|t| {
+                (
+                    t["number"].as_str().unwrap_or_default().to_string(),
+                    t["output"].as_str().unwrap_or_default().to_string(),
+                )
+            })
+            .collect()
+    };
+    let report =
+        |name: &str| fs::read_to_string(grades.join(name).join("report.md")).unwrap_or_default();
+    let every_reason = |problems: &mut Problems, name: &str, words: &[&str]| {
+        let reasons = reasons(name);
+        problems.check(reasons.len() == EXERCISES.len(), name, || {
+            format!(
+                "results.json has {} tests, expected {}",
+                reasons.len(),
+                EXERCISES.len()
+            )
+        });
+        for (id, why) in reasons {
+            problems.check(words.iter().any(|w| why.contains(w)), name, || {
+                format!("the reason of Exercise {id} does not say {words:?}: {why:.300}")
+            });
+        }
+    };
+
+    for name in ["a-honest", "z-honest"].into_iter().filter(|n| graded(n)) {
+        let r = results(name);
+        let passed = r.as_ref().is_some_and(|r| {
+            r["score"].as_f64() == Some(14.0)
+                && r["tests"]
+                    .as_array()
+                    .is_some_and(|t| t.len() == 6 && t.iter().all(|t| t["status"] == "passed"))
+        });
+        problems.check(passed, name, || {
+            format!("results.json is not a pass of 14/14: {r:?}")
+        });
+        problems.check(report(name).contains("14/14 points"), name, || {
+            format!(
+                "report.md does not say 14/14 points:\n{:.500}",
+                report(name)
+            )
+        });
+    }
+    let summary = |name: &str| {
+        results(name).map(|r| {
+            let tests: Vec<_> = r["tests"]
+                .as_array()
+                .cloned()
+                .unwrap_or_default()
+                .iter()
+                .map(|t| {
+                    (
+                        t["number"].clone(),
+                        t["score"].clone(),
+                        t["status"].clone(),
+                        t["output"].clone(),
+                    )
+                })
+                .collect();
+            (r["score"].clone(), r["max_score"].clone(), tests)
+        })
+    };
+    problems.check(
+        !graded("a-honest") || !graded("z-honest") || summary("a-honest") == summary("z-honest"),
+        "a-honest",
+        || {
+            "results.json differs from z-honest's (the same code): overwritten while later students ran?"
+                .to_string()
+        },
+    );
+    if graded("z-stubs") {
+        every_reason(&mut problems, "z-stubs", &["not implemented"]);
+    }
+
+    // The grading tree after the vandal: checks, golden data and snapshots as handed out (lab 02
+    // has no hidden exercise, so its checks are the handout's).
+    let tree = grades.join(".grading/tree");
+    match fs::read_to_string(lab02(&tree).join("tests/checks.rs")) {
+        Ok(checks) => {
+            problems.check(
+                checks == handout_checks && checks.contains("check(\"2.1\")"),
+                "vandal",
+                || {
+                    "the grading tree's labs/lab02/tests/checks.rs differs from the handout's"
+                        .into()
+                },
+            );
+            problems.check(handout_data(&tree) == expected_data, "vandal", || {
+                "the grading tree's labs/lab02/golden or snapshots differ from the handout's".into()
+            });
+        }
+        Err(e) => problems.check(false, "vandal", || {
+            format!("no grading tree's labs/lab02/tests/checks.rs to compare ({e})")
+        }),
+    }
+
+    // Nothing of the answer key and nothing of the vandal anywhere in the grades.
+    for (path, bytes) in files(&grades, &[".grading"]) {
+        let text = String::from_utf8_lossy(&bytes);
+        let owner = path
+            .components()
+            .next()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .filter(|_| path.components().count() > 1)
+            .unwrap_or_else(|| "the class files".into());
+        for (lab, marker) in &markers {
+            problems.check(!text.contains(marker.as_str()), &owner, || {
+                format!(
+                    "{} holds a line of lab {lab:02}'s answer key: `{marker}`",
+                    path.display()
+                )
+            });
+        }
+        for mark in VANDAL_MARKS {
+            problems.check(!text.contains(mark), "vandal", || {
+                format!("{} holds `{mark}`", path.display())
+            });
+        }
+    }
+
+    // Each attack's own due.
+    for name in ["path_to_key", "path_to_key_absolute"]
+        .into_iter()
+        .filter(|n| seen(n))
+    {
+        let r = report(name);
+        problems.check(r.contains("flagged") && r.contains("#[path"), name, || {
+            format!(
+                "report.md does not say the `#[path` attribute was flagged:\n{:.1000}",
+                r
+            )
+        });
+    }
+    if seen("include_key") {
+        let r = report("include_key");
+        problems.check(
+            r.contains("flagged") && r.contains("include_str"),
+            "include_key",
+            || format!("report.md does not say `include_str` was flagged:\n{r:.1000}"),
+        );
+    }
+    if seen("symlinks") {
+        let r = report("symlinks");
+        for file in ["key.rs", "dangling.rs", "loop_a", "loop_b", "pipe"] {
+            let path = format!("labs/lab02/src/{file}");
+            problems.check(
+                r.lines().any(|l| {
+                    l.contains(&path) && (l.contains("symbolic link") || l.contains("FIFO"))
+                }),
+                "symlinks",
+                || format!("report.md has no line saying {path} (a symbolic link or FIFO) was not taken:\n{r:.1500}"),
+            );
+        }
+    }
+    for name in ["exit_zero", "forged_output"]
+        .into_iter()
+        .filter(|n| seen(n))
+    {
+        every_reason(&mut problems, name, &["did not complete"]);
+    }
+    if seen("unsafe_fd") {
+        // Other than in the submission's name.
+        let r = report("unsafe_fd").replace("unsafe_fd", "");
+        problems.check(r.contains("unsafe"), "unsafe_fd", || {
+            format!("report.md does not mention `unsafe`:\n{r:.1000}")
+        });
+    }
+    if seen("memory_hog") {
+        every_reason(&mut problems, "memory_hog", &["out of memory", "crashed"]);
+        let junit = fs::read_to_string(grades.join("junit.xml")).unwrap_or_default();
+        let times = junit_times(&junit, "memory_hog");
+        problems.check(
+            times.len() == EXERCISES.len() && times.iter().all(|t| *t < TIMEOUT as f64 / 2.0),
+            "memory_hog",
+            || {
+                format!(
+                    "its exercises took {times:?} s in junit.xml: not well under the {TIMEOUT}-s limit"
+                )
+            },
+        );
+    }
+    if seen("output_flood") {
+        for file in [
+            grades.join("output_flood/report.md"),
+            grades.join("output_flood/report.html"),
+            grades.join("output_flood/results.json"),
+            grades.join("junit.xml"),
+        ] {
+            let size = fs::metadata(&file).map(|m| m.len()).unwrap_or(u64::MAX);
+            problems.check(size < 1_000_000, "output_flood", || {
+                format!("{} is {size} bytes, not under 1 MB", file.display())
+            });
+        }
+        problems.check(
+            report("output_flood").contains("output cut"),
+            "output_flood",
+            || "report.md does not say \"output cut\"".into(),
+        );
+    }
+
+    assert!(problems.0.is_empty(), "{}", problems.report());
+}
