@@ -3,6 +3,7 @@
 //! lab's exercises on any implementation.
 
 pub mod mutants;
+pub mod workflow;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

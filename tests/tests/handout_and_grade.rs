@@ -6,18 +6,10 @@
 //! The trees are kept in `target/raylab-handout-test/` to be looked at.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn target_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("target"))
-}
+use raylab_tests::workflow::{copy_tree, correct_code, read, root, target_dir};
 
 /// Runs cargo in `dir` with the target directory `target`; returns (success, stdout + stderr).
 fn cargo(dir: &Path, target: &Path, args: &[&str]) -> (bool, String) {
@@ -41,25 +33,6 @@ fn raylab(args: &[&str]) -> (bool, String) {
     cargo(&root(), &target_dir(), &all)
 }
 
-fn read(path: &Path) -> String {
-    fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// The reference solution of lab `lab` as a student would hand it in: the answer key's code
-/// with its type renamed to `Student` (lab 07 computes its own strata instead of calling lab 03).
-fn correct_code(lab: u32) -> String {
-    let code = read(&root().join(format!("reference/src/lab{lab:02}.rs")))
-        .replace(&format!("Lab{lab:02}"), "Student");
-    if lab != 7 {
-        return code;
-    }
-    code.replace(
-        "crate::lab03::Lab03.stratified_samples(subdivisions, rng)",
-        "let n = subdivisions;\n        (0..n * n)\n            .map(|k| (Vec2::new((k % n) as f32, (k / n) as f32) + rng.next_vec2()) / n as f32)\n            .collect()",
-    )
-    .replace("use framework::labs::lab03::Shadows;\n", "")
-}
-
 fn write_lab(tree: &Path, lab: u32, code: &str) {
     fs::write(tree.join(format!("labs/lab{lab:02}/src/lib.rs")), code).unwrap();
 }
@@ -68,21 +41,6 @@ fn write_lab(tree: &Path, lab: u32, code: &str) {
 fn inject(code: &str, signature: &str, line: &str) -> String {
     assert!(code.contains(signature), "no `{signature}` in the code");
     code.replace(signature, &format!("{signature}\n        {line}"))
-}
-
-fn copy_tree(from: &Path, to: &Path) {
-    fs::create_dir_all(to).unwrap();
-    for entry in fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        if entry.file_name() == "target" {
-            continue;
-        }
-        if entry.path().is_dir() {
-            copy_tree(&entry.path(), &to.join(entry.file_name()));
-        } else {
-            fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
-        }
-    }
 }
 
 fn csv_row<'a>(csv: &'a str, student: &str) -> Vec<&'a str> {

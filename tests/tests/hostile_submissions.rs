@@ -16,6 +16,8 @@ use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use raylab_tests::workflow::{copy_tree, correct_code, read, root, target_dir};
+
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
 const ATTACKS: [(&str, &str); 12] = [
     ("exit_zero", include_str!("../hostile/exit_zero.rs")),
@@ -58,17 +60,6 @@ const IDLE_LIMIT: Duration = Duration::from_secs(20 * 60);
 /// What the vandal writes into the grades.
 const VANDAL_MARKS: [&str; 2] = ["vandal,99", "FORGED-BY-VANDAL"];
 
-fn root() -> PathBuf {
-    fs::canonicalize(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."))
-        .expect("the repository exists")
-}
-
-fn target_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("target"))
-}
-
 /// Runs cargo in the repository; returns (success, stdout + stderr).
 fn cargo(args: &[&str]) -> (bool, String) {
     let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
@@ -83,30 +74,6 @@ fn cargo(args: &[&str]) -> (bool, String) {
         String::from_utf8_lossy(&output.stderr)
     );
     (output.status.success(), text)
-}
-
-fn read(path: &Path) -> String {
-    fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// Lab 02's reference solution as a student would hand it in.
-fn correct_code() -> String {
-    read(&root().join("reference/src/lab02.rs")).replace("Lab02", "Student")
-}
-
-fn copy_tree(from: &Path, to: &Path) {
-    fs::create_dir_all(to).unwrap();
-    for entry in fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        if entry.file_name() == "target" {
-            continue;
-        }
-        if entry.path().is_dir() {
-            copy_tree(&entry.path(), &to.join(entry.file_name()));
-        } else {
-            fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
-        }
-    }
 }
 
 /// Every file under `dir` (not following links) with its contents, by path relative to `dir`;
@@ -430,7 +397,7 @@ fn hostile_submissions_gain_nothing() {
         .replace("@REPO@", &repo.to_string_lossy())
         .replace("@GRADES@", &grades.to_string_lossy())
     };
-    let honest = correct_code();
+    let honest = correct_code(2);
     let mut order: Vec<(&str, String)> = vec![("a-honest", honest.clone())];
     order.extend(attacks.iter().map(|(n, c)| (*n, substitute(c))));
     order.push(("z-stubs", read(&lab02(&handout).join("src/lib.rs"))));
