@@ -698,6 +698,17 @@ fn hostile_submissions_gain_nothing() {
         }
     }
 
+    // Processes left behind are named (and were stopped: see the pgrep checks).
+    for name in ["vandal", "process_flood"].into_iter().filter(|n| seen(n)) {
+        let r = report(name);
+        problems.check(r.contains("left processes running"), name, || {
+            format!(
+                "report.md does not say processes were left running:\n{:.1000}",
+                r
+            )
+        });
+    }
+
     // Each attack's own due.
     for name in ["path_to_key", "path_to_key_absolute"]
         .into_iter()

@@ -13,7 +13,7 @@ use framework::Error;
 use framework::grading::ExerciseInfo;
 use framework::grading::verdict::{self, RecordScanner};
 
-use super::sandbox::Sandbox;
+use super::sandbox::{LINGERING, Sandbox};
 use crate::handout::io;
 
 /// Where cargo runs: the grading tree and the target directory shared by every submission (so
@@ -404,6 +404,13 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
         (Some(record), Some(_)) => (record.passed, printable(&record.message)),
         (None, Some(status)) => (false, no_verdict(info, status, &printed, how.memory_limit)),
     };
+    let output = if printed.contains(LINGERING) {
+        format!(
+            "{output}\n(The student's code left processes running after the test ended; the sandbox stopped them.)"
+        )
+    } else {
+        output
+    };
     Ok(Run {
         passed,
         output,
@@ -428,7 +435,14 @@ fn no_verdict(info: &ExerciseInfo, status: ExitStatus, printed: &str, memory_lim
             memory_limit >> 20
         );
     }
-    match status.signal() {
+    // A sandbox passes a signal on as the exit status 128 + N.
+    let signal = status.signal().or_else(|| {
+        status
+            .code()
+            .filter(|c| (129..=128 + 64).contains(c))
+            .map(|c| c - 128)
+    });
+    match signal {
         Some(libc::SIGXCPU) => format!(
             "{place} did not complete: the test process used up its CPU time and was stopped."
         ),
@@ -470,7 +484,7 @@ fn program_output(printed: &str, test: &str, secret: &str, cut_from: Option<u64>
     let record = format!("{}{secret} ", verdict::RECORD_TAG);
     let mut text: String = printed
         .lines()
-        .filter(|l| !l.starts_with(&record))
+        .filter(|l| !l.starts_with(&record) && *l != LINGERING)
         .map(|l| l.strip_prefix(&framing).unwrap_or(l))
         .filter(|l| *l != "running 1 test" && *l != "ok" && *l != "FAILED")
         .collect::<Vec<_>>()

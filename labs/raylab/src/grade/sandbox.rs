@@ -56,6 +56,9 @@ pub struct Sandbox {
     limits: Limits,
 }
 
+/// Printed by an exercise's sandbox when the test left processes running.
+pub const LINGERING: &str = "RAYLAB-SANDBOX: processes left running";
+
 /// Directories of the system the sandboxes see read-only (those that exist).
 const SYSTEM: &[&str] = &["/usr", "/bin", "/lib", "/lib64", "/lib32", "/sbin"];
 
@@ -235,7 +238,20 @@ impl Sandbox {
         for (key, value) in env {
             command.args(["--setenv", key, value]);
         }
-        command.arg("--").arg(executable).args(args);
+        // bwrap's init is PID 1 and the shell PID 2: once the test has ended, `kill -0 -1`
+        // succeeds only if a process the student's code started is still alive (the sandbox
+        // then ends them all). A signal that ended the test is passed on as an exit status
+        // 128 + N, as bwrap passes it on.
+        command
+            .arg("--")
+            .arg("/bin/sh")
+            .arg("-c")
+            .arg(format!(
+                "\"$@\"; status=$?; if kill -0 -1 2>/dev/null; then echo; echo '{LINGERING}'; fi; exit $status"
+            ))
+            .arg("sh")
+            .arg(executable)
+            .args(args);
         command
     }
 
