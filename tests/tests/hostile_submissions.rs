@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use raylab_tests::workflow::{copy_tree, correct_code, read, root, target_dir};
 
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
-const ATTACKS: [(&str, &str); 12] = [
+const ATTACKS: [(&str, &str); 13] = [
     ("exit_zero", include_str!("../hostile/exit_zero.rs")),
     ("forged_output", include_str!("../hostile/forged_output.rs")),
     ("unsafe_fd", include_str!("../hostile/unsafe_fd.rs")),
@@ -38,6 +38,7 @@ const ATTACKS: [(&str, &str); 12] = [
     ("output_flood", include_str!("../hostile/output_flood.rs")),
     ("process_flood", include_str!("../hostile/process_flood.rs")),
     ("vandal", include_str!("../hostile/vandal.rs")),
+    ("debugger", include_str!("../hostile/debugger.rs")),
 ];
 
 /// Lab 02's exercises and their points.
@@ -696,6 +697,14 @@ fn hostile_submissions_gain_nothing() {
                 format!("{} holds `{mark}`", path.display())
             });
         }
+    }
+
+    // A debugger started by the student's code cannot attach to the harness.
+    if seen("debugger") {
+        let r = report("debugger");
+        problems.check(!r.contains("GDB-ATTACHED"), "debugger", || {
+            format!("a debugger attached to the test process:\n{:.2000}", r)
+        });
     }
 
     // Processes left behind are named (and were stopped: see the pgrep checks).

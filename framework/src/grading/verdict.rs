@@ -75,6 +75,7 @@ impl VerdictChannel {
             .read_to_string(&mut secret)
             .ok()?;
         let secret = secret.trim().to_string();
+        forbid_tracing();
         let valid =
             secret.len() == 2 * SECRET_BYTES && secret.bytes().all(|b| b.is_ascii_hexdigit());
         // An invalid secret still takes the channel: the record it writes matches nothing.
@@ -99,6 +100,17 @@ impl VerdictChannel {
         let _ = write!(out, "\n{RECORD_TAG}{} {json}\n", self.secret);
         let _ = out.flush();
         std::process::exit(0);
+    }
+}
+
+/// Makes this process non-dumpable, so that no other process of the sandbox — a debugger the
+/// student's code starts, say — may `ptrace` it or read its memory (`process_vm_readv`) to find
+/// the secret: for a non-dumpable process that takes `CAP_SYS_PTRACE`, which the sandbox drops.
+fn forbid_tracing() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: PR_SET_DUMPABLE takes one integer argument and touches no memory of ours.
+    unsafe {
+        libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
     }
 }
 
