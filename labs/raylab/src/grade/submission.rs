@@ -428,6 +428,13 @@ fn is_student_code(path: &Path) -> bool {
     parts.len() >= 4 && is_lab_src(&parts[..3])
 }
 
+/// Whether `path` (relative to the tree) is a lab's code directory `labs/labNN/src`, where each
+/// submission puts its own code.
+pub fn is_lab_sources(path: &Path) -> bool {
+    let parts: Vec<_> = path.components().map(|c| c.as_os_str()).collect();
+    is_lab_src(&parts)
+}
+
 /// Whether `parts` are `labs`, `labNN`, `src`: a lab's code directory.
 fn is_lab_src(parts: &[&OsStr]) -> bool {
     parts.len() == 3

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use framework::Error;
 use sha2::{Digest, Sha256};
 
+use super::submission::is_lab_sources;
 use crate::handout::io;
 
 /// What each file of a tree holds (links by their target), leaving out `labs/labNN/src/`.
@@ -39,16 +40,6 @@ impl Manifest {
         }
         Ok(changes)
     }
-}
-
-/// Whether `relative` is a lab's source directory, where each submission puts its own code.
-fn is_lab_sources(relative: &Path) -> bool {
-    let parts: Vec<_> = relative.components().map(|c| c.as_os_str()).collect();
-    parts.len() == 3
-        && parts[0] == "labs"
-        && parts[1].to_string_lossy().starts_with("lab")
-        && parts[1] != "raylab"
-        && parts[2] == "src"
 }
 
 fn walk(root: &Path, dir: &Path, files: &mut BTreeMap<PathBuf, [u8; 32]>) -> Result<(), Error> {
