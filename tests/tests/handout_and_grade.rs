@@ -1,7 +1,8 @@
 //! The instructor's workflow end to end: `raylab handout` writes a student tree without the
 //! solutions, in which a lab's checks fail on the stubs and pass on correct code; `raylab grade`
-//! grades three submissions — complete; partial, with a panic, an infinite loop and a NaN; and
-//! one that edited its tests — into reports, gradebooks and Gradescope results.
+//! grades four submissions — complete; partial, with a panic, an infinite loop and a NaN; lab 02
+//! done with lab 01 not started; and one that edited its tests — into reports, gradebooks and
+//! Gradescope results.
 //!
 //! The trees are kept in `target/raylab-handout-test/` to be looked at.
 
@@ -52,7 +53,7 @@ fn csv_row<'a>(csv: &'a str, student: &str) -> Vec<&'a str> {
 }
 
 #[test]
-fn handout_then_grade_three_submissions() {
+fn handout_then_grade_four_submissions() {
     // The build directories stay between runs; `raylab grade` renews everything else in its
     // `--out`.
     let work = target_dir().join("raylab-handout-test");
@@ -62,8 +63,14 @@ fn handout_then_grade_three_submissions() {
         let _ = fs::remove_dir_all(dir);
     }
 
-    // The handout: no solution code, no corpus, no hidden test.
-    let (ok, out) = raylab(&["handout", "--out", handout.to_str().unwrap()]);
+    // The handout: no solution code, no corpus, no hidden test. (`--allow-dirty`: what is
+    // tested is the working tree, committed or not.)
+    let (ok, out) = raylab(&[
+        "handout",
+        "--allow-dirty",
+        "--out",
+        handout.to_str().unwrap(),
+    ]);
     assert!(ok, "{out}");
     assert!(
         !handout.join("tests").exists(),
@@ -78,7 +85,12 @@ fn handout_then_grade_three_submissions() {
         );
     }
     assert!(!read(&handout.join("labs/lab01/tests/checks.rs")).contains("check(\"1.6\")"));
-    let (ok, out) = raylab(&["handout", "--out", handout.to_str().unwrap()]);
+    let (ok, out) = raylab(&[
+        "handout",
+        "--allow-dirty",
+        "--out",
+        handout.to_str().unwrap(),
+    ]);
     assert!(
         !ok && out.contains("expected a directory that does not exist yet"),
         "{out}"
@@ -110,6 +122,10 @@ fn handout_then_grade_three_submissions() {
         "if u.x >= 0.0 { return v0 * (u.x - 1.0).sqrt(); }",
     );
     write_lab(&partial, 3, &lab03);
+    // Lab 01 not started, lab 02 done: every check of lab 02 has the answer key's camera.
+    let lab02_only = subs.join("lab02-only");
+    copy_tree(&handout, &lab02_only);
+    write_lab(&lab02_only, 2, &correct_code(2));
     let edited = subs.join("edited");
     copy_tree(&handout, &edited);
     let checks = edited.join("labs/lab01/tests/checks.rs");
@@ -138,6 +154,7 @@ fn handout_then_grade_three_submissions() {
         "grade",
         complete.to_str().unwrap(),
         partial.to_str().unwrap(),
+        lab02_only.to_str().unwrap(),
         edited.to_str().unwrap(),
         "--out",
         grades.to_str().unwrap(),
@@ -169,14 +186,14 @@ fn handout_then_grade_three_submissions() {
     );
 
     let row = csv_row(&csv, "partial");
+    // Each exercise is checked with the answer key everywhere else: the NaN triangle sample
+    // costs Exercise 3.3 alone, the panic 2.3 and the infinite loop 2.1.
     for id in [
-        "1.1", "1.2", "1.3", "1.4", "1.5", "1.6", "2.2", "2.4", "2.5", "2.6",
+        "1.1", "1.2", "1.3", "1.4", "1.5", "1.6", "2.2", "2.4", "2.5", "2.6", "3.1", "3.2", "3.4",
     ] {
         assert_ne!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
-    // Lab 03's soft-shadow checks run the student's whole lab, so its NaN triangle sample fails
-    // every exercise of the lab.
-    for id in ["2.1", "2.3", "3.1", "3.2", "3.3", "3.4"] {
+    for id in ["2.1", "2.3", "3.3"] {
         assert_eq!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
     let report = read(&grades.join("partial/report.md"));
@@ -193,6 +210,14 @@ fn handout_then_grade_three_submissions() {
         .and_then(|rest| rest.split('"').next())
         .unwrap_or_else(|| panic!("no image in the partial report:\n{html}"));
     assert!(grades.join("partial").join(image).is_file(), "{image}");
+
+    let row = csv_row(&csv, "lab02-only");
+    for id in ["2.1", "2.2", "2.3", "2.4", "2.5", "2.6"] {
+        assert_ne!(row[column(id)], "0", "lab02-only, Exercise {id}: {csv}");
+    }
+    for id in ["1.1", "1.2", "3.1"] {
+        assert_eq!(row[column(id)], "0", "lab02-only, Exercise {id}: {csv}");
+    }
 
     let row = csv_row(&csv, "edited");
     assert_eq!(

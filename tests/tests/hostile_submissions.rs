@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use raylab_tests::workflow::{copy_tree, correct_code, read, root, target_dir};
 
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
-const ATTACKS: [(&str, &str); 13] = [
+const ATTACKS: [(&str, &str); 14] = [
     ("exit_zero", include_str!("../hostile/exit_zero.rs")),
     ("forged_output", include_str!("../hostile/forged_output.rs")),
     ("unsafe_fd", include_str!("../hostile/unsafe_fd.rs")),
@@ -39,6 +39,10 @@ const ATTACKS: [(&str, &str); 13] = [
     ("process_flood", include_str!("../hostile/process_flood.rs")),
     ("vandal", include_str!("../hostile/vandal.rs")),
     ("debugger", include_str!("../hostile/debugger.rs")),
+    (
+        "delegate_to_framework",
+        include_str!("../hostile/delegate_to_framework.rs"),
+    ),
 ];
 
 /// Lab 02's exercises and their points.
@@ -194,13 +198,15 @@ fn csv_row<'a>(csv: &'a str, student: &str) -> Option<Vec<&'a str>> {
 }
 
 /// The points submission `name` is due for Exercise `id` (or `"total"`): full marks for the
-/// honest ones, `output_flood`'s honest 11, nothing for an attack.
+/// honest ones, `output_flood`'s honest 11, `delegate_to_framework`'s honest 6, nothing for an
+/// attack.
 fn due(name: &str, id: &str) -> u32 {
     let points = |id: &str| {
         let full = EXERCISES.iter().find(|(e, _)| *e == id).map_or(0, |e| e.1);
         match name {
             "a-honest" | "z-honest" => full,
             "output_flood" if id != "2.2" => full,
+            "delegate_to_framework" if !["2.1", "2.2", "2.3"].contains(&id) => full,
             _ => 0,
         }
     };
@@ -354,7 +360,7 @@ fn hostile_submissions_gain_nothing() {
     assert!(ok, "{out}");
     let raylab = target_dir().join("debug/raylab");
     let status = Command::new(&raylab)
-        .args(["handout", "--out"])
+        .args(["handout", "--allow-dirty", "--out"])
         .arg(&handout)
         .args(["--release-solutions", "1,3,4,7"])
         .status()
@@ -755,6 +761,25 @@ fn hostile_submissions_gain_nothing() {
     if seen("memory_hog") {
         // A reason that names memory, not "timed out": the limit, not the clock, ended it.
         every_reason(&mut problems, "memory_hog", &["out of memory", "crashed"]);
+    }
+    if seen("delegate_to_framework") {
+        let name = "delegate_to_framework";
+        for (id, why) in reasons(name) {
+            if ["2.1", "2.2", "2.3"].contains(&id.as_str()) {
+                problems.check(why.contains("names framework items"), name, || {
+                    format!("the reason of Exercise {id} does not say \"names framework items\": {why:.300}")
+                });
+            }
+        }
+        let r = report(name);
+        problems.check(
+            r.lines().any(|l| {
+                l.starts_with("- flagged: labs/lab02/src/lib.rs:")
+                    && l.contains("`trace_to_closest`")
+            }),
+            name,
+            || format!("report.md flags no `trace_to_closest` line:\n{r:.1500}"),
+        );
     }
     if seen("output_flood") {
         for file in [

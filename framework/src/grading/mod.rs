@@ -2,12 +2,14 @@
 //! snapshot comparison. A lab crate's `cargo test`, the reference's CI run and `raylab grade`
 //! all go through [`run_exercise`], so they judge student code the same way.
 
+mod denied;
 mod golden;
 mod property;
 mod snapshot;
 mod strata;
 pub mod verdict;
 
+pub use denied::DeniedItem;
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
 pub use property::for_all;
 pub use snapshot::{

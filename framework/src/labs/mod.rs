@@ -9,7 +9,7 @@ pub mod lab04;
 pub mod lab07;
 pub mod strategies;
 
-use crate::grading::ExerciseInfo;
+use crate::grading::{DeniedItem, ExerciseInfo};
 
 /// Every lab the framework knows, with its title.
 pub const LABS: &[(u32, &str)] = &[
@@ -34,3 +34,36 @@ pub fn exercise_infos(lab: u32) -> Option<Vec<ExerciseInfo>> {
         _ => return None,
     })
 }
+
+/// The framework items that answer exercises of lab `lab` (see [`DeniedItem`]): a submission
+/// whose code for that lab names one gets no points for those exercises.
+pub fn denied_items(lab: u32) -> &'static [DeniedItem] {
+    match lab {
+        2 => LAB02_DENIED,
+        _ => &[],
+    }
+}
+
+/// The scene's own ray queries answer the intersection exercises for a one-shape scene.
+const LAB02_DENIED: &[DeniedItem] = &[
+    DeniedItem {
+        name: "trace_to_closest",
+        exercises: &["2.1", "2.2", "2.3"],
+        computes: "the closest hit of a ray with the scene's planes, triangles and spheres",
+    },
+    DeniedItem {
+        name: "trace_to_any",
+        exercises: &["2.1", "2.2", "2.3"],
+        computes: "whether a ray hits any of the scene's planes, triangles and spheres",
+    },
+    DeniedItem {
+        name: "BuiltinIntersection",
+        exercises: &["2.1", "2.2", "2.3"],
+        computes: "the framework's own ray-plane, ray-triangle and ray-sphere tests",
+    },
+    DeniedItem {
+        name: "TriangleRay",
+        exercises: &["2.2"],
+        computes: "the framework's own watertight ray-triangle test",
+    },
+];

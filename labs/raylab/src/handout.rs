@@ -30,6 +30,10 @@ pub struct HandoutArgs {
     /// (default: none).
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<u32>,
+    /// Build the handout even though files that go into it differ from the last commit (they
+    /// are named on stderr). Without it such a tree is refused: a handout should be a commit.
+    #[arg(long)]
+    pub allow_dirty: bool,
 }
 
 /// What goes into a tree built from the repository.
@@ -37,6 +41,10 @@ pub struct HandoutArgs {
 pub struct TreeOptions {
     /// Labs whose solution is in the tree.
     pub released: BTreeSet<u32>,
+    /// The whole answer key instead (the grading tree): `reference/` as in the repository, and
+    /// every lab's checks run on the student's code with the key in every other slot. Its
+    /// sources are kept out of sight while student code compiles (`grade::sandbox`).
+    pub answer_key: bool,
     /// Keep the tests of hidden exercises (the grading tree) or leave them out (the handout).
     pub hidden_tests: bool,
     /// A pre-release tag for the tree's own crates (`0.1.0-TAG`), so that their builds never
@@ -65,12 +73,33 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
             reason: "expected a directory that does not exist yet, or an empty one".into(),
         });
     }
+    let root = repository_root();
+    match uncommitted_files(&root) {
+        Some(files) if !files.is_empty() => {
+            let list = files.join(", ");
+            if !args.allow_dirty {
+                return Err(Error::Invalid {
+                    what: format!("the repository {}", root.display()),
+                    reason: format!(
+                        "these files that go into the handout differ from the last commit: {list}; commit them, or pass --allow-dirty to hand them out as they are"
+                    ),
+                });
+            }
+            eprintln!("warning: --allow-dirty: the handout holds uncommitted changes: {list}");
+        }
+        Some(_) => {}
+        None => eprintln!(
+            "note: {} is not a git work tree (or git is not installed): the handout is a copy of the files as they are",
+            root.display()
+        ),
+    }
     let options = TreeOptions {
         released: args.release_solutions.iter().copied().collect(),
         hidden_tests: false,
+        answer_key: false,
         version_tag: None,
     };
-    build_tree(&repository_root(), &args.out, &options)?;
+    build_tree(&root, &args.out, &options)?;
     let released = if options.released.is_empty() {
         "none".to_string()
     } else {
@@ -81,6 +110,52 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
         args.out.display()
     );
     Ok(())
+}
+
+/// What a handout is made of, relative to the repository root.
+const HANDOUT_SOURCES: &[&str] = &[
+    ".gitignore",
+    "Cargo.lock",
+    "Cargo.toml",
+    "docs",
+    "framework",
+    "labs",
+    "reference",
+];
+
+/// The files of [`HANDOUT_SOURCES`] that differ from the last commit of the git work tree at
+/// `root` (changed, staged, deleted or untracked and not ignored); `None` when `root` is not a
+/// git work tree or git cannot be run.
+fn uncommitted_files(root: &Path) -> Option<Vec<String>> {
+    let output = std::process::Command::new("git")
+        .args([
+            "status",
+            "--porcelain=v1",
+            "-z",
+            "--untracked-files=all",
+            "--",
+        ])
+        .args(HANDOUT_SOURCES)
+        .current_dir(root)
+        .stdin(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .output()
+        .ok()?;
+    if !output.status.success() {
+        return None;
+    }
+    let text = String::from_utf8_lossy(&output.stdout);
+    let mut files = Vec::new();
+    let mut entries = text.split('\0').filter(|e| !e.is_empty());
+    while let Some(entry) = entries.next() {
+        let (status, path) = entry.split_at(entry.len().min(3));
+        // A rename's entry is followed by the name it had.
+        if status.starts_with('R') || status.starts_with('C') {
+            entries.next();
+        }
+        files.push(path.to_string());
+    }
+    Some(files)
 }
 
 /// Builds the tree of `options` from the repository at `root` into `out`.
@@ -124,14 +199,18 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
         let name = format!("lab{lab:02}");
         let dir = out.join("labs").join(&name);
         copy_dir(&root.join("labs").join(&name), &dir)?;
-        if !options.released.contains(&lab) {
+        if options.answer_key || !options.released.contains(&lab) {
             drop_reference_feature(&dir, lab)?;
         }
         if !options.hidden_tests {
             drop_hidden_tests(&dir, lab)?;
         }
     }
-    write_reference(root, out, &options.released)
+    if options.answer_key {
+        copy_dir(&root.join("reference"), &out.join("reference"))
+    } else {
+        write_reference(root, out, &options.released)
+    }
 }
 
 /// A released lab's solution may use another lab's solution (`crate::labNN`); that lab must
@@ -373,4 +452,53 @@ fn replace_once(text: &str, from: &str, to: &str, place: &str) -> Result<String,
 /// Maps an I/O error to one naming `path`.
 pub fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::io(path, source)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs git in `dir`.
+    fn git(dir: &Path, args: &[&str]) {
+        let status = std::process::Command::new("git")
+            .args([
+                "-c",
+                "user.name=t",
+                "-c",
+                "user.email=t@t",
+                "-c",
+                "commit.gpgsign=false",
+            ])
+            .args(args)
+            .current_dir(dir)
+            .output()
+            .expect("git runs")
+            .status;
+        assert!(status.success(), "git {args:?}");
+    }
+
+    #[test]
+    fn uncommitted_files_names_what_would_go_into_the_handout() {
+        let dir = std::env::temp_dir().join(format!("raylab-dirty-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(dir.join("framework/src")).unwrap();
+        assert_eq!(uncommitted_files(&dir), None, "not a work tree yet");
+        git(&dir, &["init", "-q"]);
+        fs::write(dir.join("framework/src/lib.rs"), "// v1\n").unwrap();
+        fs::write(dir.join("notes.txt"), "not handed out\n").unwrap();
+        git(&dir, &["add", "framework"]);
+        git(&dir, &["commit", "-q", "-m", "v1"]);
+        assert_eq!(uncommitted_files(&dir), Some(Vec::new()));
+        fs::write(dir.join("framework/src/lib.rs"), "// v2\n").unwrap();
+        fs::create_dir_all(dir.join("labs/lab01/src")).unwrap();
+        fs::write(dir.join("labs/lab01/src/new.rs"), "\n").unwrap();
+        assert_eq!(
+            uncommitted_files(&dir),
+            Some(vec![
+                "framework/src/lib.rs".to_string(),
+                "labs/lab01/src/new.rs".to_string()
+            ])
+        );
+        let _ = fs::remove_dir_all(&dir);
+    }
 }

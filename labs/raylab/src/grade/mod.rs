@@ -1,13 +1,14 @@
 //! `raylab grade SUBMISSION... --out DIR`: grades each submission's `labs/labNN/src/` with the
 //! course's own tests, golden data and snapshots, one exercise per process.
 //!
-//! For each submission: its lab sources — regular files only ([`submission`]) — go into the
-//! grading tree (the handout with the hidden tests put back, so no unreleased solution is on
-//! disk); sources that read files outside their lab at compile time are flagged and not
-//! compiled ([`scan`]); each lab is compiled in the sandbox ([`sandbox`]; a lab that does not
-//! compile is graded as failing and replaced by its stubs so the others still build), the
-//! checks are built once, and every exercise's test runs in a sandboxed process of its own with
-//! a time limit, passing only on the check's verdict record ([`runner`]). After each
+//! For each submission: the graded labs' sources — regular files only ([`submission`]) — go
+//! into the grading tree (the handout with the hidden tests put back and the whole answer key,
+//! so that every check has the key in every slot but the one it checks); sources that read
+//! files outside their lab at compile time are flagged and not compiled ([`scan`]); each lab is
+//! compiled in the sandbox with the key's sources out of sight ([`sandbox`]; a lab that does
+//! not compile is graded as failing), the checks are then linked with the key, and every
+//! exercise's test runs in a sandboxed process of its own with a time limit, passing only on
+//! the check's verdict record ([`runner`]). After each
 //! submission the tree is verified against its hashes. The results go to per-student reports
 //! and the class gradebooks ([`reports`]), written when every student process has ended.
 
@@ -45,8 +46,9 @@ pub struct GradeArgs {
     /// Grade only this lab (repeatable; default: every lab).
     #[arg(long = "lab")]
     pub labs: Vec<u32>,
-    /// Labs whose solution is released: the base the other labs' exercises run in (as in the
-    /// handout the students had). Labs not released use the student's own code there.
+    /// Labs whose solution was released in the handout the students had (as given to
+    /// `raylab handout`), so that those files are not reported as changed. The checks' base is
+    /// always the whole answer key.
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<u32>,
     /// Cargo's target directory for the builds (default: `DIR/.grading/target`). It may be
@@ -191,19 +193,12 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         }
     }
     let released: BTreeSet<u32> = args.release_solutions.iter().copied().collect();
-    if let Some(lab) = labs.iter().find(|l| released.contains(l)) {
-        return Err(Error::Invalid {
-            what: format!("--release-solutions {released:?}"),
-            reason: format!(
-                "lab {lab} is being graded: its solution must not be on disk while student code runs; release only the labs it builds on"
-            ),
-        });
-    }
     fs::create_dir_all(&grading).map_err(io(&grading))?;
     let place = fs::canonicalize(&grading).map_err(io(&grading))?;
     let options = |hidden_tests| TreeOptions {
         released: released.clone(),
         hidden_tests,
+        answer_key: hidden_tests,
         // One tag per grading directory: its builds never mix with those of the repository, a
         // handout, or another class's grading in a shared target directory.
         version_tag: hidden_tests
@@ -350,17 +345,18 @@ fn grade_submission(
     let mut flagged = Vec::new();
     let changed_files = submission::changed_files(submission, handout)?;
 
-    // Every lab's code goes in, graded or not: the labs whose solutions are not released are
-    // the base of the others. Sources that name files outside their lab are not compiled at
-    // all: their stubs go in instead.
+    // Only the graded labs' code goes in: every other slot of every check is the answer key,
+    // so one lab's code never costs points in another. Sources that name files outside their
+    // lab are not compiled at all.
     let mut broken = std::collections::BTreeMap::new();
-    for &lab in crate::students::labs() {
+    // Exercises whose answer the code takes from the framework, with where.
+    let mut answered = std::collections::BTreeMap::<&str, Vec<String>>::new();
+    for &lab in labs {
         let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
         let flags = scan::scan_lab(&workspace.tree, lab);
         if !flags.is_empty() {
-            submission::install_stubs(handout, &workspace.tree, lab)?;
             broken.insert(
                 lab,
                 format!(
@@ -371,6 +367,12 @@ fn grade_submission(
             flagged.extend(flags);
             continue;
         }
+        for denied in scan::denied_uses(&workspace.tree, lab, framework::labs::denied_items(lab)) {
+            for &id in denied.exercises {
+                answered.entry(id).or_default().push(denied.line.clone());
+            }
+            flagged.push(denied.line);
+        }
         if let Err(errors) = workspace.build_lib(&format!("lab{lab:02}"))? {
             broken.insert(
                 lab,
@@ -378,21 +380,7 @@ fn grade_submission(
             );
         }
     }
-    // The base pipeline uses the `Student` of every lab not released: one that compiles but no
-    // longer fits its contract breaks the base, and is replaced by its stubs too.
-    if let Err(errors) = workspace.build_lib("reference")? {
-        for &lab in crate::students::labs() {
-            if errors.contains(&format!("lab{lab:02}")) {
-                broken.entry(lab).or_insert_with(|| {
-                    format!("labs/lab{lab:02}/src does not compile with the framework:\n{errors}")
-                });
-            }
-        }
-    }
     for &lab in broken.keys() {
-        notes.push(format!(
-            "labs/lab{lab:02}/src was not used: its exercises fail and the other labs use its stubs"
-        ));
         submission::install_stubs(handout, &workspace.tree, lab)?;
     }
     let to_build: Vec<u32> = labs
@@ -437,6 +425,15 @@ fn grade_submission(
             &runs.join(format!("list-lab{lab:02}")),
         )?;
         for info in infos {
+            if let Some(lines) = answered.get(info.id) {
+                let why = format!(
+                    "no points: the code names framework items that compute what Exercise {} asks, instead of computing it:\n{}",
+                    info.id,
+                    lines.join("\n")
+                );
+                exercises.push(ExerciseGrade::failed(info, why));
+                continue;
+            }
             let Some(test) = tests.iter().find(|t| t.starts_with(&info.test_prefix())) else {
                 let why = format!(
                     "the checks have no test {}… for Exercise {}",

@@ -91,7 +91,7 @@ fn markdown(grade: &StudentGrade) -> String {
         md.push('\n');
     }
     if !grade.flagged.is_empty() {
-        md.push_str("## Flagged: sources that read files outside their lab at compile time\n\n");
+        md.push_str("## Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise\n\n");
         for line in &grade.flagged {
             let _ = writeln!(md, "- flagged: {line}");
         }
@@ -197,7 +197,7 @@ fn html(grade: &StudentGrade) -> String {
         ("Notes", &grade.notes),
         ("Files not taken from the submission", &grade.rejected),
         (
-            "Flagged: sources that read files outside their lab at compile time",
+            "Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise",
             &grade.flagged,
         ),
     ] {

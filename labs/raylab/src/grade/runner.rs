@@ -19,7 +19,7 @@ use crate::handout::io;
 /// Where cargo runs: the grading tree and the target directory shared by every submission (so
 /// the framework is compiled once per class, not once per student), inside the sandbox.
 pub struct Workspace {
-    /// The grading tree (`raylab handout` with the hidden tests put back).
+    /// The grading tree (`raylab handout` with the hidden tests and the whole answer key).
     pub tree: PathBuf,
     /// `CARGO_TARGET_DIR` of the builds.
     pub target: PathBuf,
@@ -59,26 +59,33 @@ impl Workspace {
         fs::create_dir_all(&self.target).map_err(io(&self.target))
     }
 
-    /// Runs `cargo ARGS --offline --locked` in the sandbox, killed after the build time
-    /// limit; `Err` only when it could not be started.
-    fn cargo(&self, args: &[&str]) -> Result<Captured, Error> {
+    /// Runs `cargo ARGS --offline --locked` in the sandbox with the directories `hidden` (in
+    /// the tree) out of sight, killed after the build time limit; `Err` only when it could not
+    /// be started.
+    fn cargo(&self, args: &[&str], hidden: &[&str]) -> Result<Captured, Error> {
         let mut all = args.to_vec();
         all.extend(["--offline", "--locked"]);
-        let command = self.sandbox.cargo(&self.tree, &self.target, &all);
+        let hidden: Vec<PathBuf> = hidden.iter().map(|h| self.tree.join(h)).collect();
+        let command = self.sandbox.cargo(&self.tree, &self.target, &all, &hidden);
         run_captured(command, None, self.build_timeout, COMPILER_OUTPUT_LIMIT)
     }
 
-    /// `cargo build --lib -p PACKAGE`: `Err` with the compiler's messages when it does not
-    /// compile.
+    /// `cargo build --lib -p PACKAGE` with the answer key's sources (`reference/src`) out of
+    /// sight: this is the one build in which the student's code runs at compile time (its
+    /// macros, constant evaluation), so nothing it names or reads can be the key. `Err` with
+    /// the compiler's messages when it does not compile.
     pub fn build_lib(&self, package: &str) -> Result<Result<(), String>, Error> {
-        let run = self.cargo(&[
-            "build",
-            "--quiet",
-            "--message-format=short",
-            "--lib",
-            "-p",
-            package,
-        ])?;
+        let run = self.cargo(
+            &[
+                "build",
+                "--quiet",
+                "--message-format=short",
+                "--lib",
+                "-p",
+                package,
+            ],
+            &[ANSWER_KEY_SOURCES],
+        )?;
         Ok(match run.status {
             Some(status) if status.success() => Ok(()),
             Some(_) => Err(compiler_errors(&run.text())),
@@ -89,8 +96,11 @@ impl Workspace {
         })
     }
 
-    /// `cargo test --no-run` for the checks of `labs`: the executable of each lab that built, the
-    /// compiler's messages for each that did not.
+    /// `cargo test --no-run --test checks` for the checks of `labs`, linking each lab's code
+    /// built by [`Self::build_lib`] with the answer key: the executable of each lab that built,
+    /// the compiler's messages for each that did not. The lab's own code is not compiled again
+    /// here (cargo finds it fresh); should it be, the lab fails rather than compile student code
+    /// with the key in view.
     pub fn build_checks(&self, labs: &[u32]) -> Result<Build, Error> {
         if labs.is_empty() {
             // Without a `-p`, cargo would build every package's tests.
@@ -104,17 +114,29 @@ impl Workspace {
             "--no-run",
             "--no-fail-fast",
             "--message-format=json-render-diagnostics",
+            "--test",
+            "checks",
         ];
         let packages: Vec<String> = labs.iter().map(|l| format!("lab{l:02}")).collect();
         for package in &packages {
             args.extend(["-p", package]);
         }
-        let run = self.cargo(&args)?;
+        let run = self.cargo(&args, &[])?;
         let mut executables = BTreeMap::new();
+        let mut recompiled = BTreeMap::new();
         for line in String::from_utf8_lossy(&run.output).lines() {
             let Ok(message) = serde_json::from_str::<serde_json::Value>(line) else {
                 continue;
             };
+            if let Some(lab) = recompiled_lab(&message, labs) {
+                recompiled.insert(
+                    lab,
+                    format!(
+                        "labs/lab{lab:02}/src was compiled again with the checks, where the answer key is in view; it was not used (a fault of the grader: please report it)"
+                    ),
+                );
+                continue;
+            }
             let (Some(executable), Some(target)) = (
                 message["executable"].as_str(),
                 message["target"]["name"].as_str(),
@@ -136,16 +158,37 @@ impl Workspace {
             .collect::<Vec<_>>()
             .join("\n");
         let stderr = compiler_errors(&text);
-        let errors = labs
+        for lab in recompiled.keys() {
+            executables.remove(lab);
+        }
+        let mut errors: BTreeMap<u32, String> = labs
             .iter()
             .filter(|l| !executables.contains_key(l))
             .map(|&l| (l, stderr.clone()))
             .collect();
+        errors.extend(recompiled);
         Ok(Build {
             executables,
             errors,
         })
     }
+}
+
+/// The answer key's sources in the grading tree, out of sight while student code compiles.
+const ANSWER_KEY_SOURCES: &str = "reference/src";
+
+/// The lab of `labs` whose own code (its `lib` target) cargo's `message` says was compiled
+/// rather than found fresh.
+fn recompiled_lab(message: &serde_json::Value, labs: &[u32]) -> Option<u32> {
+    if message["reason"] != "compiler-artifact" || message["fresh"] != false {
+        return None;
+    }
+    let kinds = message["target"]["kind"].as_array()?;
+    if !kinds.iter().any(|k| k == "lib") {
+        return None;
+    }
+    let name = message["target"]["name"].as_str()?;
+    labs.iter().copied().find(|l| name == format!("lab{l:02}"))
 }
 
 /// The error lines of cargo's output, without its progress lines; at most 60 lines.

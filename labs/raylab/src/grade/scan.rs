@@ -23,6 +23,8 @@ use std::path::{Component, Path, PathBuf};
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
+use framework::grading::DeniedItem;
+
 use super::submission::{MAX_FILE_BYTES, read_regular, shown};
 
 /// Macros that read the file their string literal names.
@@ -99,6 +101,76 @@ pub fn scan_lab(tree: &Path, lab: u32) -> Vec<String> {
         proc_macro2::extra::invalidate_current_thread_spans();
     }
     flags
+}
+
+/// A framework item that answers an exercise, named in a lab's code.
+#[derive(Clone, Debug)]
+pub struct DeniedUse {
+    /// The exercises it answers.
+    pub exercises: &'static [&'static str],
+    /// Where, and what the item computes: `labs/lab02/src/lib.rs:12: \`trace_to_closest\`
+    /// (the closest hit of a ray …)`.
+    pub line: String,
+}
+
+/// Every place in the `.rs` files under `tree/labs/labNN/src` that names one of `items` as an
+/// identifier (in code or a macro body; not in a comment or a string). Run on a lab whose
+/// [`scan_lab`] found nothing, so every file is there and lexes.
+pub fn denied_uses(tree: &Path, lab: u32, items: &'static [DeniedItem]) -> Vec<DeniedUse> {
+    if items.is_empty() {
+        return Vec::new();
+    }
+    let src = PathBuf::from(format!("labs/lab{lab:02}/src"));
+    let root = tree.join(&src);
+    let mut files = Vec::new();
+    rust_files(
+        &root,
+        &src,
+        Path::new(""),
+        1,
+        &mut 0,
+        &mut files,
+        &mut Vec::new(),
+    );
+    let mut uses = Vec::new();
+    for relative in files {
+        let Ok(bytes) = read_regular(&root.join(&relative), MAX_FILE_BYTES) else {
+            continue;
+        };
+        let Ok(tokens) = without_shebang(&String::from_utf8_lossy(&bytes)).parse::<TokenStream>()
+        else {
+            continue;
+        };
+        let file = shown(&src.join(&relative));
+        find_idents(tokens, &mut |ident| {
+            let name = ident.to_string();
+            if let Some(item) = items.iter().find(|i| unraw(&name) == i.name) {
+                uses.push(DeniedUse {
+                    exercises: item.exercises,
+                    line: format!(
+                        "{file}:{}: `{}` (the framework's {}) answers Exercise {}",
+                        ident.span().start().line,
+                        item.name,
+                        item.computes,
+                        item.exercises.join(", ")
+                    ),
+                });
+            }
+        });
+        proc_macro2::extra::invalidate_current_thread_spans();
+    }
+    uses
+}
+
+/// Calls `found` for every identifier in `tokens`, groups included.
+fn find_idents(tokens: TokenStream, found: &mut impl FnMut(&proc_macro2::Ident)) {
+    for token in tokens {
+        match token {
+            TokenTree::Ident(ident) => found(&ident),
+            TokenTree::Group(group) => find_idents(group.stream(), found),
+            _ => {}
+        }
+    }
 }
 
 /// Collects the `.rs` files of `root/relative` (whose entries are `depth` levels below `root`,
@@ -697,5 +769,31 @@ macro_rules! m {
                 r#"labs/lab02/src/shapes/mod.rs:3: include_str!("../../key.rs") names a file outside labs/lab02/src/"#,
             ]
         );
+    }
+
+    #[test]
+    fn denied_items_are_found_in_code_not_in_comments_or_strings() {
+        const ITEMS: &[DeniedItem] = &[DeniedItem {
+            name: "trace_to_closest",
+            exercises: &["2.1"],
+            computes: "the closest hit",
+        }];
+        let tree = Tree::with(&[(
+            "lib.rs",
+            b"// trace_to_closest in a comment\nconst S: &str = \"trace_to_closest\";\nfn f(s: &Scene) { s.r#trace_to_closest(r) }\nmacro_rules! m { () => { x.trace_to_closest(y) } }\n",
+        )]);
+        let uses = denied_uses(&tree.0, 2, ITEMS);
+        let lines: Vec<&str> = uses.iter().map(|u| u.line.as_str()).collect();
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert!(
+            lines[0].starts_with("labs/lab02/src/lib.rs:3: `trace_to_closest`"),
+            "{lines:?}"
+        );
+        assert!(
+            lines[1].starts_with("labs/lab02/src/lib.rs:4: "),
+            "{lines:?}"
+        );
+        assert_eq!(uses[0].exercises, &["2.1"]);
+        assert!(denied_uses(&tree.0, 2, &[]).is_empty());
     }
 }
