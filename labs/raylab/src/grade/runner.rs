@@ -608,4 +608,75 @@ mod tests {
         );
         assert_eq!(text, "error[E0308]: mismatched types");
     }
+
+    /// The student's build does not see the answer key's sources: a lab that includes them
+    /// (past the scan, which would flag it) does not compile, and the checks' build, which
+    /// sees them, links the key. Needs bubblewrap, as `raylab grade` does.
+    #[test]
+    fn the_answer_key_is_out_of_sight_of_the_student_build() {
+        let tree = std::env::temp_dir().join(format!("raylab-hidden-key-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&tree);
+        let write = |path: &str, text: &str| {
+            let path = tree.join(path);
+            fs::create_dir_all(path.parent().unwrap()).unwrap();
+            fs::write(path, text).unwrap();
+        };
+        write(
+            "Cargo.toml",
+            "[workspace]\nresolver = \"3\"\nmembers = [\"reference\", \"lab\"]\n",
+        );
+        let manifest = |name: &str, deps: &str| {
+            format!(
+                "[package]\nname = \"{name}\"\nversion = \"0.1.0\"\nedition = \"2024\"\n\n[lib]\npath = \"src/lib.rs\"\n\n{deps}"
+            )
+        };
+        write("reference/Cargo.toml", &manifest("reference", ""));
+        write(
+            "reference/src/lib.rs",
+            "pub const KEY: &str = \"the answer\";\n",
+        );
+        write(
+            "lab/Cargo.toml",
+            &manifest(
+                "lab",
+                "[dev-dependencies]\nreference = { path = \"../reference\" }\n",
+            ),
+        );
+        write(
+            "lab/src/lib.rs",
+            "pub const STOLEN: &str = include_str!(\"../../reference/src/lib.rs\");\n",
+        );
+        let limits = super::super::sandbox::Limits {
+            memory: 4 << 30,
+            build_memory: 8 << 30,
+            processes: 256,
+            file_size: 64 << 20,
+            cpu_seconds: 300,
+        };
+        let workspace = Workspace {
+            target: tree.join("target"),
+            runs: tree.join("runs"),
+            sandbox: Sandbox::new(false, limits).expect("bubblewrap is installed"),
+            build_timeout: Duration::from_secs(300),
+            tree: tree.clone(),
+        };
+        workspace.prepare().unwrap();
+        let errors = workspace
+            .build_lib("lab")
+            .unwrap()
+            .expect_err("the key's sources were in view of the student's build");
+        assert!(errors.contains("reference/src/lib.rs"), "{errors}");
+
+        write("lab/src/lib.rs", "pub const OWN: u32 = 1;\n");
+        write(
+            "lab/tests/checks.rs",
+            "#[test]\nfn key() { assert_eq!(reference::KEY, \"the answer\"); }\n",
+        );
+        workspace.build_lib("lab").unwrap().expect("the lab builds");
+        let run = workspace
+            .cargo(&["test", "--no-run", "-p", "lab", "--test", "checks"], &[])
+            .unwrap();
+        assert!(run.status.is_some_and(|s| s.success()), "{}", run.text());
+        let _ = fs::remove_dir_all(&tree);
+    }
 }
