@@ -74,8 +74,8 @@ impl Obvhs {
                     ..*ray
                 };
                 prepared
-                    .intersect(&r, v0, v1, v2)
-                    .map_or(f32::INFINITY, |h| h.0)
+                    .distance(&r, v0, v1, v2)
+                    .unwrap_or(f32::INFINITY)
             }
         }
     }
