@@ -165,13 +165,14 @@ pub fn generate_golden(
     let directional: Vec<DirectionalLightInput> = samples(directional_light_strategy(), 32, 25);
     let path = ctx.golden_path(GOLDEN_DIRECTIONAL_LIGHT);
     GoldenFile::record("2.5", &directional, |&(direction, emission, p)| {
-        r.sample_directional_light(
+        let sample = r.sample_directional_light(
             &DirectionalLight {
                 direction,
                 emission,
             },
             p,
-        )
+        );
+        (sample.direction, sample.radiance)
     })
     .save(&path)?;
     written.push(path);
