@@ -30,8 +30,7 @@ pub fn context(lab: u32) -> LabContext {
 /// labs whose slot counts as the answer key: without `lab` among them, the checks judge by
 /// golden cases and properties alone, as in a handout before the lab's solution is released.
 pub fn keyed_context(lab: u32, keys: &[u32]) -> LabContext {
-    let mut ctx =
-        LabContext::new(lab, &lab_dir(lab), reference::pipeline(lab)).with_key_labs(keys);
+    let mut ctx = LabContext::new(lab, &lab_dir(lab), reference::pipeline(lab)).with_key_labs(keys);
     ctx.failure_dir = std::env::temp_dir()
         .join(format!("raylab-tests-{}", std::process::id()))
         .join(format!("lab{lab:02}"));

@@ -32,7 +32,11 @@ fn lab01_without_key() {
         .into_iter()
         .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab01::CameraRays>))
         .collect();
-    variants.push(("the reference", Verdict::Accept, Arc::new(reference::lab01::Lab01)));
+    variants.push((
+        "the reference",
+        Verdict::Accept,
+        Arc::new(reference::lab01::Lab01),
+    ));
     assert_discriminates(judge_in(&keyless(1), &lab01::checks::exercises(), variants));
 }
 
@@ -42,7 +46,11 @@ fn lab02_without_key() {
         .into_iter()
         .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab02::Lab02>))
         .collect();
-    variants.push(("the reference", Verdict::Accept, Arc::new(reference::lab02::Lab02)));
+    variants.push((
+        "the reference",
+        Verdict::Accept,
+        Arc::new(reference::lab02::Lab02),
+    ));
     assert_discriminates(judge_in(&keyless(2), &lab02::checks::exercises(), variants));
 }
 
@@ -52,7 +60,11 @@ fn lab03_without_key() {
         .into_iter()
         .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab03::Shadows>))
         .collect();
-    variants.push(("the reference", Verdict::Accept, Arc::new(reference::lab03::Lab03)));
+    variants.push((
+        "the reference",
+        Verdict::Accept,
+        Arc::new(reference::lab03::Lab03),
+    ));
     assert_discriminates(judge_in(&keyless(3), &lab03::checks::exercises(), variants));
 }
 
@@ -62,7 +74,11 @@ fn lab04_without_key() {
         .into_iter()
         .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab04::Reflection>))
         .collect();
-    variants.push(("the reference", Verdict::Accept, Arc::new(reference::lab04::Lab04)));
+    variants.push((
+        "the reference",
+        Verdict::Accept,
+        Arc::new(reference::lab04::Lab04),
+    ));
     assert_discriminates(judge_in(&keyless(4), &lab04::checks::exercises(), variants));
 }
 
@@ -70,8 +86,18 @@ fn lab04_without_key() {
 fn lab07_without_key() {
     let mut variants: Vec<_> = mutants::lab07::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab07::Antialiasing>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn lab07::Antialiasing>,
+            )
+        })
         .collect();
-    variants.push(("the reference", Verdict::Accept, Arc::new(reference::lab07::Lab07)));
+    variants.push((
+        "the reference",
+        Verdict::Accept,
+        Arc::new(reference::lab07::Lab07),
+    ));
     assert_discriminates(judge_in(&keyless(7), &lab07::checks::exercises(), variants));
 }

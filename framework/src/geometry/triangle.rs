@@ -19,7 +19,12 @@ use crate::math::Ray;
 /// To test one ray against many triangles, prepare it once with [`TriangleRay::new`] and call
 /// [`TriangleRay::intersect`]: the answers are bit for bit the same.
 #[inline(always)]
-pub(crate) fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+pub(crate) fn intersect_triangle(
+    ray: &Ray,
+    v0: Vec3,
+    v1: Vec3,
+    v2: Vec3,
+) -> Option<(f32, f32, f32)> {
     TriangleRay::new(ray).intersect(ray, v0, v1, v2)
 }
 

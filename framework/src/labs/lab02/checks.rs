@@ -544,75 +544,96 @@ fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
 /// Returns the sphere, the origin, the direction, the two roots (the nearer one negative
 /// from inside) and the normals at them (`a` and `b`).
 #[allow(clippy::type_complexity)]
-fn sphere_chord_strategy() -> impl Strategy<Value = (Sphere, Vec3, Vec3, (f32, f32), (Vec3, Vec3))> {
-    (sphere_strategy(), unit_vector(), unit_vector(), 0.1f32..8.0, 0.0f32..1.0).prop_filter_map(
-        "a chord that clearly crosses the sphere",
-        |(sphere, a, b, k, inside)| {
-            let (p1, p2) = (sphere.center + sphere.radius * a, sphere.center + sphere.radius * b);
-            let length = (p2 - p1).length();
-            if length < 0.3 * sphere.radius {
-                return None;
-            }
-            let d = (p2 - p1) / length;
-            if inside < 0.25 {
-                let along = 0.1 + 0.8 * inside / 0.25;
-                let o = p1 + along * length * d;
-                Some((sphere, o, d, (-along * length, (1.0 - along) * length), (a, b)))
-            } else {
-                Some((sphere, p1 - k * d, d, (k, k + length), (a, b)))
-            }
-        },
+fn sphere_chord_strategy() -> impl Strategy<Value = (Sphere, Vec3, Vec3, (f32, f32), (Vec3, Vec3))>
+{
+    (
+        sphere_strategy(),
+        unit_vector(),
+        unit_vector(),
+        0.1f32..8.0,
+        0.0f32..1.0,
     )
+        .prop_filter_map(
+            "a chord that clearly crosses the sphere",
+            |(sphere, a, b, k, inside)| {
+                let (p1, p2) = (
+                    sphere.center + sphere.radius * a,
+                    sphere.center + sphere.radius * b,
+                );
+                let length = (p2 - p1).length();
+                if length < 0.3 * sphere.radius {
+                    return None;
+                }
+                let d = (p2 - p1) / length;
+                if inside < 0.25 {
+                    let along = 0.1 + 0.8 * inside / 0.25;
+                    let o = p1 + along * length * d;
+                    Some((
+                        sphere,
+                        o,
+                        d,
+                        (-along * length, (1.0 - along) * length),
+                        (a, b),
+                    ))
+                } else {
+                    Some((sphere, p1 - k * d, d, (k, k + length), (a, b)))
+                }
+            },
+        )
 }
 
 fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    for_all(300, sphere_chord_strategy(), |(sphere, o, d, (near, far), (a, b))| {
-        let call = |r: &Ray| {
-            format!(
-                "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})",
-                r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius
-            )
-        };
-        let hit = |t: f32| {
-            Some(SurfaceHit {
-                distance: t,
-                normal: if t == near { a } else { b },
-            })
-        };
-        let r = Ray::new(o, d, 0.0, f32::INFINITY);
-        let first = if near >= 0.0 {
-            hit(near)
-        } else if far >= 0.0 {
-            hit(far)
-        } else {
-            None
-        };
-        let what = if near >= 0.0 {
-            "(the near root)"
-        } else {
-            "(the ray starts inside: the far root)"
-        };
-        compare_surface_hit(
-            &format!("{} {what}", call(&r)),
-            s.intersect_sphere(&r, &sphere),
-            first,
-        )?;
-        if near > 0.05 && far - near > 0.1 {
-            let r = Ray::new(o, d, near + 0.01, f32::INFINITY);
+    for_all(
+        300,
+        sphere_chord_strategy(),
+        |(sphere, o, d, (near, far), (a, b))| {
+            let call = |r: &Ray| {
+                format!(
+                    "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})",
+                    r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius
+                )
+            };
+            let hit = |t: f32| {
+                Some(SurfaceHit {
+                    distance: t,
+                    normal: if t == near { a } else { b },
+                })
+            };
+            let r = Ray::new(o, d, 0.0, f32::INFINITY);
+            let first = if near >= 0.0 {
+                hit(near)
+            } else if far >= 0.0 {
+                hit(far)
+            } else {
+                None
+            };
+            let what = if near >= 0.0 {
+                "(the near root)"
+            } else {
+                "(the ray starts inside: the far root)"
+            };
             compare_surface_hit(
-                &format!("{} (tmin is past the near root: the far root)", call(&r)),
+                &format!("{} {what}", call(&r)),
                 s.intersect_sphere(&r, &sphere),
-                hit(far),
+                first,
             )?;
-            let r = Ray::new(o, d, 0.0, near - 0.01);
-            compare_surface_hit(
-                &format!("{} (both roots beyond tmax)", call(&r)),
-                s.intersect_sphere(&r, &sphere),
-                None,
-            )?;
-        }
-        Ok(())
-    })?;
+            if near > 0.05 && far - near > 0.1 {
+                let r = Ray::new(o, d, near + 0.01, f32::INFINITY);
+                compare_surface_hit(
+                    &format!("{} (tmin is past the near root: the far root)", call(&r)),
+                    s.intersect_sphere(&r, &sphere),
+                    hit(far),
+                )?;
+                let r = Ray::new(o, d, 0.0, near - 0.01);
+                compare_surface_hit(
+                    &format!("{} (both roots beyond tmax)", call(&r)),
+                    s.intersect_sphere(&r, &sphere),
+                    None,
+                )?;
+            }
+            Ok(())
+        },
+    )?;
     let golden: GoldenFile<(RayInput, Sphere), Option<SurfaceHit>> = load(ctx, GOLDEN_SPHERE)?;
     for case in &golden.cases {
         let (r, sphere) = &case.input;
@@ -789,7 +810,10 @@ fn exercise_2_5(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             0.0,
         )?;
         compare_f32(
-            &format!("the cosine between the direction of {call} ({}) and the light's", got.direction),
+            &format!(
+                "the cosine between the direction of {call} ({}) and the light's",
+                got.direction
+            ),
             got.direction.dot(direction),
             -1.0,
             1e-4,

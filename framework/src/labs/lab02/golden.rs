@@ -18,7 +18,11 @@ const MARGIN: f64 = 1e-3;
 
 /// `r` with its interval widened (`grow`) or narrowed by the margin.
 fn nudged(r: &RayInput, grow: bool) -> RayInput {
-    let m = if grow { -(MARGIN as f32) } else { MARGIN as f32 };
+    let m = if grow {
+        -(MARGIN as f32)
+    } else {
+        MARGIN as f32
+    };
     let tmax = if r.3 >= f32::MAX {
         r.3
     } else {
@@ -52,7 +56,9 @@ fn not_grazing(r: &RayInput, n: Vec3) -> bool {
 
 fn plane_is_clear(reference: &dyn Lab02, r: &RayInput, p: &Plane) -> bool {
     not_grazing(r, p.normal)
-        && clear_of_limits(r, |ray| reference.intersect_plane(ray, p).map(|h| h.distance))
+        && clear_of_limits(r, |ray| {
+            reference.intersect_plane(ray, p).map(|h| h.distance)
+        })
 }
 
 /// The triangle scaled by `factor` about its centroid.

@@ -1034,7 +1034,8 @@ fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), 
         1e-5,
     )
     .map_err(|e| format!("{e}: the sample points from the position to the light point"))?;
-    let radiance = |p: Vec3, n: Vec3, le: Vec3, pdf: f32| s.area_light_sample(p, q, n, le, pdf).radiance;
+    let radiance =
+        |p: Vec3, n: Vec3, le: Vec3, pdf: f32| s.area_light_sample(p, q, n, le, pdf).radiance;
     let towards = (q - p).normalize();
     if n.dot(towards) >= 0.0 {
         if got.radiance != Vec3::ZERO {

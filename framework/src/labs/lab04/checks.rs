@@ -929,7 +929,8 @@ pub fn refract_is_clear(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
 
 fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
     let key = key(ctx);
-    let key_refract = |(w, n, ei, et): RefractInput| key.as_ref().and_then(|k| k.refract(w, n, ei, et));
+    let key_refract =
+        |(w, n, ei, et): RefractInput| key.as_ref().and_then(|k| k.refract(w, n, ei, et));
     let clear = refract_strategy().prop_filter("not at the critical angle", |&(w, n, ei, et)| {
         refract_is_clear(w, n, ei, et)
     });
@@ -1078,7 +1079,8 @@ fn check_refracted_ray(
 /// into air.
 pub fn side_is_clear(input: &SideInput) -> bool {
     let (w, n, hit_ior, material_ior) = *input;
-    !near_critical(w, n, hit_ior, material_ior, 1e-3) && !near_critical(w, n, material_ior, 1.0, 1e-3)
+    !near_critical(w, n, hit_ior, material_ior, 1e-3)
+        && !near_critical(w, n, material_ior, 1.0, 1e-3)
 }
 
 fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {

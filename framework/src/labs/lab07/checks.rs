@@ -610,7 +610,9 @@ fn check_average(
             1e-5,
             1e-4,
         )
-        .map_err(|e| format!("{e}: the pixel value is the average of the radiance over the jitters")),
+        .map_err(|e| {
+            format!("{e}: the pixel value is the average of the radiance over the jitters")
+        }),
         None => Ok(()),
     }
 }

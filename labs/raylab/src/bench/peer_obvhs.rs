@@ -73,9 +73,7 @@ impl Obvhs {
                     tmax: ob.tmax,
                     ..*ray
                 };
-                prepared
-                    .distance(&r, v0, v1, v2)
-                    .unwrap_or(f32::INFINITY)
+                prepared.distance(&r, v0, v1, v2).unwrap_or(f32::INFINITY)
             }
         }
     }
