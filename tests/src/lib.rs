@@ -20,9 +20,17 @@ pub fn lab_dir(lab: u32) -> PathBuf {
         .join(format!("lab{lab:02}"))
 }
 
-/// The grading context of lab `lab` with the reference for everything else.
+/// The grading context of lab `lab` with the reference for everything else, every slot the
+/// answer key.
 pub fn context(lab: u32) -> LabContext {
-    let mut ctx = LabContext::new(lab, &lab_dir(lab), reference::pipeline(lab));
+    keyed_context(lab, reference::KEYS)
+}
+
+/// The grading context of lab `lab` with the reference for everything else and `keys` as the
+/// labs whose slot counts as the answer key: without `lab` among them, the checks judge by
+/// golden cases and properties alone, as in a handout before the lab's solution is released.
+pub fn keyed_context(lab: u32, keys: &[u32]) -> LabContext {
+    let mut ctx = LabContext::new(lab, &lab_dir(lab), reference::pipeline(lab)).with_key_labs(keys);
     ctx.failure_dir = std::env::temp_dir()
         .join(format!("raylab-tests-{}", std::process::id()))
         .join(format!("lab{lab:02}"));
@@ -49,11 +57,20 @@ pub fn judge<S: ?Sized>(
     exercises: &[Exercise<S>],
     variants: Vec<(&'static str, Verdict, Arc<S>)>,
 ) -> Vec<String> {
-    let ctx = context(lab);
+    judge_in(&context(lab), exercises, variants)
+}
+
+/// [`judge`] in the context `ctx` (with or without the answer key of its lab).
+pub fn judge_in<S: ?Sized>(
+    ctx: &LabContext,
+    exercises: &[Exercise<S>],
+    variants: Vec<(&'static str, Verdict, Arc<S>)>,
+) -> Vec<String> {
+    let lab = ctx.lab;
     let mut problems = Vec::new();
     let (mut wrong, mut rejected) = (0, 0);
     for (name, verdict, subject) in variants {
-        let results = run_all(exercises, &subject, &ctx);
+        let results = run_all(exercises, &subject, ctx);
         match verdict {
             Verdict::Reject(id) => {
                 wrong += 1;

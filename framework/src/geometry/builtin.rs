@@ -7,14 +7,14 @@ use crate::scene::{Plane, Sphere};
 /// The framework's own primitive tests, packaged as a lab02 [`Intersection`] so that
 /// [`Scene::trace_to_closest`](crate::scene::Scene::trace_to_closest) runs at full speed.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct BuiltinIntersection;
+pub(crate) struct BuiltinIntersection;
 
 impl BuiltinIntersection {
     /// The unit normal of the triangle `(v0, v1, v2)` that
     /// [`intersect_triangle`](Intersection::intersect_triangle) reports: `(v1 − v0) × (v2 − v0)`,
     /// normalized.
     #[inline(always)]
-    pub fn triangle_normal(v0: Vec3, v1: Vec3, v2: Vec3) -> Vec3 {
+    pub(crate) fn triangle_normal(v0: Vec3, v1: Vec3, v2: Vec3) -> Vec3 {
         (v1 - v0).cross(v2 - v0).normalize()
     }
 }

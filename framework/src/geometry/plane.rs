@@ -8,7 +8,7 @@ use crate::math::Ray;
 /// `[ray.tmin, ray.tmax]`; `None` when the ray is parallel to the plane (including a ray lying
 /// in it) or the hit is out of range. `normal` need not be unit length.
 #[inline]
-pub fn intersect_plane(ray: &Ray, normal: Vec3, d: f32) -> Option<f32> {
+pub(crate) fn intersect_plane(ray: &Ray, normal: Vec3, d: f32) -> Option<f32> {
     let denom = ray.direction.dot(normal);
     if denom == 0.0 {
         return None;

@@ -13,7 +13,7 @@ use crate::math::Ray;
 /// ray's closest approach to the centre, and the roots without cancellation. Exact for any
 /// direction length; `t` is the Euclidean distance when the direction is unit length.
 #[inline]
-pub fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32) -> Option<f32> {
+pub(crate) fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32) -> Option<f32> {
     let d = ray.direction;
     let f = ray.origin - center;
     let a = d.dot(d);

@@ -19,7 +19,12 @@ use crate::math::Ray;
 /// To test one ray against many triangles, prepare it once with [`TriangleRay::new`] and call
 /// [`TriangleRay::intersect`]: the answers are bit for bit the same.
 #[inline(always)]
-pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+pub(crate) fn intersect_triangle(
+    ray: &Ray,
+    v0: Vec3,
+    v1: Vec3,
+    v2: Vec3,
+) -> Option<(f32, f32, f32)> {
     TriangleRay::new(ray).intersect(ray, v0, v1, v2)
 }
 
@@ -113,10 +118,24 @@ impl TriangleRay {
         }
     }
 
+    /// The distance `t` of the watertight test's hit on `(v0, v1, v2)` for `ray` (same rules
+    /// as for [`intersect`](Self::intersect)), without the barycentrics: what a peer BVH of
+    /// `raylab bench` needs to run the framework's kernel in its own traversal.
+    #[inline(always)]
+    pub fn distance(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<f32> {
+        self.intersect(ray, v0, v1, v2).map(|(t, _, _)| t)
+    }
+
     /// [`intersect_triangle`] for `ray`, which must have the origin and direction this was
     /// prepared for (its `tmin` and `tmax` may differ, a closest-hit search shrinks `tmax`).
     #[inline(always)]
-    pub fn intersect(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+    pub(crate) fn intersect(
+        &self,
+        ray: &Ray,
+        v0: Vec3,
+        v1: Vec3,
+        v2: Vec3,
+    ) -> Option<(f32, f32, f32)> {
         debug_assert_eq!(
             ray.origin.to_array().map(f32::to_bits),
             self.origin.to_array().map(f32::to_bits)

@@ -98,6 +98,9 @@ pub struct LabContext {
     pub failure_dir: PathBuf,
     /// The pipeline for everything that is not this lab (the reference, where present).
     pub base: Pipeline,
+    /// The labs whose slot of `base` is the answer key (`reference::KEYS`); a slot of any other
+    /// lab holds the student's own code (a handout before that lab's solution is released).
+    pub key_labs: Vec<u32>,
 }
 
 impl LabContext {
@@ -113,7 +116,28 @@ impl LabContext {
             lab_dir: lab_dir.to_path_buf(),
             failure_dir: target.join("raylab-failures").join(format!("lab{lab:02}")),
             base,
+            key_labs: Vec::new(),
         }
+    }
+
+    /// This context with `labs` as the labs whose slot of `base` is the answer key (pass
+    /// `reference::KEYS`). Without it no slot counts as the key, and the checks judge by golden
+    /// cases and properties alone.
+    pub fn with_key_labs(mut self, labs: &[u32]) -> Self {
+        self.key_labs = labs.to_vec();
+        self
+    }
+
+    /// Whether `base`'s slot of lab `lab` is the answer key.
+    pub fn has_key(&self, lab: u32) -> bool {
+        self.key_labs.contains(&lab)
+    }
+
+    /// The answer key of this context's lab: `base`, when its slot of the lab is the key. A
+    /// check compares the student's function with the key's on random inputs when it is
+    /// present, and relies on golden cases and properties when it is not.
+    pub fn key(&self) -> Option<&Pipeline> {
+        self.has_key(self.lab).then_some(&self.base)
     }
 
     /// Path of a golden-case file of this lab.

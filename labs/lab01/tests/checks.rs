@@ -23,7 +23,8 @@ fn check(id: &str) {
         1,
         Path::new(env!("CARGO_MANIFEST_DIR")),
         reference::pipeline(1),
-    );
+    )
+    .with_key_labs(reference::KEYS);
     assert_exercise(&checks::exercises(), id, &subject(), &ctx);
 }
 

@@ -33,7 +33,7 @@ fn judge<S: ?Sized>(
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(format!("lab{lab:02}"));
-    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab));
+    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab)).with_key_labs(reference::KEYS);
     exercises
         .iter()
         // A handout has no tests for hidden exercises; the instructor's tree shows them all.

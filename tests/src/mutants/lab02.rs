@@ -265,6 +265,18 @@ pub fn variants() -> Vec<Variant> {
             ..NONE
         },
         Variant {
+            // Every relation of a directional light holds; only its value (golden cases, the
+            // key) is wrong.
+            name: "directional light: emission divided by π",
+            verdict: Verdict::Reject("2.5"),
+            directional: Some(|l, _p| LightSample {
+                direction: -l.direction,
+                distance: f32::INFINITY,
+                radiance: l.emission / std::f32::consts::PI,
+            }),
+            ..NONE
+        },
+        Variant {
             name: "Lambertian: missing 1/π",
             verdict: Verdict::Reject("2.6"),
             lambertian: Some(|rho, n, lights| {

@@ -188,6 +188,22 @@ pub fn variants() -> Vec<Variant> {
             ..NONE
         },
         Variant {
+            // Within the bounds, independent of the order, right for a constant radiance: only
+            // the value itself (golden cases, the key) tells it from the mean.
+            name: "pixel: the midrange (min + max)/2 instead of the mean",
+            verdict: Verdict::Reject("7.2"),
+            pixel: Some(|pixel, jitters, radiance| {
+                let values: Vec<Vec3> = jitters
+                    .iter()
+                    .map(|&j| radiance(pixel.as_vec2() + j))
+                    .collect();
+                let lo = values.iter().fold(Vec3::INFINITY, |a, v| a.min(*v));
+                let hi = values.iter().fold(Vec3::NEG_INFINITY, |a, v| a.max(*v));
+                0.5 * (lo + hi)
+            }),
+            ..NONE
+        },
+        Variant {
             name: "pixel: the first subpixel ray only",
             verdict: Verdict::Reject("7.2"),
             pixel: Some(|pixel, jitters, radiance| radiance(pixel.as_vec2() + jitters[0])),

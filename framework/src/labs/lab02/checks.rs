@@ -26,6 +26,8 @@ pub const GOLDEN_TRIANGLE: &str = "intersect_triangle.json";
 pub const GOLDEN_SPHERE: &str = "intersect_sphere.json";
 /// Golden file of Exercise 2.4.
 pub const GOLDEN_POINT_LIGHT: &str = "sample_point_light.json";
+/// Golden file of Exercise 2.5.
+pub const GOLDEN_DIRECTIONAL_LIGHT: &str = "sample_directional_light.json";
 /// Golden file of Exercise 2.6.
 pub const GOLDEN_LAMBERTIAN: &str = "shade_lambertian.json";
 /// Size and sampling of lab 02's snapshots.
@@ -68,6 +70,8 @@ impl Part {
 
 /// Input of the intersection golden cases: ray origin, direction, tmin, tmax, primitive.
 pub type RayInput = (Vec3, Vec3, f32, f32);
+/// Input of Exercise 2.5: the light's direction, its emission, the shaded point.
+pub type DirectionalLightInput = (Vec3, Vec3, Vec3);
 /// Input of Exercise 2.4: light position, intensity, surface point.
 pub type PointLightInput = (Vec3, Vec3, Vec3);
 /// Input of Exercise 2.6: ρ_d, normal, light samples (direction, radiance).
@@ -534,90 +538,102 @@ fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
     check_part_snapshot(Part::Triangle, s, ctx)
 }
 
-/// The roots of `|o + t·d − c|² = r²` in f64, nearest first (`None` when the ray misses).
-fn sphere_roots(o: Vec3, d: Vec3, sphere: &Sphere) -> Option<(f32, f32)> {
-    let oc = (o - sphere.center).as_dvec3();
-    let d = d.as_dvec3();
-    let a = d.dot(d);
-    let b = oc.dot(d);
-    let c = oc.dot(oc) - (sphere.radius as f64).powi(2);
-    let disc = b * b - a * c;
-    (disc >= 0.0).then(|| {
-        let s = disc.sqrt();
-        (((-b - s) / a) as f32, ((-b + s) / a) as f32)
-    })
+/// A ray along a chord of the sphere, its roots known by construction: the chord runs from
+/// the surface point `c + r·a` to `c + r·b`, and the ray starts on its line, `k` before the
+/// first point (outside) or (one time in four) a fraction of the way along it (inside).
+/// Returns the sphere, the origin, the direction, the two roots (the nearer one negative
+/// from inside) and the normals at them (`a` and `b`).
+#[allow(clippy::type_complexity)]
+fn sphere_chord_strategy() -> impl Strategy<Value = (Sphere, Vec3, Vec3, (f32, f32), (Vec3, Vec3))>
+{
+    (
+        sphere_strategy(),
+        unit_vector(),
+        unit_vector(),
+        0.1f32..8.0,
+        0.0f32..1.0,
+    )
+        .prop_filter_map(
+            "a chord that clearly crosses the sphere",
+            |(sphere, a, b, k, inside)| {
+                let (p1, p2) = (
+                    sphere.center + sphere.radius * a,
+                    sphere.center + sphere.radius * b,
+                );
+                let length = (p2 - p1).length();
+                if length < 0.3 * sphere.radius {
+                    return None;
+                }
+                let d = (p2 - p1) / length;
+                if inside < 0.25 {
+                    let along = 0.1 + 0.8 * inside / 0.25;
+                    let o = p1 + along * length * d;
+                    Some((
+                        sphere,
+                        o,
+                        d,
+                        (-along * length, (1.0 - along) * length),
+                        (a, b),
+                    ))
+                } else {
+                    Some((sphere, p1 - k * d, d, (k, k + length), (a, b)))
+                }
+            },
+        )
 }
 
 fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    let strategy = (sphere_strategy(), point(1.0), point(8.0), 0.0f32..1.0).prop_filter_map(
-        "a ray that clearly crosses the sphere",
-        |(sphere, offset, o, inside)| {
-            // Aim at a point within 0.8 r of the centre, from outside or (1 in 4) from inside.
-            let target = sphere.center + 0.8 * sphere.radius * offset.clamp_length_max(1.0);
-            let o = if inside < 0.25 {
-                sphere.center + 0.5 * sphere.radius * offset
-            } else {
-                o
+    for_all(
+        300,
+        sphere_chord_strategy(),
+        |(sphere, o, d, (near, far), (a, b))| {
+            let call = |r: &Ray| {
+                format!(
+                    "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})",
+                    r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius
+                )
             };
-            let d = (target - o)
-                .try_normalize()
-                .or_else(|| (o - sphere.center).try_normalize())?;
-            let outside = (o - sphere.center).length() > sphere.radius * 1.05;
-            let inside = (o - sphere.center).length() < sphere.radius * 0.95;
-            (outside || inside).then_some((sphere, o, d))
+            let hit = |t: f32| {
+                Some(SurfaceHit {
+                    distance: t,
+                    normal: if t == near { a } else { b },
+                })
+            };
+            let r = Ray::new(o, d, 0.0, f32::INFINITY);
+            let first = if near >= 0.0 {
+                hit(near)
+            } else if far >= 0.0 {
+                hit(far)
+            } else {
+                None
+            };
+            let what = if near >= 0.0 {
+                "(the near root)"
+            } else {
+                "(the ray starts inside: the far root)"
+            };
+            compare_surface_hit(
+                &format!("{} {what}", call(&r)),
+                s.intersect_sphere(&r, &sphere),
+                first,
+            )?;
+            if near > 0.05 && far - near > 0.1 {
+                let r = Ray::new(o, d, near + 0.01, f32::INFINITY);
+                compare_surface_hit(
+                    &format!("{} (tmin is past the near root: the far root)", call(&r)),
+                    s.intersect_sphere(&r, &sphere),
+                    hit(far),
+                )?;
+                let r = Ray::new(o, d, 0.0, near - 0.01);
+                compare_surface_hit(
+                    &format!("{} (both roots beyond tmax)", call(&r)),
+                    s.intersect_sphere(&r, &sphere),
+                    None,
+                )?;
+            }
+            Ok(())
         },
-    );
-    for_all(300, strategy, |(sphere, o, d)| {
-        let call = |r: &Ray| {
-            format!(
-                "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {})",
-                r.origin, r.direction, r.tmin, r.tmax, sphere.center, sphere.radius
-            )
-        };
-        let Some((near, far)) = sphere_roots(o, d, &sphere) else {
-            return Ok(());
-        };
-        let normal_at = |t: f32| (o + t * d - sphere.center) / sphere.radius;
-        let hit = |t: f32| {
-            Some(SurfaceHit {
-                distance: t,
-                normal: normal_at(t),
-            })
-        };
-        let r = Ray::new(o, d, 0.0, f32::INFINITY);
-        let first = if near >= 0.0 {
-            hit(near)
-        } else if far >= 0.0 {
-            hit(far)
-        } else {
-            None
-        };
-        let what = if near >= 0.0 {
-            "(the near root)"
-        } else {
-            "(the ray starts inside: the far root)"
-        };
-        compare_surface_hit(
-            &format!("{} {what}", call(&r)),
-            s.intersect_sphere(&r, &sphere),
-            first,
-        )?;
-        if near > 0.05 && far - near > 0.1 {
-            let r = Ray::new(o, d, near + 0.01, f32::INFINITY);
-            compare_surface_hit(
-                &format!("{} (tmin is past the near root: the far root)", call(&r)),
-                s.intersect_sphere(&r, &sphere),
-                hit(far),
-            )?;
-            let r = Ray::new(o, d, 0.0, near - 0.01);
-            compare_surface_hit(
-                &format!("{} (both roots beyond tmax)", call(&r)),
-                s.intersect_sphere(&r, &sphere),
-                None,
-            )?;
-        }
-        Ok(())
-    })?;
+    )?;
     let golden: GoldenFile<(RayInput, Sphere), Option<SurfaceHit>> = load(ctx, GOLDEN_SPHERE)?;
     for case in &golden.cases {
         let (r, sphere) = &case.input;
@@ -667,7 +683,35 @@ fn compare_light_sample(call: &str, got: LightSample, expected: LightSample) -> 
     )
 }
 
+/// The answer key's lab 02 shading, when the context holds it.
+fn key_shading(ctx: &LabContext) -> Option<Arc<dyn Shading>> {
+    ctx.key().map(|k| k.shading.clone())
+}
+
+/// A light sample's direction is a unit vector, and `position + distance·direction` is the
+/// light (for a point light).
+fn check_points_at(call: &str, got: &LightSample, p: Vec3, light: Vec3) -> Result<(), String> {
+    compare_f32(
+        &format!("the length of the direction of {call}"),
+        got.direction.length(),
+        1.0,
+        1e-4,
+        0.0,
+    )?;
+    compare_vec3(
+        &format!("point + distance·direction of {call}"),
+        p + got.distance * got.direction,
+        light,
+        1e-3,
+        1e-4,
+    )
+    .map_err(|e| {
+        format!("{e}: the sample points from the shaded point to the light, which is distance away")
+    })
+}
+
 fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
+    let key = key_shading(ctx);
     let strategy = (
         point(5.0),
         (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0),
@@ -681,21 +725,38 @@ fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             position,
             intensity: Vec3::new(r, g, b),
         };
+        let call = format!(
+            "sample_point_light(light at {position} of intensity {}, point {p})",
+            light.intensity
+        );
         let got = s.sample_point_light(&light, p);
-        let dist = (position - p).length();
-        let expected = LightSample {
-            direction: (position - p) / dist,
-            distance: dist,
-            radiance: light.intensity / (dist * dist),
-        };
-        compare_light_sample(
-            &format!(
-                "sample_point_light(light at {position} of intensity {}, point {p})",
-                light.intensity
-            ),
-            got,
-            expected,
+        check_points_at(&call, &got, p, position)?;
+        // Twice as far away along the same line, a quarter of the radiance; twice the
+        // intensity, twice the radiance.
+        let far = position + 2.0 * (p - position);
+        compare_vec3(
+            &format!("the radiance of {call} at twice the distance, {far}"),
+            s.sample_point_light(&light, far).radiance,
+            0.25 * got.radiance,
+            1e-6,
+            1e-4,
         )
+        .map_err(|e| format!("{e}: the inverse-square law, radiance ∝ 1/r²"))?;
+        let brighter = PointLight {
+            intensity: 2.0 * light.intensity,
+            ..light
+        };
+        compare_vec3(
+            &format!("the radiance of {call} with twice the intensity"),
+            s.sample_point_light(&brighter, p).radiance,
+            2.0 * got.radiance,
+            1e-6,
+            1e-4,
+        )?;
+        match &key {
+            Some(key) => compare_light_sample(&call, got, key.sample_point_light(&light, p)),
+            None => Ok(()),
+        }
     })?;
     let golden: GoldenFile<PointLightInput, LightSample> = load(ctx, GOLDEN_POINT_LIGHT)?;
     for case in &golden.cases {
@@ -713,34 +774,86 @@ fn exercise_2_4(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
     check_part_snapshot(Part::PointLight, s, ctx)
 }
 
+/// Inputs of Exercise 2.5.
+pub fn directional_light_strategy() -> impl Strategy<Value = DirectionalLightInput> {
+    (
+        unit_vector(),
+        (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0),
+        point(5.0),
+    )
+        .prop_map(|(direction, (r, g, b), p)| (direction, Vec3::new(r, g, b), p))
+}
+
 fn exercise_2_5(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    for_all(
-        300,
-        (
-            unit_vector(),
-            (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0),
-            point(5.0),
-        ),
-        |(direction, (r, g, b), p)| {
-            let light = DirectionalLight {
-                direction,
-                emission: Vec3::new(r, g, b),
-            };
-            let expected = LightSample {
-                direction: -direction,
+    let key = key_shading(ctx);
+    let strategy = (directional_light_strategy(), point(5.0));
+    for_all(300, strategy, |((direction, emission, p), q)| {
+        let light = DirectionalLight {
+            direction,
+            emission,
+        };
+        let call = format!(
+            "sample_directional_light(light along {direction} of emission {emission}, point {p})"
+        );
+        let got = s.sample_directional_light(&light, p);
+        if got.distance != f32::INFINITY {
+            return Err(format!(
+                "the distance of {call} is {}; a directional light is infinitely far away",
+                got.distance
+            ));
+        }
+        compare_f32(
+            &format!("the length of the direction of {call}"),
+            got.direction.length(),
+            1.0,
+            1e-4,
+            0.0,
+        )?;
+        compare_f32(
+            &format!(
+                "the cosine between the direction of {call} ({}) and the light's",
+                got.direction
+            ),
+            got.direction.dot(direction),
+            -1.0,
+            1e-4,
+            0.0,
+        )
+        .map_err(|e| format!("{e}: the sample points back where the light comes from"))?;
+        compare_light_sample(
+            &format!("{call} compared with the same light at the point {q}"),
+            s.sample_directional_light(&light, q),
+            got,
+        )
+        .map_err(|e| format!("{e}: a directional light is the same everywhere"))?;
+        match &key {
+            Some(key) => compare_light_sample(&call, got, key.sample_directional_light(&light, p)),
+            None => Ok(()),
+        }
+    })?;
+    // The golden cases hold the direction and radiance (the distance is infinite, which JSON
+    // cannot hold, and the property above checks it).
+    let golden: GoldenFile<DirectionalLightInput, (Vec3, Vec3)> =
+        load(ctx, GOLDEN_DIRECTIONAL_LIGHT)?;
+    for case in &golden.cases {
+        let (direction, emission, p) = case.input;
+        let light = DirectionalLight {
+            direction,
+            emission,
+        };
+        let (expected_direction, radiance) = case.expected;
+        compare_light_sample(
+            &format!(
+                "sample_directional_light(light along {direction} of emission {emission}, point {p})"
+            ),
+            s.sample_directional_light(&light, p),
+            LightSample {
+                direction: expected_direction,
                 distance: f32::INFINITY,
-                radiance: light.emission,
-            };
-            compare_light_sample(
-                &format!(
-                    "sample_directional_light(light along {direction} of emission {}, point {p})",
-                    light.emission
-                ),
-                s.sample_directional_light(&light, p),
-                expected,
-            )
-        },
-    )?;
+                radiance,
+            },
+        )?;
+    }
     check_part_snapshot(Part::DirectionalLight, s, ctx)
 }
 
@@ -768,15 +881,63 @@ pub fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
 }
 
 fn exercise_2_6(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
-    let pi = std::f32::consts::PI;
+    let key = key_shading(ctx);
     for_all(300, lambertian_strategy(), |(rho, n, lights)| {
         let call = format!("shade_lambertian(ρ_d = {rho}, n = {n}, lights = {lights:?})");
         let got = s.shade_lambertian(rho, n, &samples_of(&lights));
-        let expected: Vec3 = lights
+        let one_by_one: Vec3 = lights
             .iter()
-            .map(|&(w, l)| rho / pi * l * n.dot(w).max(0.0))
+            .map(|l| s.shade_lambertian(rho, n, &samples_of(std::slice::from_ref(l))))
             .sum();
-        compare_vec3(&call, got, expected, 1e-5, 1e-4)
+        compare_vec3(
+            &format!("{call} (the lights shaded one at a time add up to {one_by_one})"),
+            got,
+            one_by_one,
+            1e-5,
+            1e-4,
+        )
+        .map_err(|e| format!("{e}: the reflected radiance is a sum over the lights"))?;
+        compare_vec3(
+            &format!("{call} with half the albedo"),
+            s.shade_lambertian(0.5 * rho, n, &samples_of(&lights)),
+            0.5 * got,
+            1e-5,
+            1e-4,
+        )?;
+        for &(w, l) in &lights {
+            let alone = s.shade_lambertian(rho, n, &samples_of(&[(w, l)]));
+            let cos = n.dot(w);
+            if cos <= 0.0 {
+                if alone.abs().max_element() > 1e-7 {
+                    return Err(format!(
+                        "shade_lambertian(ρ_d = {rho}, n = {n}, one light from {w} of radiance {l}) is {alone}: the light is below the surface (n·ω = {cos:.4} ≤ 0) and must contribute nothing"
+                    ));
+                }
+                continue;
+            }
+            // Lambert's cosine law: the same light from straight above gives alone / cos θ.
+            let above = s.shade_lambertian(rho, n, &samples_of(&[(n, l)]));
+            compare_vec3(
+                &format!(
+                    "shade_lambertian(ρ_d = {rho}, n = {n}, one light from {w} of radiance {l}) (cos θ = {cos:.4}, {above} from straight above)"
+                ),
+                alone,
+                above * cos,
+                1e-5,
+                1e-4,
+            )
+            .map_err(|e| format!("{e}: Lambert's cosine law, reflected radiance ∝ max(0, n·ω)"))?;
+        }
+        match &key {
+            Some(key) => compare_vec3(
+                &call,
+                got,
+                key.shade_lambertian(rho, n, &samples_of(&lights)),
+                1e-5,
+                1e-4,
+            ),
+            None => Ok(()),
+        }
     })?;
     let golden: GoldenFile<LambertianInput, Vec3> = load(ctx, GOLDEN_LAMBERTIAN)?;
     for case in &golden.cases {

@@ -1,7 +1,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use proptest::prelude::*;
 
 use super::Lab02;
@@ -9,59 +9,90 @@ use super::checks::*;
 use crate::Error;
 use crate::grading::{GoldenFile, LabContext};
 use crate::labs::strategies::{point, samples};
-use crate::scene::{Plane, PointLight, Sphere};
+use crate::math::Ray;
+use crate::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Relative margin that keeps golden cases away from decisions two correct implementations may
 /// take differently in floating point (grazing rays, hits on an edge or at tmin/tmax).
 const MARGIN: f64 = 1e-3;
 
-fn clear_of_limits(t: f64, r: &RayInput) -> bool {
-    let scale = 1.0 + t.abs();
-    (t - r.2 as f64).abs() > MARGIN * scale && (t - r.3 as f64).abs() > MARGIN * scale
+/// `r` with its interval widened (`grow`) or narrowed by the margin.
+fn nudged(r: &RayInput, grow: bool) -> RayInput {
+    let m = if grow {
+        -(MARGIN as f32)
+    } else {
+        MARGIN as f32
+    };
+    let tmax = if r.3 >= f32::MAX {
+        r.3
+    } else {
+        r.3 - m * (1.0 + r.3.abs())
+    };
+    (r.0, r.1, r.2 + m * (1.0 + r.2.abs()), tmax)
 }
 
-fn plane_is_clear(r: &RayInput, p: &Plane) -> bool {
-    let (o, d, n) = (r.0.as_dvec3(), r.1.as_dvec3(), p.normal.as_dvec3());
-    let dn = d.dot(n);
-    if dn.abs() < 0.05 {
-        return false;
+/// Whether two answers (the distance of a hit, or a miss) are the same up to the margin.
+fn agree(a: Option<f32>, b: Option<f32>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(x), Some(y)) => ((x - y).abs() as f64) <= MARGIN * (1.0 + x.abs() as f64),
+        _ => false,
     }
-    clear_of_limits(-(o.dot(n) + p.d as f64) / dn, r)
 }
 
-fn triangle_is_clear(r: &RayInput, t: &[Vec3; 3]) -> bool {
-    let (o, d) = (r.0.as_dvec3(), r.1.as_dvec3());
-    let [v0, v1, v2] = t.map(|v| v.as_dvec3());
-    let (e1, e2) = (v1 - v0, v2 - v0);
-    let p = d.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-3 * e1.length() * e2.length() {
-        return false;
-    }
-    let s = o - v0;
-    let beta = s.dot(p) / det;
-    let q = s.cross(e1);
-    let gamma = d.dot(q) / det;
-    let dist = e2.dot(q) / det;
-    [beta, gamma, 1.0 - beta - gamma]
-        .iter()
-        .all(|w| w.abs() > MARGIN)
-        && clear_of_limits(dist, r)
+/// Whether the reference's answer on `r` stays the same with the interval widened and
+/// narrowed: no hit lies near `tmin` or `tmax`.
+fn clear_of_limits(r: &RayInput, answer: impl Fn(&Ray) -> Option<f32>) -> bool {
+    let here = answer(&ray(r));
+    [true, false]
+        .into_iter()
+        .all(|grow| agree(here, answer(&ray(&nudged(r, grow)))))
 }
 
-fn sphere_is_clear(r: &RayInput, s: &Sphere) -> bool {
-    let (o, d) = (r.0.as_dvec3(), r.1.as_dvec3());
-    let oc: DVec3 = o - s.center.as_dvec3();
-    let b = oc.dot(d);
-    let c = oc.dot(oc) - (s.radius as f64).powi(2);
-    let disc = b * b - c;
-    if disc.abs() < 1e-2 * (s.radius as f64).powi(2) {
-        return false;
-    }
-    disc < 0.0 || {
-        let h = disc.sqrt();
-        clear_of_limits(-b - h, r) && clear_of_limits(-b + h, r)
-    }
+/// The ray is not grazing the plane with unit normal `n`.
+fn not_grazing(r: &RayInput, n: Vec3) -> bool {
+    r.1.normalize().dot(n.normalize()).abs() > 0.05
+}
+
+fn plane_is_clear(reference: &dyn Lab02, r: &RayInput, p: &Plane) -> bool {
+    not_grazing(r, p.normal)
+        && clear_of_limits(r, |ray| {
+            reference.intersect_plane(ray, p).map(|h| h.distance)
+        })
+}
+
+/// The triangle scaled by `factor` about its centroid.
+fn scaled(t: &[Vec3; 3], factor: f32) -> [Vec3; 3] {
+    let c = (t[0] + t[1] + t[2]) / 3.0;
+    t.map(|v| c + factor * (v - c))
+}
+
+fn triangle_is_clear(reference: &dyn Lab02, r: &RayInput, t: &[Vec3; 3]) -> bool {
+    let answer = |t: &[Vec3; 3], ray: &Ray| {
+        reference
+            .intersect_triangle(ray, t[0], t[1], t[2])
+            .map(|h| h.distance)
+    };
+    let here = answer(t, &ray(r));
+    // Not near an edge: the answer stays when the triangle grows or shrinks a little.
+    not_grazing(r, (t[1] - t[0]).cross(t[2] - t[0]))
+        && [1.0 + 3.0 * MARGIN as f32, 1.0 - 3.0 * MARGIN as f32]
+            .into_iter()
+            .all(|f| agree(here, answer(&scaled(t, f), &ray(r))))
+        && clear_of_limits(r, |ray| answer(t, ray))
+}
+
+fn sphere_is_clear(reference: &dyn Lab02, r: &RayInput, s: &Sphere) -> bool {
+    let answer = |s: &Sphere, ray: &Ray| reference.intersect_sphere(ray, s).map(|h| h.distance);
+    let here = answer(s, &ray(r));
+    // Not grazing: the answer stays when the radius changes by 1%.
+    [1.01f32, 0.99].into_iter().all(|f| {
+        let other = Sphere {
+            radius: s.radius * f,
+            ..*s
+        };
+        here.is_some() == answer(&other, &ray(r)).is_some()
+    }) && clear_of_limits(r, |ray| answer(s, ray))
 }
 
 /// Writes lab 02's golden cases and snapshots from `reference` into the lab's directory.
@@ -78,7 +109,7 @@ pub fn generate_golden(
         21,
     )
     .into_iter()
-    .filter(|(ray_in, p)| plane_is_clear(ray_in, p))
+    .filter(|(ray_in, p)| plane_is_clear(r, ray_in, p))
     .take(96)
     .collect();
     let path = ctx.golden_path(GOLDEN_PLANE);
@@ -92,7 +123,7 @@ pub fn generate_golden(
         22,
     )
     .into_iter()
-    .filter(|(ri, t)| triangle_is_clear(ri, t))
+    .filter(|(ri, t)| triangle_is_clear(r, ri, t))
     .take(128)
     .collect();
     let path = ctx.golden_path(GOLDEN_TRIANGLE);
@@ -108,7 +139,7 @@ pub fn generate_golden(
         23,
     )
     .into_iter()
-    .filter(|(ri, s)| sphere_is_clear(ri, s))
+    .filter(|(ri, s)| sphere_is_clear(r, ri, s))
     .take(128)
     .collect();
     let path = ctx.golden_path(GOLDEN_SPHERE);
@@ -133,6 +164,21 @@ pub fn generate_golden(
             },
             p,
         )
+    })
+    .save(&path)?;
+    written.push(path);
+
+    let directional: Vec<DirectionalLightInput> = samples(directional_light_strategy(), 32, 25);
+    let path = ctx.golden_path(GOLDEN_DIRECTIONAL_LIGHT);
+    GoldenFile::record("2.5", &directional, |&(direction, emission, p)| {
+        let sample = r.sample_directional_light(
+            &DirectionalLight {
+                direction,
+                emission,
+            },
+            p,
+        );
+        (sample.direction, sample.radiance)
     })
     .save(&path)?;
     written.push(path);

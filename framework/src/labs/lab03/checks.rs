@@ -950,20 +950,6 @@ fn exercise_3_3(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
 // ---------------------------------------------------------------------------------------------
 // Exercise 3.4
 
-/// The area-form estimate of one sample, in f64: `L_e·max(0, −n'·ω)/(r²·p_A)`.
-pub fn expected_area_sample(input: &AreaSampleInput) -> LightSample {
-    let &(p, q, n, le, pdf) = input;
-    let v = (q - p).as_dvec3();
-    let r = v.length();
-    let w = v / r;
-    let cos_light = (-n.as_dvec3().dot(w)).max(0.0);
-    LightSample {
-        direction: w.as_vec3(),
-        distance: r as f32,
-        radiance: (le.as_dvec3() * cos_light / (r * r * pdf as f64)).as_vec3(),
-    }
-}
-
 /// Random inputs of Exercise 3.4.
 pub fn area_sample_strategy() -> impl Strategy<Value = AreaSampleInput> {
     (
@@ -1023,13 +1009,105 @@ fn compare_area_sample(
     .map_err(|e| format!("{e}{hint}"))
 }
 
+/// The relations an area-light sample satisfies whatever its value: it points at the light
+/// point from `r` away; no light leaves the back of the light; and its radiance is linear in
+/// `L_e`, inversely proportional to `p_A` and to `r²` (the position moved back along the
+/// direction), and proportional to `cos θ' = −n'·ω` (the light's normal tilted).
+fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), String> {
+    let &(p, q, n, le, pdf) = input;
+    let call = format!(
+        "area_light_sample(position = {p}, light_point = {q}, light_normal = {n}, emission = {le}, pdf_area = {pdf})"
+    );
+    let got = s.area_light_sample(p, q, n, le, pdf);
+    compare_f32(
+        &format!("the length of the direction of {call}"),
+        got.direction.length(),
+        1.0,
+        1e-5,
+        0.0,
+    )?;
+    compare_vec3(
+        &format!("position + distance·direction of {call} (the light point)"),
+        p + got.distance * got.direction,
+        q,
+        1e-4,
+        1e-5,
+    )
+    .map_err(|e| format!("{e}: the sample points from the position to the light point"))?;
+    let radiance =
+        |p: Vec3, n: Vec3, le: Vec3, pdf: f32| s.area_light_sample(p, q, n, le, pdf).radiance;
+    let towards = (q - p).normalize();
+    if n.dot(towards) >= 0.0 {
+        if got.radiance != Vec3::ZERO {
+            return Err(format!(
+                "the radiance of {call} is {}: the position is behind the light (−n'·ω = {:.4} ≤ 0), and a light emits from its front only",
+                got.radiance,
+                -n.dot(towards)
+            ));
+        }
+        return Ok(());
+    }
+    let related = [
+        (
+            "twice the emission",
+            radiance(p, n, 2.0 * le, pdf),
+            2.0 * got.radiance,
+            "the radiance is linear in L_e",
+        ),
+        (
+            "half the pdf",
+            radiance(p, n, le, 0.5 * pdf),
+            2.0 * got.radiance,
+            "the estimate divides by the density p_A",
+        ),
+        (
+            "the position moved back to twice the distance",
+            radiance(q - 2.0 * (q - p), n, le, pdf),
+            0.25 * got.radiance,
+            "the solid angle of a patch falls as 1/r²",
+        ),
+    ];
+    for (change, value, expected, law) in related {
+        compare_vec3(
+            &format!("the radiance of {call} with {change}"),
+            value,
+            expected,
+            1e-6,
+            1e-3,
+        )
+        .map_err(|e| format!("{e}: {law}"))?;
+    }
+    // Tilt the light's normal towards the position: the radiance grows with cos θ'.
+    let cos = -n.dot(towards);
+    if cos < 0.9 {
+        let facing = -towards;
+        if let Some(tilted) = (n + facing).try_normalize() {
+            let cos_tilted = tilted.dot(facing);
+            compare_vec3(
+                &format!("the radiance of {call} with the light normal tilted to {tilted} (cos θ' from {cos:.4} to {cos_tilted:.4})"),
+                radiance(p, tilted, le, pdf),
+                got.radiance * (cos_tilted / cos),
+                1e-6,
+                1e-3,
+            )
+            .map_err(|e| format!("{e}: the light leaving the patch towards the position falls with cos θ' = −n'·ω"))?;
+        }
+    }
+    Ok(())
+}
+
 fn exercise_3_4(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
+    let key = ctx.key().map(|k| k.shadows.clone());
     for_all(300, area_sample_strategy(), |input| {
+        check_area_relations(s.as_ref(), &input)?;
+        let Some(key) = &key else {
+            return Ok(());
+        };
         let (p, q, n, le, pdf) = input;
         compare_area_sample(
             &input,
             s.area_light_sample(p, q, n, le, pdf),
-            expected_area_sample(&input),
+            key.area_light_sample(p, q, n, le, pdf),
         )
     })?;
     let golden: GoldenFile<AreaSampleInput, LightSample> =

@@ -2,15 +2,16 @@
 //!
 //! Every exercise is checked in three ways: properties of the physics (law of reflection,
 //! Snell's law, total internal reflection exactly past the critical angle, the Phong lobe's
-//! peak and normalization) on random inputs from a fixed seed, the golden cases recorded from
-//! the reference (all but Exercise 4.2, whose properties pin the answer down), and renders of
-//! small scenes with the student's function in its slot and the reference everywhere else.
+//! peak, normalization and additivity) on random inputs from a fixed seed — compared with the
+//! answer key on the same inputs when the key is present ([`LabContext::key`]) — the golden
+//! cases recorded from the reference (all but Exercise 4.2, whose properties pin the answer
+//! down), and renders of small scenes with the student's function in its slot and the base
+//! everywhere else.
 //!
 //! Lab 04's functions draw no random numbers, and the snapshot scenes have only point and
 //! directional lights (the Cornell box's area light is removed, its emission still shows), so
 //! the renders are deterministic and are compared pixel by pixel.
 
-use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -325,29 +326,11 @@ pub fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The expected answers, in f64
-
-/// `ω − 2(ω·n)n`.
-fn mirror(w: DVec3, n: DVec3) -> DVec3 {
-    w - 2.0 * w.dot(n) * n
-}
+// Relations the answers satisfy, in f64
 
 /// `sin θ` of the unit `w` about the unit `n`.
 fn sine(w: DVec3, n: DVec3) -> f64 {
     w.cross(n).length()
-}
-
-/// The refracted direction by the vector form of Snell's law, `None` past the critical angle.
-fn expected_refraction(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Option<DVec3> {
-    let (w, n) = (w.as_dvec3().normalize(), n.as_dvec3().normalize());
-    let eta = eta_i as f64 / eta_t as f64;
-    let cos_i = -w.dot(n);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-    if sin2_t > 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((eta * w + (eta * cos_i - cos_t) * n).normalize())
 }
 
 /// Whether `sin θ_i` is within a relative `margin` of the critical `η_t/η_i`, where two
@@ -357,49 +340,14 @@ fn near_critical(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32, margin: f64) -> bool 
     (s * eta_i as f64 / eta_t as f64 - 1.0).abs() < margin
 }
 
-/// The interface the contract asks for.
-fn expected_interface(w: Vec3, hit: &Hit, material_ior: f32) -> Interface {
-    let n = hit.shading_normal;
-    if w.dot(n) < 0.0 {
-        Interface {
-            normal: n,
-            eta_incident: hit.ior,
-            eta_transmitted: material_ior,
-        }
-    } else {
-        Interface {
-            normal: -n,
-            eta_incident: material_ior,
-            eta_transmitted: 1.0,
-        }
-    }
+/// Whether Snell's law `η₁ sin θ₁ = η₂ sin θ₂` has a solution: `sin θ₁ · η₁/η₂ ≤ 1`.
+fn snell_has_solution(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
+    sine(w.as_dvec3(), n.as_dvec3()) * eta_i as f64 / eta_t as f64 <= 1.0
 }
 
-/// The normalized Phong model.
-fn expected_phong(
-    rho_d: Vec3,
-    rho_s: Vec3,
-    s: f32,
-    n: Vec3,
-    v: Vec3,
-    lights: &[(Vec3, Vec3)],
-) -> Vec3 {
-    let (n, v, s) = (n.as_dvec3(), v.as_dvec3(), s as f64);
-    let diffuse = rho_d.as_dvec3() / PI;
-    let glossy = rho_s.as_dvec3() * (s + 2.0) / (2.0 * PI);
-    lights
-        .iter()
-        .map(|&(w, l)| {
-            let w = w.as_dvec3();
-            let cos = n.dot(w);
-            if cos <= 0.0 {
-                return DVec3::ZERO;
-            }
-            let r = mirror(-w, n);
-            (diffuse + glossy * r.dot(v).max(0.0).powf(s)) * l.as_dvec3() * cos
-        })
-        .sum::<DVec3>()
-        .as_vec3()
+/// The answer key's lab 04 slot, when the context holds it.
+fn key(ctx: &LabContext) -> Option<Arc<dyn Reflection>> {
+    ctx.key().map(|k| k.reflection.clone())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -432,13 +380,14 @@ fn unit(what: &str, v: Vec3) -> Result<(), String> {
     Ok(())
 }
 
-/// Checks a reflected or refracted ray: it starts at the hit point, goes along `direction`,
-/// with a small positive `tmin` and an unbounded `tmax`.
+/// Checks a reflected or refracted ray: it starts at the hit point, goes along a unit
+/// direction (`direction`, where the answer is known), with a small positive `tmin` and an
+/// unbounded `tmax`.
 fn check_secondary_ray(
     call: &str,
     got: &Ray,
     position: Vec3,
-    direction: DVec3,
+    direction: Option<Vec3>,
     what: &str,
     direction_hint: &str,
 ) -> Result<(), String> {
@@ -451,14 +400,16 @@ fn check_secondary_ray(
         ));
     }
     unit(&format!("the direction of {call}"), got.direction)?;
-    compare_vec3(
-        &format!("the direction of {call}"),
-        got.direction,
-        direction.as_vec3(),
-        1e-4,
-        0.0,
-    )
-    .map_err(|e| format!("{e} ({direction_hint})"))?;
+    if let Some(direction) = direction {
+        compare_vec3(
+            &format!("the direction of {call}"),
+            got.direction,
+            direction,
+            1e-4,
+            0.0,
+        )
+        .map_err(|e| format!("{e} ({direction_hint})"))?;
+    }
     if got.tmin.is_nan() || got.tmin <= 0.0 {
         return Err(format!(
             "{call} has tmin = {}: a ray that starts on a surface with tmin = 0 hits that same surface at t ≈ 0 (self-intersection); use a small positive tmin such as RAY_EPSILON = {RAY_EPSILON}",
@@ -509,28 +460,32 @@ fn check_interface(call: &str, got: Interface, expected: Interface) -> Result<()
     .map_err(|e| format!("{e}: η₂ is the index on the other side (material_ior when entering, 1 for air when leaving)"))
 }
 
+/// Checks a refracted direction: `refracts` says whether the ray refracts (Snell's law has a
+/// solution, or the recorded answer is `Some`), `expected` is the known direction, if any (the
+/// key's or a golden case's); the properties of Snell's law are checked either way.
 fn check_refraction(
     call: &str,
     (w, n, eta_i, eta_t): RefractInput,
     got: Option<Vec3>,
-    expected: Option<DVec3>,
+    refracts: bool,
+    expected: Option<Vec3>,
 ) -> Result<(), String> {
     let (wd, nd) = (w.as_dvec3(), n.as_dvec3());
     let sin_i = sine(wd, nd);
     let critical = eta_t as f64 / eta_i as f64;
-    let got = match (got, expected) {
-        (None, None) => return Ok(()),
-        (None, Some(_)) => {
+    let got = match (got, refracts) {
+        (None, false) => return Ok(()),
+        (None, true) => {
             return Err(format!(
                 "{call} returned None (total internal reflection), but sin θ₁ = {sin_i:.5} ≤ η₂/η₁ = {critical:.5}: the ray refracts"
             ));
         }
-        (Some(t), None) => {
+        (Some(t), false) => {
             return Err(format!(
                 "{call} returned Some({t}), but sin θ₁ = {sin_i:.5} > η₂/η₁ = {critical:.5}: past the critical angle there is no refracted ray (total internal reflection); return None"
             ));
         }
-        (Some(t), Some(_)) => t,
+        (Some(t), true) => t,
     };
     let what = format!("the refracted direction of {call}");
     unit(&what, got)?;
@@ -562,8 +517,10 @@ fn check_refraction(
             "{what} is {got}: it bends to the wrong side of the normal (its tangential part opposes ω's)"
         ));
     }
-    let expected = expected.expect("checked above").as_vec3();
-    compare_vec3(&what, got, expected, 1e-4, 0.0)
+    match expected {
+        Some(expected) => compare_vec3(&what, got, expected, 1e-4, 0.0),
+        None => Ok(()),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -786,33 +743,42 @@ fn check_part_snapshots(
 // ---------------------------------------------------------------------------------------------
 // The checks
 
+/// The law of reflection as a relation between `ω`, the unit `n` and the answer `r`: `r` is a
+/// unit vector in the plane of incidence, at the angle of incidence on the other side of the
+/// normal (`r·n = −ω·n`), with the part of `ω` along the surface unchanged.
+fn check_law_of_reflection(call: &str, w: Vec3, n: Vec3, r: Vec3) -> Result<(), String> {
+    unit(call, r)?;
+    let (wd, nd, rd) = (w.as_dvec3(), n.as_dvec3(), r.as_dvec3());
+    if (rd.dot(nd) + wd.dot(nd)).abs() > 1e-4 {
+        return Err(format!(
+            "{call} is {r}: the angle of reflection differs from the angle of incidence (r·n = {:.5}, expected −ω·n = {:.5})",
+            rd.dot(nd),
+            -wd.dot(nd)
+        ));
+    }
+    let out_of_plane = rd.dot(wd.cross(nd));
+    if out_of_plane.abs() > 1e-4 {
+        return Err(format!(
+            "{call} is {r}: not in the plane of incidence of ω and n (r·(ω×n) = {out_of_plane:.5})"
+        ));
+    }
+    let (tangent_w, tangent_r) = (wd - wd.dot(nd) * nd, rd - rd.dot(nd) * nd);
+    if (tangent_w - tangent_r).length() > 1e-4 {
+        return Err(format!(
+            "{call} is {r}: the part of ω along the surface must stay as it is (only the normal part flips); it is {} instead of {}",
+            tangent_r.as_vec3(),
+            tangent_w.as_vec3()
+        ));
+    }
+    Ok(())
+}
+
 fn exercise_4_1(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let key = key(ctx);
     for_all(500, (unit_vector(), unit_vector()), |(w, n)| {
         let call = format!("reflect(ω = {w}, n = {n})");
         let r = s.reflect(w, n);
-        unit(&call, r)?;
-        let (wd, nd, rd) = (w.as_dvec3(), n.as_dvec3(), r.as_dvec3());
-        if (rd.dot(nd) + wd.dot(nd)).abs() > 1e-4 {
-            return Err(format!(
-                "{call} is {r}: the angle of reflection differs from the angle of incidence (r·n = {:.5}, expected −ω·n = {:.5})",
-                rd.dot(nd),
-                -wd.dot(nd)
-            ));
-        }
-        let out_of_plane = rd.dot(wd.cross(nd));
-        if out_of_plane.abs() > 1e-4 {
-            return Err(format!(
-                "{call} is {r}: not in the plane of incidence of ω and n (r·(ω×n) = {out_of_plane:.5})"
-            ));
-        }
-        let (tangent_w, tangent_r) = (wd - wd.dot(nd) * nd, rd - rd.dot(nd) * nd);
-        if (tangent_w - tangent_r).length() > 1e-4 {
-            return Err(format!(
-                "{call} is {r}: the part of ω along the surface must stay as it is (only the normal part flips); it is {} instead of {}",
-                tangent_r.as_vec3(),
-                tangent_w.as_vec3()
-            ));
-        }
+        check_law_of_reflection(&call, w, n, r)?;
         let back = s.reflect(r, n);
         compare_vec3(
             &format!("reflect(reflect(ω, n), n) for ω = {w}, n = {n}"),
@@ -822,7 +788,10 @@ fn exercise_4_1(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             0.0,
         )
         .map_err(|e| format!("{e}: reflecting twice must give ω back"))?;
-        compare_vec3(&call, r, mirror(wd, nd).as_vec3(), 1e-5, 0.0)
+        match &key {
+            Some(key) => compare_vec3(&call, r, key.reflect(w, n), 1e-5, 0.0),
+            None => Ok(()),
+        }
     })?;
     let golden: GoldenFile<ReflectInput, Vec3> = load(ctx, GOLDEN_REFLECT)?;
     for case in &golden.cases {
@@ -865,6 +834,7 @@ fn front_hit_strategy() -> impl Strategy<Value = (Hit, Vec3, f32)> {
 }
 
 fn exercise_4_2(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let key = key(ctx);
     for_all(300, front_hit_strategy(), |(hit, w, distance)| {
         let ray = incoming_ray(hit.position, w, distance);
         let call = format!(
@@ -872,15 +842,16 @@ fn exercise_4_2(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             ray.origin, ray.tmin, ray.tmax, hit.position, hit.shading_normal, hit.geometric_normal
         );
         let got = s.reflected_ray(&ray, &hit);
-        let expected = mirror(w.as_dvec3(), hit.shading_normal.as_dvec3());
-        check_secondary_ray(
-            &call,
-            &got,
-            hit.position,
-            expected,
-            "reflected",
-            "the mirror direction of ω about the shading normal",
+        let hint = "the mirror direction of ω about the shading normal";
+        let expected = key.as_ref().map(|k| k.reflected_ray(&ray, &hit).direction);
+        check_secondary_ray(&call, &got, hit.position, expected, "reflected", hint)?;
+        check_law_of_reflection(
+            &format!("the direction of {call}"),
+            w,
+            hit.shading_normal,
+            got.direction,
         )
+        .map_err(|e| format!("{e} ({hint})"))
     })?;
     check_part_snapshots(Part::ReflectedRay, s, ctx)
 }
@@ -900,15 +871,40 @@ fn side_hit((_, n, hit_ior, _): SideInput) -> Hit {
     hit_at(Vec3::new(0.5, -1.0, 2.0), n, n, hit_ior)
 }
 
+/// What an interface must satisfy whatever the answer: its normal is the shading normal,
+/// possibly flipped, facing the incoming ray, and `η₁` is the index of the medium the ray
+/// travels in (the strategies' `hit.ior`, which is the material's own when the ray leaves).
+fn check_interface_relations(call: &str, input: SideInput, got: Interface) -> Result<(), String> {
+    let (w, n, hit_ior, _) = input;
+    let flips = (got.normal - n).length() > 1e-6 && (got.normal + n).length() > 1e-6;
+    if flips || got.normal.dot(w) > 0.0 || !got.normal.is_finite() {
+        return Err(format!(
+            "the normal of {call} is {}: it must be the shading normal n = {n} or −n, whichever faces the incoming ray (normal·ω ≤ 0; flipped when the ray leaves)",
+            got.normal
+        ));
+    }
+    compare_f32(
+        &format!("η₁ (eta_incident) of {call}"),
+        got.eta_incident,
+        hit_ior,
+        1e-6,
+        0.0,
+    )
+    .map_err(|e| format!("{e}: η₁ is the index of the medium the ray travels in"))
+}
+
 fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let key = key(ctx);
     for_all(400, side_strategy(), |input| {
         let (w, _, _, material_ior) = input;
         let hit = side_hit(input);
-        check_interface(
-            &side_call("interface", input),
-            s.interface(w, &hit, material_ior),
-            expected_interface(w, &hit, material_ior),
-        )
+        let call = side_call("interface", input);
+        let got = s.interface(w, &hit, material_ior);
+        check_interface_relations(&call, input, got)?;
+        match &key {
+            Some(key) => check_interface(&call, got, key.interface(w, &hit, material_ior)),
+            None => Ok(()),
+        }
     })?;
     let golden: GoldenFile<SideInput, Interface> = load(ctx, GOLDEN_INTERFACE)?;
     for case in &golden.cases {
@@ -932,6 +928,9 @@ pub fn refract_is_clear(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
 }
 
 fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let key = key(ctx);
+    let key_refract =
+        |(w, n, ei, et): RefractInput| key.as_ref().and_then(|k| k.refract(w, n, ei, et));
     let clear = refract_strategy().prop_filter("not at the critical angle", |&(w, n, ei, et)| {
         refract_is_clear(w, n, ei, et)
     });
@@ -941,7 +940,8 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             &refract_call(&input),
             input,
             s.refract(w, n, ei, et),
-            expected_refraction(w, n, ei, et),
+            snell_has_solution(w, n, ei, et),
+            key_refract(input),
         )
     })?;
     // Total internal reflection sets in exactly at the critical angle: just below it the ray
@@ -972,7 +972,8 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             ),
             input,
             s.refract(w, n, ei, et),
-            expected_refraction(w, n, ei, et),
+            !above,
+            key_refract(input),
         )
     })?;
     let golden: GoldenFile<RefractInput, Option<Vec3>> = load(ctx, GOLDEN_REFRACT)?;
@@ -982,17 +983,23 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             &refract_call(&case.input),
             case.input,
             s.refract(w, n, ei, et),
-            case.expected.map(|t| t.as_dvec3()),
+            case.expected.is_some(),
+            case.expected,
         )?;
     }
     check_part_snapshots(Part::Refract, s, ctx)
 }
 
+/// Checks `refracted_ray` on `input` arriving from `distance` away. `expected` is the known
+/// answer, if any (the key's or a golden case's: the direction and the index of the medium
+/// entered, `None` for total internal reflection); whatever it is, a refracted ray must start
+/// at the hit, cross to the far side of the surface in the plane of incidence, and obey
+/// Snell's law from the medium the ray travels in (`hit.ior`) into the one it returns.
 fn check_refracted_ray(
     s: &dyn Reflection,
     input: SideInput,
     distance: f32,
-    expected: Option<(DVec3, f32)>,
+    expected: Option<Option<(Vec3, f32)>>,
 ) -> Result<(), String> {
     let (w, n, hit_ior, material_ior) = input;
     let hit = side_hit(input);
@@ -1007,76 +1014,93 @@ fn check_refracted_ray(
         ray.tmin, ray.tmax, hit.position
     );
     let got = s.refracted_ray(&ray, &hit, material_ior);
-    match (got, expected) {
-        (None, None) => Ok(()),
-        (None, Some(_)) => Err(format!(
-            "{call} returned None (total internal reflection), but the ray refracts"
-        )),
-        (Some((r, _)), None) => Err(format!(
-            "{call} returned a ray along {}, but the ray is past the critical angle: total internal reflection, expected None",
-            r.direction
-        )),
-        (Some((r, ior)), Some((direction, eta_t))) => {
-            check_secondary_ray(
-                &call,
-                &r,
-                hit.position,
-                direction,
-                "refracted",
-                "refracted by Snell's law through the normal facing the ray, from η₁ into η₂",
-            )?;
-            compare_f32(
-                &format!("the index of refraction returned by {call}"),
-                ior,
-                eta_t,
-                1e-6,
-                0.0,
-            )
-            .map_err(|e| {
-                format!(
-                    "{e}: the refracted ray travels in the medium it enters (material_ior when entering, 1 when leaving)"
-                )
-            })
+    let hint = "refracted by Snell's law through the normal facing the ray, from η₁ into η₂";
+    let (r, ior) = match (got, expected) {
+        (None, None | Some(None)) => return Ok(()),
+        (None, Some(Some(_))) => {
+            return Err(format!(
+                "{call} returned None (total internal reflection), but the ray refracts"
+            ));
         }
+        (Some((r, _)), Some(None)) => {
+            return Err(format!(
+                "{call} returned a ray along {}, but the ray is past the critical angle: total internal reflection, expected None",
+                r.direction
+            ));
+        }
+        (Some(got), _) => got,
+    };
+    let direction = expected.flatten().map(|(d, _)| d);
+    check_secondary_ray(&call, &r, hit.position, direction, "refracted", hint)?;
+    if let Some((_, eta_t)) = expected.flatten() {
+        compare_f32(
+            &format!("the index of refraction returned by {call}"),
+            ior,
+            eta_t,
+            1e-6,
+            0.0,
+        )
+        .map_err(|e| {
+            format!(
+                "{e}: the refracted ray travels in the medium it enters (material_ior when entering, 1 when leaving)"
+            )
+        })?;
     }
+    let what = format!("the direction of {call}");
+    let (wd, nd, td) = (w.as_dvec3(), n.as_dvec3(), r.direction.as_dvec3());
+    if td.dot(nd) * wd.dot(nd) <= 0.0 {
+        return Err(format!(
+            "{what} is {}, on the incident side of the surface: the refracted ray continues through it",
+            r.direction
+        ));
+    }
+    let out_of_plane = td.dot(wd.cross(nd).normalize_or_zero());
+    if out_of_plane.abs() > 1e-4 {
+        return Err(format!(
+            "{what} is {}: not in the plane of incidence of ω and n (t·(ω×n)/|ω×n| = {out_of_plane:.5})",
+            r.direction
+        ));
+    }
+    let (before, after) = (
+        hit_ior as f64 * sine(wd, nd),
+        ior as f64 * sine(td.normalize(), nd),
+    );
+    if !ior.is_finite() || (before - after).abs() > 2e-4 * ior.abs() as f64 {
+        return Err(format!(
+            "{what} is {} with the index {ior} returned for the medium it enters: Snell's law η₁ sin θ₁ = η₂ sin θ₂ does not hold from the medium the ray travels in (η₁ = hit.ior = {hit_ior}: η₁ sin θ₁ = {before:.5}, η₂ sin θ₂ = {after:.5}) ({hint})",
+            r.direction
+        ));
+    }
+    Ok(())
 }
 
-fn expected_refracted_ray(input: SideInput) -> Option<(DVec3, f32)> {
-    let (w, _, _, material_ior) = input;
-    let side = expected_interface(w, &side_hit(input), material_ior);
-    expected_refraction(w, side.normal, side.eta_incident, side.eta_transmitted)
-        .map(|d| (d, side.eta_transmitted))
-}
-
-/// Whether an input of Exercises 4.3 and 4.5 is clear of the critical angle (0.1%).
+/// Whether an input of Exercises 4.3 and 4.5 is clear of the critical angle (0.1%) of both
+/// interfaces it may be read as: from `hit.ior` into the material, and from the material
+/// into air.
 pub fn side_is_clear(input: &SideInput) -> bool {
-    let (w, _, _, material_ior) = *input;
-    let side = expected_interface(w, &side_hit(*input), material_ior);
-    !near_critical(
-        w,
-        side.normal,
-        side.eta_incident,
-        side.eta_transmitted,
-        1e-3,
-    )
+    let (w, n, hit_ior, material_ior) = *input;
+    !near_critical(w, n, hit_ior, material_ior, 1e-3)
+        && !near_critical(w, n, material_ior, 1.0, 1e-3)
 }
 
 fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
+    let key = key(ctx);
     let strategy = (
         side_strategy().prop_filter("clear of the critical angle", side_is_clear),
         0.5f32..10.0,
     );
     for_all(400, strategy, |(input, distance)| {
-        check_refracted_ray(s.as_ref(), input, distance, expected_refracted_ray(input))
+        let expected = key.as_ref().map(|k| {
+            let (w, _, _, material_ior) = input;
+            let hit = side_hit(input);
+            k.refracted_ray(&incoming_ray(hit.position, w, distance), &hit, material_ior)
+                .map(|(r, ior)| (r.direction, ior))
+        });
+        check_refracted_ray(s.as_ref(), input, distance, expected)
     })?;
     let golden: GoldenFile<SideInput, Option<(Vec3, f32)>> = load(ctx, GOLDEN_REFRACTED_RAY)?;
     for case in &golden.cases {
-        check_refracted_ray(
-            s.as_ref(),
-            case.input,
-            2.0,
-            case.expected.map(|(d, ior)| (d.as_dvec3(), ior)),
-        )?;
+        check_refracted_ray(s.as_ref(), case.input, 2.0, Some(case.expected))?;
     }
     check_part_snapshots(Part::RefractedRay, s, ctx)
 }
@@ -1158,7 +1182,9 @@ fn exercise_4_6(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
                 return Ok(());
             };
             let lights = [(w, l)];
-            let r = mirror(-w.as_dvec3(), n.as_dvec3()).as_vec3();
+            // The view at the light's angle on the other side of the normal: the same normal
+            // part, the opposite tangential part.
+            let r = (n.dot(w) * n - (w - n.dot(w) * n)).normalize();
             let peak = phong(Vec3::ZERO, rho_s, sh, n, r, &lights);
             let expected = rho_s * (sh + 2.0) / (2.0 * std::f32::consts::PI) * l * n.dot(w);
             let call = phong_call(Vec3::ZERO, rho_s, sh, n, r, &lights);
@@ -1187,15 +1213,44 @@ fn exercise_4_6(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             Ok(())
         },
     )?;
-    for_all(400, phong_strategy(), |(rho_d, rho_s, sh, n, v, lights)| {
+    // Lights add up, and so do the diffuse and glossy terms.
+    for_all(300, phong_strategy(), |(rho_d, rho_s, sh, n, v, lights)| {
+        let all = phong(rho_d, rho_s, sh, n, v, &lights);
+        let call = phong_call(rho_d, rho_s, sh, n, v, &lights);
+        let one_by_one: Vec3 = lights
+            .iter()
+            .map(|l| phong(rho_d, rho_s, sh, n, v, std::slice::from_ref(l)))
+            .sum();
         compare_vec3(
-            &phong_call(rho_d, rho_s, sh, n, v, &lights),
-            phong(rho_d, rho_s, sh, n, v, &lights),
-            expected_phong(rho_d, rho_s, sh, n, v, &lights),
+            &format!("{call} (the sum over the lights, each shaded alone, is {one_by_one})"),
+            all,
+            one_by_one,
             1e-5,
             1e-3,
         )
+        .map_err(|e| format!("{e}: the reflected radiance is a sum over the lights"))?;
+        let parts = phong(rho_d, Vec3::ZERO, sh, n, v, &lights)
+            + phong(Vec3::ZERO, rho_s, sh, n, v, &lights);
+        compare_vec3(
+            &format!("{call} (the diffuse part with ρ_s = 0 plus the glossy part with ρ_d = 0 is {parts})"),
+            all,
+            parts,
+            1e-5,
+            1e-3,
+        )
+        .map_err(|e| format!("{e}: the model is ρ_d/π + ρ_s·(s+2)/(2π)·max(0, r·v)^s, a sum of the two lobes"))
     })?;
+    if let Some(key) = key(ctx) {
+        for_all(400, phong_strategy(), |(rho_d, rho_s, sh, n, v, lights)| {
+            compare_vec3(
+                &phong_call(rho_d, rho_s, sh, n, v, &lights),
+                phong(rho_d, rho_s, sh, n, v, &lights),
+                key.shade_phong(rho_d, rho_s, sh, n, v, &samples_of(&lights)),
+                1e-5,
+                1e-3,
+            )
+        })?;
+    }
     let golden: GoldenFile<PhongInput, Vec3> = load(ctx, GOLDEN_PHONG)?;
     for case in &golden.cases {
         let (rho_d, rho_s, sh, n, v, lights) = &case.input;

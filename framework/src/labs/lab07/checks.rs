@@ -520,8 +520,13 @@ fn same_points(a: &[Vec2], b: &[Vec2]) -> bool {
 }
 
 /// `compute_pixel` on `(pixel, jitters)` with [`probe_radiance`]: the raster positions it
-/// traces and its result.
-fn check_average(p: &Arc<dyn Antialiasing>, pixel: UVec2, jitters: &[Vec2]) -> Result<(), String> {
+/// traces, the properties of an average, and (with the answer key, `key`) its result.
+fn check_average(
+    p: &Arc<dyn Antialiasing>,
+    key: Option<&dyn Antialiasing>,
+    pixel: UVec2,
+    jitters: &[Vec2],
+) -> Result<(), String> {
     let call = format!("compute_pixel(pixel = {pixel}, jitters = {jitters:?}, radiance)");
     let mut traced = Vec::new();
     let got = p.compute_pixel(pixel, jitters, &mut |r| {
@@ -555,28 +560,61 @@ fn check_average(p: &Arc<dyn Antialiasing>, pixel: UVec2, jitters: &[Vec2]) -> R
         ));
     }
     let values: Vec<Vec3> = expected_at.iter().map(|&r| probe_radiance(r)).collect();
-    let sum: Vec3 = values.iter().copied().sum();
-    let mean = sum / n as f32;
-    if let Err(message) = compare_vec3(
-        &format!("{call} (radiance is smooth)"),
+    // The average of the values: within their bounds, the same in any order of the jitters,
+    // and the value itself where the radiance is constant.
+    let (lo, hi) = values.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), v| (lo.min(*v), hi.max(*v)),
+    );
+    let slack = Vec3::splat(1e-5) + 1e-4 * hi.abs();
+    if !got.is_finite() || got.cmplt(lo - slack).any() || got.cmpgt(hi + slack).any() {
+        return Err(format!(
+            "{call} is {got}, outside the range [{lo}, {hi}] of the radiance it traced: the pixel value is the average of the radiance over the jitters"
+        ));
+    }
+    let reversed: Vec<Vec2> = jitters.iter().rev().copied().collect();
+    let again = p.compute_pixel(pixel, &reversed, &mut probe_radiance);
+    compare_vec3(
+        &format!("{call} with the jitters in reverse order"),
+        again,
         got,
-        mean,
         1e-5,
         1e-4,
-    ) {
-        let close = |v: Vec3| (got - v).abs().max_element() <= 1e-4 * v.abs().max_element();
-        let hint = if n > 1 && close(sum) {
-            ": that is the sum of the radiances; divide it by the number of jitters"
-        } else if n > 1 && close(sum / (n as f32).sqrt()) {
-            ": that is the sum divided by s = √(number of jitters); there are s² subpixels, divide by s²"
-        } else if n > 1 && close(values[0]) {
-            ": that is the radiance of the first jitter only; average over all of them"
+    )
+    .map_err(|e| format!("{e}: every jitter counts the same, whatever its place in the list"))?;
+    let grey = Vec3::new(0.25, 0.5, 1.0);
+    let flat = p.compute_pixel(pixel, jitters, &mut |_| grey);
+    compare_vec3(
+        &format!("{call} with a constant radiance {grey}"),
+        flat,
+        grey,
+        1e-5,
+        1e-4,
+    )
+    .map_err(|e| {
+        let n = n as f32;
+        let hint = if n > 1.0 && (flat - grey * n).abs().max_element() <= 1e-4 * n {
+            "that is the sum of the radiances; divide it by the number of jitters"
+        } else if n > 1.0 && (flat - grey * n.sqrt()).abs().max_element() <= 1e-4 * n {
+            "that is the sum divided by s = √(number of jitters); there are s² subpixels, divide by s²"
         } else {
-            ": the pixel value is the average of the radiance over the jitters"
+            "the average of a constant is that constant"
         };
-        return Err(format!("{message}{hint}"));
+        format!("{e}: {hint}")
+    })?;
+    match key {
+        Some(key) => compare_vec3(
+            &format!("{call} (radiance is smooth)"),
+            got,
+            key.compute_pixel(pixel, jitters, &mut probe_radiance),
+            1e-5,
+            1e-4,
+        )
+        .map_err(|e| {
+            format!("{e}: the pixel value is the average of the radiance over the jitters")
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The area of the part of the unit square where `n·(q − c) ≥ 0` (the square clipped by the
@@ -656,8 +694,9 @@ fn check_edge(
 }
 
 fn exercise_7_2(p: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<(), String> {
+    let key = ctx.key().map(|k| k.antialiasing.clone());
     for_all(300, pixel_input(), |(pixel, jitters)| {
-        check_average(p, pixel, &jitters)
+        check_average(p, key.as_deref(), pixel, &jitters)
     })?;
     for_all(100, edge_input(), |edge| {
         check_edge(p.as_ref(), ctx.base.antialiasing.as_ref(), edge)

@@ -73,9 +73,7 @@ impl Obvhs {
                     tmax: ob.tmax,
                     ..*ray
                 };
-                prepared
-                    .intersect(&r, v0, v1, v2)
-                    .map_or(f32::INFINITY, |h| h.0)
+                prepared.distance(&r, v0, v1, v2).unwrap_or(f32::INFINITY)
             }
         }
     }
