@@ -49,21 +49,31 @@ const LAB02_DENIED: &[DeniedItem] = &[
     DeniedItem {
         name: "trace_to_closest",
         exercises: &["2.1", "2.2", "2.3"],
-        computes: "the closest hit of a ray with the scene's planes, triangles and spheres",
+        computes: "closest hit of a ray with a scene's planes, triangles and spheres",
     },
     DeniedItem {
         name: "trace_to_any",
         exercises: &["2.1", "2.2", "2.3"],
-        computes: "whether a ray hits any of the scene's planes, triangles and spheres",
+        computes: "test of whether a ray hits any of a scene's planes, triangles and spheres",
     },
     DeniedItem {
         name: "BuiltinIntersection",
         exercises: &["2.1", "2.2", "2.3"],
-        computes: "the framework's own ray-plane, ray-triangle and ray-sphere tests",
+        computes: "own ray-plane, ray-triangle and ray-sphere tests",
+    },
+    DeniedItem {
+        name: "closest_hit_watertight",
+        exercises: &["2.2"],
+        computes: "closest hit of a ray among triangles, by its own watertight test",
+    },
+    DeniedItem {
+        name: "any_hit_watertight",
+        exercises: &["2.2"],
+        computes: "any hit of a ray among triangles, by its own watertight test",
     },
     DeniedItem {
         name: "TriangleRay",
         exercises: &["2.2"],
-        computes: "the framework's own watertight ray-triangle test",
+        computes: "own watertight ray-triangle test",
     },
 ];
