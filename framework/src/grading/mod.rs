@@ -4,6 +4,7 @@
 
 mod denied;
 mod golden;
+pub mod harness;
 mod property;
 mod snapshot;
 mod strata;
@@ -193,31 +194,4 @@ fn unfinished_exercise(message: &str) -> Option<&str> {
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
         .unwrap_or(rest.len());
     Some(rest[..end].trim_end_matches('.'))
-}
-
-/// [`run_exercise`] for a `#[test]`: panics with the failure message.
-///
-/// Under `raylab grade` it instead ends the process with the verdict record
-/// ([`verdict::VerdictChannel`]); the channel is taken before the student's code first runs.
-pub fn assert_exercise<S: ?Sized>(
-    exercises: &[Exercise<S>],
-    id: &str,
-    subject: &Arc<S>,
-    ctx: &LabContext,
-) {
-    let channel = verdict::VerdictChannel::take();
-    let exercise = exercises
-        .iter()
-        .find(|e| e.id == id)
-        .unwrap_or_else(|| panic!("no exercise {id} in lab {}", ctx.lab));
-    let outcome = run_exercise(exercise, subject, ctx);
-    if let Some(channel) = channel {
-        channel.report(id, &outcome);
-    }
-    if let Err(message) = outcome {
-        // Print the message and unwind without the panic hook: the test fails with the message
-        // alone, without a backtrace into the grading library.
-        println!("{message}");
-        std::panic::resume_unwind(Box::new(message));
-    }
 }

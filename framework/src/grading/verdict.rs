@@ -8,7 +8,7 @@
 //!
 //! 1. the grader draws the secret ([`new_secret`]), sets [`CHANNEL_VAR`] and writes the secret
 //!    to the process's standard input, which it then closes;
-//! 2. the harness ([`crate::grading::assert_exercise`]) takes it ([`VerdictChannel::take`])
+//! 2. the harness ([`crate::grading::harness`]) takes it ([`VerdictChannel::take`])
 //!    before any student code has run, so that code later reads only an empty stdin;
 //! 3. when the check has finished, the harness prints one line
 //!    `RAYLAB-VERDICT <secret> <json>` to standard output and ends the process;

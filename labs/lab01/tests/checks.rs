@@ -1,14 +1,14 @@
-//! Lab 01's checks, one test per exercise.
+//! Lab 01's checks: one test per exercise of the table in `framework::labs::lab01::checks`.
 //!
-//! `cargo test -p lab01` checks your code in `src/lib.rs`;
+//! `cargo test -p lab01` checks your code in `src/lib.rs`, `cargo test -p lab01 exercise_1_2`
+//! just Exercise 1.2.
 //! `cargo test -p lab01 --features reference` checks the reference solution instead.
 //! Each exercise is checked with the reference for everything else, so one unfinished
 //! exercise does not fail the others.
 
-use std::path::Path;
 use std::sync::Arc;
 
-use framework::grading::{LabContext, assert_exercise};
+use framework::grading::harness::{self, LabChecks};
 use framework::labs::lab01::{CameraRays, checks};
 
 fn subject() -> Arc<dyn CameraRays> {
@@ -18,42 +18,14 @@ fn subject() -> Arc<dyn CameraRays> {
     return Arc::new(lab01::Student);
 }
 
-fn check(id: &str) {
-    let ctx = LabContext::new(
-        1,
-        Path::new(env!("CARGO_MANIFEST_DIR")),
-        reference::pipeline(1),
-    )
-    .with_key_labs(reference::KEYS);
-    assert_exercise(&checks::exercises(), id, &subject(), &ctx);
-}
-
-#[test]
-fn exercise_1_1_image_plane_coords() {
-    check("1.1");
-}
-
-#[test]
-fn exercise_1_2_camera_basis() {
-    check("1.2");
-}
-
-#[test]
-fn exercise_1_3_field_of_view() {
-    check("1.3");
-}
-
-#[test]
-fn exercise_1_4_ray_direction() {
-    check("1.4");
-}
-
-#[test]
-fn exercise_1_5_camera_ray() {
-    check("1.5");
-}
-
-#[test]
-fn exercise_1_6_camera_image() {
-    check("1.6");
+fn main() {
+    harness::run(LabChecks {
+        lab: 1,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(1),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
 }

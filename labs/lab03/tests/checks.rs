@@ -1,14 +1,14 @@
-//! Lab 03's checks, one test per exercise.
+//! Lab 03's checks: one test per exercise of the table in `framework::labs::lab03::checks`.
 //!
-//! `cargo test -p lab03` checks your code in `src/lib.rs`;
+//! `cargo test -p lab03` checks your code in `src/lib.rs`, `cargo test -p lab03 exercise_3_2`
+//! just Exercise 3.2.
 //! `cargo test -p lab03 --features reference` checks the reference solution instead.
 //! Each exercise is checked with the reference for everything else, so one unfinished
 //! exercise does not fail the others.
 
-use std::path::Path;
 use std::sync::Arc;
 
-use framework::grading::{LabContext, assert_exercise};
+use framework::grading::harness::{self, LabChecks};
 use framework::labs::lab03::{Shadows, checks};
 
 fn subject() -> Arc<dyn Shadows> {
@@ -18,32 +18,14 @@ fn subject() -> Arc<dyn Shadows> {
     return Arc::new(lab03::Student);
 }
 
-fn check(id: &str) {
-    let ctx = LabContext::new(
-        3,
-        Path::new(env!("CARGO_MANIFEST_DIR")),
-        reference::pipeline(3),
-    )
-    .with_key_labs(reference::KEYS);
-    assert_exercise(&checks::exercises(), id, &subject(), &ctx);
-}
-
-#[test]
-fn exercise_3_1_shadow_ray() {
-    check("3.1");
-}
-
-#[test]
-fn exercise_3_2_stratified_samples() {
-    check("3.2");
-}
-
-#[test]
-fn exercise_3_3_sample_triangle() {
-    check("3.3");
-}
-
-#[test]
-fn exercise_3_4_area_light_sample() {
-    check("3.4");
+fn main() {
+    harness::run(LabChecks {
+        lab: 3,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(3),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
 }

@@ -1,14 +1,14 @@
-//! Lab 07's checks, one test per exercise.
+//! Lab 07's checks: one test per exercise of the table in `framework::labs::lab07::checks`.
 //!
-//! `cargo test -p lab07` checks your code in `src/lib.rs`;
+//! `cargo test -p lab07` checks your code in `src/lib.rs`, `cargo test -p lab07 exercise_7_2`
+//! just Exercise 7.2.
 //! `cargo test -p lab07 --features reference` checks the reference solution instead.
 //! Each exercise is checked with the reference for everything else, so one unfinished
 //! exercise does not fail the others.
 
-use std::path::Path;
 use std::sync::Arc;
 
-use framework::grading::{LabContext, assert_exercise};
+use framework::grading::harness::{self, LabChecks};
 use framework::labs::lab07::{Antialiasing, checks};
 
 fn subject() -> Arc<dyn Antialiasing> {
@@ -18,22 +18,14 @@ fn subject() -> Arc<dyn Antialiasing> {
     return Arc::new(lab07::Student);
 }
 
-fn check(id: &str) {
-    let ctx = LabContext::new(
-        7,
-        Path::new(env!("CARGO_MANIFEST_DIR")),
-        reference::pipeline(7),
-    )
-    .with_key_labs(reference::KEYS);
-    assert_exercise(&checks::exercises(), id, &subject(), &ctx);
-}
-
-#[test]
-fn exercise_7_1_compute_jitters() {
-    check("7.1");
-}
-
-#[test]
-fn exercise_7_2_compute_pixel() {
-    check("7.2");
+fn main() {
+    harness::run(LabChecks {
+        lab: 7,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(7),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
 }

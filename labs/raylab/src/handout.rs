@@ -1,14 +1,14 @@
 //! `raylab handout`: the student tree — framework, lab stubs, their checks, golden data and
 //! snapshots, and the solutions of the released labs only. `raylab grade` builds its grading
-//! tree the same way, with the hidden exercises' tests put back.
+//! tree the same way, with the whole answer key (`TreeOptions::answer_key`).
 //!
-//! The tree is this repository with four changes:
+//! The tree is this repository with three changes (hidden exercises need none: their tests
+//! exist only with a lab crate's `hidden-exercises` feature, which grading turns on):
 //! - `reference/` holds only the released labs' solutions; its `pipeline()` — the base every
 //!   check runs an exercise in — takes a released lab's solution and the student's own code for
 //!   the labs not released;
 //! - a lab whose solution is not released loses its `reference` feature (there is nothing to
 //!   switch to);
-//! - the tests of hidden exercises are left out of `labs/labNN/tests/checks.rs`;
 //! - the instructor's parts stay behind: `tests/` (the mutant corpus holds solutions), `.ci/`,
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
 
@@ -18,7 +18,6 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use framework::Error;
-use framework::grading::Visibility;
 
 /// Options of `raylab handout`.
 #[derive(Args, Debug)]
@@ -45,8 +44,6 @@ pub struct TreeOptions {
     /// every lab's checks run on the student's code with the key in every other slot. Its
     /// sources are kept out of sight while student code compiles (`grade::sandbox`).
     pub answer_key: bool,
-    /// Keep the tests of hidden exercises (the grading tree) or leave them out (the handout).
-    pub hidden_tests: bool,
     /// A pre-release tag for the tree's own crates (`0.1.0-TAG`), so that their builds never
     /// share artifacts with another tree's in one target directory: cargo names a path crate's
     /// artifacts by its place in the workspace and its version, so two trees of the same layout
@@ -95,7 +92,6 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
     }
     let options = TreeOptions {
         released: args.release_solutions.iter().copied().collect(),
-        hidden_tests: false,
         answer_key: false,
         version_tag: None,
     };
@@ -202,9 +198,6 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
         if options.answer_key || !options.released.contains(&lab) {
             drop_reference_feature(&dir, lab)?;
         }
-        if !options.hidden_tests {
-            drop_hidden_tests(&dir, lab)?;
-        }
     }
     if options.answer_key {
         copy_dir(&root.join("reference"), &out.join("reference"))
@@ -236,12 +229,15 @@ fn check_releasable(root: &Path, released: &BTreeSet<u32>) -> Result<(), Error> 
 /// Removes the `reference` feature of an unreleased lab from its manifest and its checks.
 fn drop_reference_feature(dir: &Path, lab: u32) -> Result<(), Error> {
     let manifest = dir.join("Cargo.toml");
-    let text = read(&manifest)?;
-    let features = text.find("\n[features]\n").ok_or_else(|| Error::Invalid {
-        what: manifest.display().to_string(),
-        reason: "expected a [features] section with the `reference` feature".into(),
-    })?;
-    write(&manifest, &text[..=features])?;
+    let text = replace_once(
+        &read(&manifest)?,
+        &format!(
+            "# Run this lab's checks on the reference solution instead of src/lib.rs:\n#   cargo test -p lab{lab:02} --features reference\nreference = []\n"
+        ),
+        "",
+        &manifest.display().to_string(),
+    )?;
+    write(&manifest, &text)?;
 
     let checks = dir.join("tests/checks.rs");
     let text = read(&checks)?;
@@ -269,40 +265,6 @@ fn drop_reference_feature(dir: &Path, lab: u32) -> Result<(), Error> {
         "//! Each exercise runs in the pipeline of `reference::pipeline`: the released solutions, and\n//! your own code for the labs whose solutions are not released.\n",
         &place,
     )?;
-    write(&checks, &text)
-}
-
-/// Removes the `#[test]` of every hidden exercise of `lab` from its checks.
-fn drop_hidden_tests(dir: &Path, lab: u32) -> Result<(), Error> {
-    let checks = dir.join("tests/checks.rs");
-    let mut text = read(&checks)?;
-    let infos = framework::labs::exercise_infos(lab).unwrap_or_default();
-    for info in infos.iter().filter(|e| e.visibility == Visibility::Hidden) {
-        let start = text.find(&format!("#[test]\nfn {}", info.test_prefix()));
-        let end = start.and_then(|s| {
-            text[s..]
-                .find(&format!("    check(\"{}\");\n}}\n", info.id))
-                .map(|e| s + e)
-        });
-        let (Some(start), Some(end)) = (start, end) else {
-            return Err(Error::Invalid {
-                what: checks.display().to_string(),
-                reason: format!(
-                    "expected a `#[test] fn {}…() {{ check(\"{}\"); }}` for the hidden Exercise {}",
-                    info.test_prefix(),
-                    info.id,
-                    info.id
-                ),
-            });
-        };
-        let end = end + format!("    check(\"{}\");\n}}\n", info.id).len();
-        let end = if text[end..].starts_with('\n') {
-            end + 1
-        } else {
-            end
-        };
-        text.replace_range(start..end, "");
-    }
     write(&checks, &text)
 }
 

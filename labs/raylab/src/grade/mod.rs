@@ -195,14 +195,12 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
     let released: BTreeSet<u32> = args.release_solutions.iter().copied().collect();
     fs::create_dir_all(&grading).map_err(io(&grading))?;
     let place = fs::canonicalize(&grading).map_err(io(&grading))?;
-    let options = |hidden_tests| TreeOptions {
+    let options = |grading| TreeOptions {
         released: released.clone(),
-        hidden_tests,
-        answer_key: hidden_tests,
+        answer_key: grading,
         // One tag per grading directory: its builds never mix with those of the repository, a
         // handout, or another class's grading in a shared target directory.
-        version_tag: hidden_tests
-            .then(|| format!("grading.{:08x}", fnv1a(&place.to_string_lossy()))),
+        version_tag: grading.then(|| format!("grading.{:08x}", fnv1a(&place.to_string_lossy()))),
     };
     build_tree(&repository_root(), &handout, &options(false))?;
     let make_tree = || -> Result<Manifest, Error> {

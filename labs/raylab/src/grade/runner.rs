@@ -117,6 +117,12 @@ impl Workspace {
             "--test",
             "checks",
         ];
+        let features: Vec<String> = labs
+            .iter()
+            .map(|l| format!("lab{l:02}/{HIDDEN_EXERCISES}"))
+            .collect();
+        let features = features.join(",");
+        args.extend(["--features", &features]);
         let packages: Vec<String> = labs.iter().map(|l| format!("lab{l:02}")).collect();
         for package in &packages {
             args.extend(["-p", package]);
@@ -173,6 +179,9 @@ impl Workspace {
         })
     }
 }
+
+/// The lab crates' feature that makes the hidden exercises tests too.
+const HIDDEN_EXERCISES: &str = "hidden-exercises";
 
 /// The answer key's sources in the grading tree, out of sight while student code compiles.
 const ANSWER_KEY_SOURCES: &str = "reference/src";
