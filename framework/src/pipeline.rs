@@ -10,7 +10,9 @@ use glam::{UVec2, Vec2, Vec3};
 use crate::labs::{lab01, lab02, lab03, lab04, lab07};
 use crate::math::{Hit, Ray};
 use crate::sampling::Rng;
-use crate::scene::{AreaLight, IllumModel, Light, Scene};
+use crate::scene::{
+    AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
+};
 
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -90,7 +92,7 @@ impl Pipeline {
     /// The closest hit along `ray`, through the lab 02 slot.
     pub fn trace_to_closest(&self, scene: &Scene, ray: &Ray) -> Option<Hit> {
         match &self.intersection {
-            Some(isect) => scene.trace_to_closest_with(ray, isect.as_ref()),
+            Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_closest(ray),
         }
     }
@@ -98,7 +100,7 @@ impl Pipeline {
     /// Whether anything blocks `ray`, through the lab 02 slot.
     pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
         match &self.intersection {
-            Some(isect) => scene.trace_to_any_with(ray, isect.as_ref()),
+            Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_any(ray),
         }
     }
@@ -246,9 +248,7 @@ impl Pipeline {
             let face = area.faces[i] as usize;
             let triangle = scene.mesh.triangle(face);
             let point = self.shadows.sample_triangle(triangle, Vec2::new(ux, u.y));
-            let normal = (triangle[1] - triangle[0])
-                .cross(triangle[2] - triangle[0])
-                .normalize();
+            let normal = scene.mesh.face_normal(face);
             let emission = scene.material(scene.mesh.face_materials[face]).emission;
             let mut sample =
                 self.shadows
@@ -256,5 +256,42 @@ impl Pipeline {
             sample.radiance *= weight;
             out.push(sample);
         }
+    }
+}
+
+/// A lab 02 [`Intersection`](lab02::Intersection) as the scene's primitive tests: the adapter
+/// through which the scene queries reach a student's (or the reference's) intersection code.
+struct Lab02Tests<'a>(&'a dyn lab02::Intersection);
+
+impl PrimitiveTests for Lab02Tests<'_> {
+    fn plane(&self, ray: &Ray, plane: &Plane) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_plane(ray, plane)
+            .map(|h| surface_hit(h.distance, h.normal))
+    }
+
+    fn triangle(&self, ray: &Ray, &[v0, v1, v2]: &[Vec3; 3]) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_triangle(ray, v0, v1, v2)
+            .map(|h| PrimitiveHit {
+                t: h.distance,
+                normal: h.normal,
+                barycentrics: Vec2::new(h.beta, h.gamma),
+            })
+    }
+
+    fn sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_sphere(ray, sphere)
+            .map(|h| surface_hit(h.distance, h.normal))
+    }
+}
+
+/// The primitive hit of a plane or sphere (no barycentrics).
+fn surface_hit(t: f32, normal: Vec3) -> PrimitiveHit {
+    PrimitiveHit {
+        t,
+        normal,
+        barycentrics: Vec2::ZERO,
     }
 }
