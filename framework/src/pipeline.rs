@@ -55,6 +55,45 @@ pub struct Pipeline {
     pub max_depth: u32,
 }
 
+/// One slot of a pipeline that a check of one exercise fills: the student's implementation
+/// answers for one part (the function of that exercise), the base's for every other, so that
+/// an unfinished exercise never fails another.
+///
+/// A lab implements its contract for `PartSlot<Part, dyn Contract>` by sending each method to
+/// the implementation [`pick`](Self::pick) gives for the part the method belongs to; its checks
+/// put [`PartSlot::shared`] into the pipeline.
+pub struct PartSlot<P, T: ?Sized> {
+    /// The part the student's code answers for.
+    pub part: P,
+    /// The student's implementation.
+    pub student: Arc<T>,
+    /// The base's implementation (the reference, usually).
+    pub base: Arc<T>,
+}
+
+impl<P: Copy + PartialEq, T: ?Sized> PartSlot<P, T> {
+    /// The slot with `student` for `part` and `base` for the rest, shared as a pipeline holds
+    /// its slots.
+    pub fn shared(part: P, student: &Arc<T>, base: &Arc<T>) -> Arc<Self> {
+        Arc::new(PartSlot {
+            part,
+            student: student.clone(),
+            base: base.clone(),
+        })
+    }
+
+    /// The implementation that answers for `part`: the student's for the slot's part, the
+    /// base's for the others.
+    #[inline]
+    pub fn pick(&self, part: P) -> &T {
+        if part == self.part {
+            &self.student
+        } else {
+            &self.base
+        }
+    }
+}
+
 /// A camera prepared for one render: the basis computed once through the pipeline.
 #[derive(Clone, Copy, Debug)]
 pub struct PreparedCamera {

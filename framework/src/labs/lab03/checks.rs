@@ -31,7 +31,7 @@ use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;
 use crate::labs::strategies::{point, unit_vector};
 use crate::math::{Hit, Ray};
-use crate::pipeline::{Pipeline, View};
+use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
 use crate::scene::{
@@ -121,22 +121,15 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
 // ---------------------------------------------------------------------------------------------
 // The pipeline of one part
 
-struct MixedShadows {
-    shadow_ray: Arc<dyn Shadows>,
-    stratified: Arc<dyn Shadows>,
-    triangle: Arc<dyn Shadows>,
-    area: Arc<dyn Shadows>,
-}
-
-impl Shadows for MixedShadows {
+impl Shadows for PartSlot<Part, dyn Shadows> {
     fn shadow_ray(&self, position: Vec3, light: &LightSample) -> Ray {
-        self.shadow_ray.shadow_ray(position, light)
+        self.pick(Part::ShadowRay).shadow_ray(position, light)
     }
     fn stratified_samples(&self, n: u32, rng: &mut Rng) -> Vec<Vec2> {
-        self.stratified.stratified_samples(n, rng)
+        self.pick(Part::Stratified).stratified_samples(n, rng)
     }
     fn sample_triangle(&self, triangle: [Vec3; 3], u: Vec2) -> Vec3 {
-        self.triangle.sample_triangle(triangle, u)
+        self.pick(Part::Triangle).sample_triangle(triangle, u)
     }
     fn area_light_sample(
         &self,
@@ -146,28 +139,21 @@ impl Shadows for MixedShadows {
         emission: Vec3,
         pdf_area: f32,
     ) -> LightSample {
-        self.area
-            .area_light_sample(position, light_point, light_normal, emission, pdf_area)
+        self.pick(Part::AreaSample).area_light_sample(
+            position,
+            light_point,
+            light_normal,
+            emission,
+            pdf_area,
+        )
     }
 }
 
 /// The lab-3 pipeline with `student` in `part`'s slot and `base` everywhere else, shading
 /// with `n × n` area-light samples.
 pub fn part_pipeline(part: Part, student: &Arc<dyn Shadows>, base: &Pipeline, n: u32) -> Pipeline {
-    let pick = |p: Part| {
-        if p == part {
-            student.clone()
-        } else {
-            base.shadows.clone()
-        }
-    };
     Pipeline {
-        shadows: Arc::new(MixedShadows {
-            shadow_ray: pick(Part::ShadowRay),
-            stratified: pick(Part::Stratified),
-            triangle: pick(Part::Triangle),
-            area: pick(Part::AreaSample),
-        }),
+        shadows: PartSlot::shared(part, student, &base.shadows),
         lab: 3,
         view: View::Shaded,
         area_light_samples: n,

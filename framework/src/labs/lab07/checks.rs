@@ -42,7 +42,7 @@ use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_name, cell_of,
     check_one_per_cell, compare_vec3, for_all,
 };
-use crate::pipeline::{Pipeline, View};
+use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
 use crate::scene::builtin_scene;
@@ -117,14 +117,9 @@ pub enum Part {
     Pixel,
 }
 
-struct PartAntialiasing {
-    jitters: Arc<dyn Antialiasing>,
-    pixel: Arc<dyn Antialiasing>,
-}
-
-impl Antialiasing for PartAntialiasing {
+impl Antialiasing for PartSlot<Part, dyn Antialiasing> {
     fn compute_jitters(&self, subdivisions: u32, rng: &mut Rng) -> Vec<Vec2> {
-        self.jitters.compute_jitters(subdivisions, rng)
+        self.pick(Part::Jitters).compute_jitters(subdivisions, rng)
     }
     fn compute_pixel(
         &self,
@@ -132,19 +127,16 @@ impl Antialiasing for PartAntialiasing {
         jitters: &[Vec2],
         radiance: &mut dyn FnMut(Vec2) -> Vec3,
     ) -> Vec3 {
-        self.pixel.compute_pixel(pixel, jitters, radiance)
+        self.pick(Part::Pixel)
+            .compute_pixel(pixel, jitters, radiance)
     }
 }
 
 /// The pipeline of one part's renders: `student` for that part only, `base` for the rest,
 /// shaded, at lab 7.
 pub fn part_pipeline(part: Part, student: &Arc<dyn Antialiasing>, base: &Pipeline) -> Pipeline {
-    let (jitters, pixel) = match part {
-        Part::Jitters => (student.clone(), base.antialiasing.clone()),
-        Part::Pixel => (base.antialiasing.clone(), student.clone()),
-    };
     Pipeline {
-        antialiasing: Arc::new(PartAntialiasing { jitters, pixel }),
+        antialiasing: PartSlot::shared(part, student, &base.antialiasing),
         lab: 7,
         view: View::Shaded,
         ..base.clone()
