@@ -5,6 +5,7 @@
 mod golden;
 mod property;
 mod snapshot;
+pub mod stats;
 mod strata;
 pub mod verdict;
 
