@@ -305,4 +305,3 @@ fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
     }
     mid
 }
-

@@ -393,7 +393,12 @@ mod tests {
         };
         let reference = RenderStatistics::of(&[film(0.4), film(0.6), film(0.5), film(0.5)]);
         assert_eq!(reference.renders, 4);
-        assert!((reference.mean.pixels[0] - Vec3::splat(0.5)).abs().max_element() < 1e-6);
+        assert!(
+            (reference.mean.pixels[0] - Vec3::splat(0.5))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
         // Variance of 0.4, 0.6, 0.5, 0.5 with n − 1: 0.02/3.
         assert!((reference.variance.pixels[0].x - 0.02 / 3.0).abs() < 1e-6);
         let tol = NoiseTolerance {
@@ -415,6 +420,9 @@ mod tests {
         let report = compare_noisy(&broken, &reference, &tol);
         assert_eq!((report.non_finite, report.outliers), (1, 1));
         assert!(!report.passes(&tol));
-        assert_eq!(z_score_map(&broken, &reference, &tol).pixels[7], Vec3::new(1.0, 0.0, 1.0));
+        assert_eq!(
+            z_score_map(&broken, &reference, &tol).pixels[7],
+            Vec3::new(1.0, 0.0, 1.0)
+        );
     }
 }

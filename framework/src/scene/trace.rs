@@ -95,9 +95,7 @@ impl Scene {
     /// Whether anything lies along `ray` in `[tmin, tmax]` (DTU `RayTracer::trace_to_any`): the
     /// shadow-ray query, which may stop at the first hit it finds.
     pub fn trace_to_any(&self, ray: &Ray) -> bool {
-        self.any_with(ray, &Kernels, |r| {
-            self.triangle_bvh.any_hit_watertight(r)
-        })
+        self.any_with(ray, &Kernels, |r| self.triangle_bvh.any_hit_watertight(r))
     }
 
     /// [`trace_to_closest`](Self::trace_to_closest) with the primitive tests `tests` (a
@@ -255,7 +253,11 @@ mod tests {
                     (target, rng.vec())
                 };
                 // Unbounded rays, and one in four stopping short.
-                let tmax = if k % 4 == 3 { size * rng.next() } else { f32::INFINITY };
+                let tmax = if k % 4 == 3 {
+                    size * rng.next()
+                } else {
+                    f32::INFINITY
+                };
                 let ray = Ray::new(origin, direction.normalize(), 1e-4, tmax);
                 let fast = scene.trace_to_closest(&ray);
                 let one_by_one = scene.trace_to_closest_with(&ray, &Kernels);
@@ -271,7 +273,10 @@ mod tests {
                 );
                 hits += fast.is_some() as u32;
             }
-            assert!(hits > 2000, "{name}: only {hits} hits, the test is too weak");
+            assert!(
+                hits > 2000,
+                "{name}: only {hits} hits, the test is too weak"
+            );
         }
     }
 }

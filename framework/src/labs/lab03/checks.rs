@@ -23,13 +23,13 @@ use proptest::prelude::*;
 
 use super::Shadows;
 use crate::film::{Film, ToneMap, write_png};
-use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
-    check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
-};
 use crate::grading::stats::{
     NoiseTolerance, RenderStatistics, chi_square_p_value, chi_square_uniform, compare_noisy,
     normal_two_sided_quantile, sidak, z_score_map,
+};
+use crate::grading::{
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
+    check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
 };
 use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;

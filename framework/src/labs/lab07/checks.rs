@@ -38,12 +38,12 @@ use proptest::prelude::*;
 
 use super::Antialiasing;
 use crate::film::Film;
+use crate::grading::stats::{
+    chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z,
+};
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_name, cell_of,
     check_one_per_cell, compare_vec3, for_all,
-};
-use crate::grading::stats::{
-    chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z,
 };
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
