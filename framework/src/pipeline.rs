@@ -10,7 +10,9 @@ use glam::{UVec2, Vec2, Vec3};
 use crate::labs::{lab01, lab02, lab03, lab04, lab07};
 use crate::math::{Hit, Ray};
 use crate::sampling::Rng;
-use crate::scene::{AreaLight, IllumModel, Light, Scene};
+use crate::scene::{
+    AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
+};
 
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -53,6 +55,45 @@ pub struct Pipeline {
     pub max_depth: u32,
 }
 
+/// One slot of a pipeline that a check of one exercise fills: the student's implementation
+/// answers for one part (the function of that exercise), the base's for every other, so that
+/// an unfinished exercise never fails another.
+///
+/// A lab implements its contract for `PartSlot<Part, dyn Contract>` by sending each method to
+/// the implementation [`pick`](Self::pick) gives for the part the method belongs to; its checks
+/// put [`PartSlot::shared`] into the pipeline.
+pub struct PartSlot<P, T: ?Sized> {
+    /// The part the student's code answers for.
+    pub part: P,
+    /// The student's implementation.
+    pub student: Arc<T>,
+    /// The base's implementation (the reference, usually).
+    pub base: Arc<T>,
+}
+
+impl<P: Copy + PartialEq, T: ?Sized> PartSlot<P, T> {
+    /// The slot with `student` for `part` and `base` for the rest, shared as a pipeline holds
+    /// its slots.
+    pub fn shared(part: P, student: &Arc<T>, base: &Arc<T>) -> Arc<Self> {
+        Arc::new(PartSlot {
+            part,
+            student: student.clone(),
+            base: base.clone(),
+        })
+    }
+
+    /// The implementation that answers for `part`: the student's for the slot's part, the
+    /// base's for the others.
+    #[inline]
+    pub fn pick(&self, part: P) -> &T {
+        if part == self.part {
+            &self.student
+        } else {
+            &self.base
+        }
+    }
+}
+
 /// A camera prepared for one render: the basis computed once through the pipeline.
 #[derive(Clone, Copy, Debug)]
 pub struct PreparedCamera {
@@ -90,7 +131,7 @@ impl Pipeline {
     /// The closest hit along `ray`, through the lab 02 slot.
     pub fn trace_to_closest(&self, scene: &Scene, ray: &Ray) -> Option<Hit> {
         match &self.intersection {
-            Some(isect) => scene.trace_to_closest_with(ray, isect.as_ref()),
+            Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_closest(ray),
         }
     }
@@ -98,7 +139,7 @@ impl Pipeline {
     /// Whether anything blocks `ray`, through the lab 02 slot.
     pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
         match &self.intersection {
-            Some(isect) => scene.trace_to_any_with(ray, isect.as_ref()),
+            Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_any(ray),
         }
     }
@@ -246,9 +287,7 @@ impl Pipeline {
             let face = area.faces[i] as usize;
             let triangle = scene.mesh.triangle(face);
             let point = self.shadows.sample_triangle(triangle, Vec2::new(ux, u.y));
-            let normal = (triangle[1] - triangle[0])
-                .cross(triangle[2] - triangle[0])
-                .normalize();
+            let normal = scene.mesh.face_normal(face);
             let emission = scene.material(scene.mesh.face_materials[face]).emission;
             let mut sample =
                 self.shadows
@@ -256,5 +295,42 @@ impl Pipeline {
             sample.radiance *= weight;
             out.push(sample);
         }
+    }
+}
+
+/// A lab 02 [`Intersection`](lab02::Intersection) as the scene's primitive tests: the adapter
+/// through which the scene queries reach a student's (or the reference's) intersection code.
+struct Lab02Tests<'a>(&'a dyn lab02::Intersection);
+
+impl PrimitiveTests for Lab02Tests<'_> {
+    fn plane(&self, ray: &Ray, plane: &Plane) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_plane(ray, plane)
+            .map(|h| surface_hit(h.distance, h.normal))
+    }
+
+    fn triangle(&self, ray: &Ray, &[v0, v1, v2]: &[Vec3; 3]) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_triangle(ray, v0, v1, v2)
+            .map(|h| PrimitiveHit {
+                t: h.distance,
+                normal: h.normal,
+                barycentrics: Vec2::new(h.beta, h.gamma),
+            })
+    }
+
+    fn sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_sphere(ray, sphere)
+            .map(|h| surface_hit(h.distance, h.normal))
+    }
+}
+
+/// The primitive hit of a plane or sphere (no barycentrics).
+fn surface_hit(t: f32, normal: Vec3) -> PrimitiveHit {
+    PrimitiveHit {
+        t,
+        normal,
+        barycentrics: Vec2::ZERO,
     }
 }

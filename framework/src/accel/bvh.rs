@@ -1,44 +1,16 @@
-//! A bounding volume hierarchy over primitive bounding boxes: a binary tree built with the
-//! binned surface area heuristic, collapsed into 8-wide nodes that are traversed front to back
-//! with a small stack.
+//! A bounding volume hierarchy over primitive bounding boxes: the binary tree of the SAH
+//! builder (`sah.rs`), collapsed into 8-wide nodes (`wide.rs`) that are traversed front to back
+//! with a small stack and the slab test of `slabs.rs`.
 
 use std::mem::MaybeUninit;
 
-use glam::Vec3;
-
+use super::sah::{self, BinaryTree, Node};
 #[cfg(target_arch = "x86_64")]
 use super::slabs::Avx;
 use super::slabs::{EXIT_SLACK, Portable, SlabTest, Slabs};
 use super::stats::{Counter, TraversalStats};
 use super::wide::{LEAF, MAX_PRIMITIVES, WIDTH, WideNode, collapse, leaf_range};
 use crate::math::{Aabb, Ray};
-
-/// Number of SAH bins per axis.
-const BINS: usize = 16;
-/// Nodes with at most this many primitives always become leaves.
-const MIN_LEAF: usize = 1;
-/// Nodes with more primitives than this are split even when the SAH prefers a leaf.
-const MAX_LEAF: usize = 8;
-/// SAH cost of traversing an interior node (testing its two children): the unit of
-/// [`leaf_cost`].
-const TRAVERSAL_COST: f32 = 1.0;
-/// Below this depth the builder switches from the SAH to balanced median splits, which bounds
-/// the depth by `SAH_MAX_DEPTH + ⌈log₂ n⌉ ≤ 24 + 32 < MAX_DEPTH`.
-const SAH_MAX_DEPTH: usize = 24;
-/// Largest depth of the tree (the builder checks `depth() ≤ MAX_DEPTH`).
-const MAX_DEPTH: usize = 64;
-/// One node of the binary tree the builder makes: 32 bytes.
-///
-/// Nodes are stored depth first: an interior node's first child directly follows it, and
-/// `index` holds its second child. A leaf (`count > 0`) owns `indices[index..index + count]`.
-#[derive(Clone, Copy, Debug)]
-#[repr(C)]
-pub(crate) struct Node {
-    pub min: Vec3,
-    pub index: u32,
-    pub max: Vec3,
-    pub count: u32,
-}
 
 /// A bounding volume hierarchy over a set of primitives given by their bounding boxes.
 ///
@@ -54,16 +26,12 @@ pub struct Bvh {
     nodes: Vec<Node>,
     /// The binary tree collapsed into 8-wide nodes, root first.
     wide: Vec<WideNode>,
-    /// Primitive indices in leaf order ([`HOLE`] between aligned leaves).
+    /// Primitive indices in leaf order ([`HOLE`](sah::HOLE) between aligned leaves).
     indices: Vec<u32>,
     /// Number of primitives.
     len: usize,
     depth: usize,
 }
-
-/// A slot of [`Bvh::leaf_order`] that belongs to no leaf: padding before a leaf whose first
-/// slot is aligned (see `Bvh::build_with_leaf_alignment`).
-pub(crate) const HOLE: u32 = u32::MAX;
 
 impl Bvh {
     /// Builds the hierarchy over primitives with the given bounds (binned SAH, deterministic).
@@ -80,7 +48,7 @@ impl Bvh {
 
     /// [`build`](Self::build) for primitives tested `alignment` at a time: the SAH counts a
     /// leaf's cost in blocks of `alignment`, and every leaf's first slot is a multiple of
-    /// `alignment` (the slots between leaves are [`HOLE`]s).
+    /// `alignment` (the slots between leaves are [`HOLE`](sah::HOLE)s).
     pub(crate) fn build_with_leaf_alignment(bounds: &[Aabb], alignment: usize) -> Bvh {
         let n = bounds.len();
         assert!(
@@ -90,49 +58,11 @@ impl Bvh {
         if n == 0 {
             return Bvh::default();
         }
-        let prims = bounds
-            .iter()
-            .zip(0..)
-            .map(|(&bounds, index)| {
-                let c = bounds.centroid();
-                BuildPrim {
-                    bounds,
-                    // Empty or unbounded boxes have no meaningful centroid; any point will do.
-                    centroid: Vec3::select(c.is_finite_mask(), c, Vec3::ZERO),
-                    index,
-                }
-            })
-            .collect();
-        let mut builder = Builder {
-            block: alignment,
-            prims,
-            nodes: Vec::with_capacity(2 * n),
-            depth: 0,
-        };
-        builder.build_node(0, n, 1);
-        assert!(
-            builder.depth <= MAX_DEPTH,
-            "BVH depth {} exceeds {MAX_DEPTH}",
-            builder.depth
-        );
-        let Builder {
-            block: _,
-            prims,
-            mut nodes,
+        let BinaryTree {
+            nodes,
+            indices,
             depth,
-        } = builder;
-        // Lay the leaves out in slot order again, each starting at a multiple of `alignment`.
-        let mut indices = Vec::with_capacity(n);
-        for leaf in nodes.iter_mut().filter(|node| node.count > 0) {
-            indices.resize(indices.len().next_multiple_of(alignment), HOLE);
-            let first = leaf.index as usize;
-            leaf.index = indices.len() as u32;
-            indices.extend(
-                prims[first..first + leaf.count as usize]
-                    .iter()
-                    .map(|p| p.index),
-            );
-        }
+        } = sah::build(bounds, alignment);
         assert!(
             indices.len() <= MAX_PRIMITIVES,
             "a BVH holds at most {MAX_PRIMITIVES} slots, got {}",
@@ -228,7 +158,7 @@ impl Bvh {
     }
 
     /// The primitive indices in leaf order: the primitive in leaf slot `k` is `leaf_order()[k]`
-    /// ([`HOLE`] for a slot between aligned leaves).
+    /// ([`HOLE`](sah::HOLE) for a slot between aligned leaves).
     pub(crate) fn leaf_order(&self) -> &[u32] {
         &self.indices
     }
@@ -470,207 +400,11 @@ impl Stack {
     }
 }
 
-/// A primitive during the build; the builder reorders these in place.
-#[derive(Clone, Copy)]
-struct BuildPrim {
-    bounds: Aabb,
-    centroid: Vec3,
-    index: u32,
-}
-
-/// Build state: the primitives (reordered into leaf order as the tree is built) and the nodes.
-struct Builder {
-    /// Primitives tested together in a leaf (the SAH's unit of intersection cost).
-    block: usize,
-    prims: Vec<BuildPrim>,
-    nodes: Vec<Node>,
-    depth: usize,
-}
-
-/// One SAH bin: the bounds and number of the primitives whose centroid falls in it.
-#[derive(Clone, Copy)]
-struct Bin {
-    bounds: Aabb,
-    count: usize,
-}
-
-impl Bin {
-    const EMPTY: Bin = Bin {
-        bounds: Aabb::EMPTY,
-        count: 0,
-    };
-}
-
-/// How to split a node's primitive range.
-enum Split {
-    /// Primitives whose centroid's bin along `axis` is below `bin` go left.
-    Sah { axis: usize, bin: usize },
-    /// Object median: the first half of the range (ordered along `axis`) goes left.
-    Median { axis: usize },
-}
-
-impl Builder {
-    /// Builds the subtree over `prims[start..end]` at `depth` (root = 1) and returns the index
-    /// of its root node.
-    fn build_node(&mut self, start: usize, end: usize, depth: usize) -> usize {
-        self.depth = self.depth.max(depth);
-        let prims = &mut self.prims[start..end];
-        let (bounds, centroids) = prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| {
-            (b.union(p.bounds), c.grow(p.centroid))
-        });
-        let node_index = self.nodes.len();
-        self.nodes.push(Node {
-            min: bounds.min,
-            index: start as u32,
-            max: bounds.max,
-            count: prims.len() as u32,
-        });
-        let mid = match choose_split(prims, depth, &bounds, &centroids, self.block) {
-            None => return node_index,
-            Some(Split::Sah { axis, bin }) => {
-                let binning = Binning::new(&centroids, axis);
-                partition(prims, |p| binning.bin(p.centroid) < bin)
-            }
-            Some(Split::Median { axis }) => {
-                let mid = prims.len() / 2;
-                // Ties broken by primitive index: a total order, so the split is deterministic.
-                let key = |p: &BuildPrim| (p.centroid[axis], p.index);
-                prims.select_nth_unstable_by(mid, |a, b| key(a).partial_cmp(&key(b)).unwrap());
-                mid
-            }
-        };
-        debug_assert!(0 < mid && mid < end - start);
-        self.build_node(start, start + mid, depth + 1);
-        let right = self.build_node(start + mid, end, depth + 1);
-        self.nodes[node_index].index = right as u32;
-        self.nodes[node_index].count = 0;
-        node_index
-    }
-}
-
-/// The split for `prims` (with the given bounds and centroid bounds), or `None` for a leaf.
-///
-/// Leaf costs come from [`leaf_cost`].
-fn choose_split(
-    prims: &[BuildPrim],
-    depth: usize,
-    bounds: &Aabb,
-    centroids: &Aabb,
-    block: usize,
-) -> Option<Split> {
-    let count = prims.len();
-    let cost_units = |n: usize| leaf_cost(n, block);
-    if count <= MIN_LEAF {
-        return None;
-    }
-    let extent = centroids.diagonal();
-    let axis = centroids.longest_axis();
-    if depth >= SAH_MAX_DEPTH || extent.max_element() <= 0.0 {
-        // Deep in a degenerate tree, or all centroids identical: nothing for the SAH to
-        // separate, so halve the range if it is too big for a leaf.
-        return (count > MAX_LEAF).then_some(Split::Median { axis });
-    }
-    // Binned SAH over all three axes in one pass; costs are scaled by the parent's area.
-    let binnings = [0, 1, 2].map(|axis| Binning::new(centroids, axis));
-    let mut bins = [[Bin::EMPTY; BINS]; 3];
-    for p in prims {
-        for (axis, binning) in binnings.iter().enumerate() {
-            let bin = &mut bins[axis][binning.bin(p.centroid)];
-            bin.bounds = bin.bounds.union(p.bounds);
-            bin.count += 1;
-        }
-    }
-    let mut best: Option<(f32, usize, usize)> = None;
-    for (axis, bins) in bins.iter().enumerate() {
-        if extent[axis] <= 0.0 {
-            continue;
-        }
-        // right_cost[k]: area × count of bins k.. (the right side of a split before bin k).
-        let mut right_cost = [0.0f32; BINS];
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
-        for k in (1..BINS).rev() {
-            acc = acc.union(bins[k].bounds);
-            n += bins[k].count;
-            right_cost[k] = acc.surface_area() * cost_units(n);
-        }
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
-        for k in 1..BINS {
-            acc = acc.union(bins[k - 1].bounds);
-            n += bins[k - 1].count;
-            if n == 0 || n == count {
-                continue;
-            }
-            let cost = acc.surface_area() * cost_units(n) + right_cost[k];
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, k));
-            }
-        }
-    }
-    let area = bounds.surface_area();
-    match best {
-        Some((cost, axis, bin)) => {
-            let worth_it = TRAVERSAL_COST * area + cost < area * cost_units(count);
-            (count > MAX_LEAF || worth_it).then_some(Split::Sah { axis, bin })
-        }
-        // All centroids in one bin on every axis (tiny extents): split by the median.
-        None => (count > MAX_LEAF).then_some(Split::Median { axis }),
-    }
-}
-
-/// SAH cost of intersecting a leaf of `n` primitives that are tested `block` at a time, in
-/// units of one node visit ([`TRAVERSAL_COST`]).
-///
-/// One at a time, a test costs one unit, so the leaf costs `n`. In blocks (four triangles in
-/// SIMD lanes), a block costs two units plus half a unit per primitive for what still grows
-/// with them (reading the block, accepting hits lane by lane): `2·(⌈n/4⌉ + n/4)`. Of the
-/// models measured on the Cornell box and the bunny (docs/performance.md), counting blocks
-/// alone made leaves too big for the Cornell box's walls, counting primitives alone too small
-/// for the bunny, and a block at one node visit made the tree too shallow.
-fn leaf_cost(n: usize, block: usize) -> f32 {
-    if block == 1 {
-        n as f32
-    } else {
-        2.0 * (n.div_ceil(block) as f32 + n as f32 / block as f32)
-    }
-}
-
-/// Maps centroids to SAH bins along one axis of the centroid bounds.
-struct Binning {
-    axis: usize,
-    min: f32,
-    scale: f32,
-}
-
-impl Binning {
-    fn new(centroids: &Aabb, axis: usize) -> Self {
-        Self {
-            axis,
-            min: centroids.min[axis],
-            scale: BINS as f32 / centroids.diagonal()[axis],
-        }
-    }
-
-    #[inline]
-    fn bin(&self, c: Vec3) -> usize {
-        // `as` saturates (and maps NaN, from a zero extent, to 0): only the top needs clamping.
-        (((c[self.axis] - self.min) * self.scale) as usize).min(BINS - 1)
-    }
-}
-
-/// Moves the items satisfying `left` to the front and returns how many there are.
-fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
-    let mut mid = 0;
-    for i in 0..items.len() {
-        if left(&items[i]) {
-            items.swap(i, mid);
-            mid += 1;
-        }
-    }
-    mid
-}
-
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
+    use super::sah::{HOLE, MAX_DEPTH, MAX_LEAF};
     use super::*;
     use crate::test_rng::Rng;
 
@@ -890,62 +624,6 @@ mod tests {
         }
         let boxes = triangle_bounds(&tris);
         check_against_brute_force(tris.len(), &boxes, 5000, 5, |i, r| hit_triangle(r, tris[i]));
-    }
-
-    #[test]
-    fn slab_test_handles_zero_direction_components() {
-        let node = Node {
-            min: Vec3::ZERO,
-            index: 0,
-            max: Vec3::ONE,
-            count: 1,
-        };
-        let flat = Node {
-            max: Vec3::new(1.0, 1.0, 0.0),
-            ..node
-        };
-        // The box in lane 2 of a wide node, the other lanes empty.
-        let entry = |o: Vec3, d: Vec3, n: &Node| {
-            let mut wide = collapse(&[*n])[0];
-            wide.set_lane(2, n.min, n.max, 0);
-            wide.set_lane(0, Vec3::INFINITY, Vec3::NEG_INFINITY, 0);
-            let slabs = Slabs::new(&Ray::unbounded(o, d, 0.0));
-            let (t, mask) = Portable.entries(&slabs, &wide, 0.0, f32::INFINITY);
-            #[cfg(target_arch = "x86_64")]
-            if let Some(avx) = Avx::detect() {
-                let (t_avx, mask_avx) = avx.entries(&slabs, &wide, 0.0, f32::INFINITY);
-                assert_eq!(mask_avx, mask);
-                assert_eq!(t_avx.map(f32::to_bits), t.map(f32::to_bits));
-            }
-            assert_eq!(mask & !0b100, 0, "empty lanes are never entered");
-            (mask != 0).then_some(t[2])
-        };
-        for d in [
-            Vec3::Z,
-            -Vec3::Z,
-            Vec3::new(0.0, 0.6, 0.8),
-            Vec3::new(-0.0, -0.6, -0.8),
-        ] {
-            // On the min and max faces of a slab the ray runs parallel to: inside.
-            for o in [
-                Vec3::new(0.0, 0.5, 0.5),
-                Vec3::new(1.0, 0.5, 0.5),
-                Vec3::new(0.0, 0.0, 0.5),
-            ] {
-                assert_eq!(entry(o, d, &node), Some(0.0), "{o} {d}");
-            }
-            // Just outside: miss.
-            assert_eq!(entry(Vec3::new(-1e-6, 0.5, 0.5), d, &node), None);
-            assert_eq!(entry(Vec3::new(1.0 + 1e-6, 0.5, 0.5), d, &node), None);
-        }
-        // A flat box, approached from outside within its plane and across it.
-        assert_eq!(entry(Vec3::new(-1.0, 0.5, 0.0), Vec3::X, &flat), Some(1.0));
-        assert_eq!(entry(Vec3::new(0.5, 0.5, 2.0), -Vec3::Z, &flat), Some(2.0));
-        assert_eq!(entry(Vec3::new(-1.0, 0.5, 1e-6), Vec3::X, &flat), None);
-        // From outside along an axis.
-        assert_eq!(entry(Vec3::new(0.5, 0.5, -2.0), Vec3::Z, &node), Some(2.0));
-        assert_eq!(entry(Vec3::new(0.5, 0.5, 3.0), -Vec3::Z, &node), Some(2.0));
-        assert_eq!(entry(Vec3::new(0.5, 0.5, 3.0), Vec3::Z, &node), None);
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! and one over triangles that keeps their vertices in leaf order.
 
 mod bvh;
+mod sah;
 mod slabs;
 mod stats;
 mod triangles;

@@ -250,4 +250,51 @@ mod tests {
             assert_eq!(t_avx.map(f32::to_bits), t.map(f32::to_bits), "{ray:?}");
         }
     }
+
+    #[test]
+    fn slab_test_handles_zero_direction_components() {
+        let unit = (Vec3::ZERO, Vec3::ONE);
+        let flat = (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0));
+        // The box in lane 2 of a wide node, the other lanes empty.
+        let entry = |o: Vec3, d: Vec3, (min, max): &(Vec3, Vec3)| {
+            let mut wide = WideNode::EMPTY;
+            wide.set_lane(2, *min, *max, 0);
+            let slabs = Slabs::new(&Ray::unbounded(o, d, 0.0));
+            let (t, mask) = Portable.entries(&slabs, &wide, 0.0, f32::INFINITY);
+            #[cfg(target_arch = "x86_64")]
+            if let Some(avx) = Avx::detect() {
+                let (t_avx, mask_avx) = avx.entries(&slabs, &wide, 0.0, f32::INFINITY);
+                assert_eq!(mask_avx, mask);
+                assert_eq!(t_avx.map(f32::to_bits), t.map(f32::to_bits));
+            }
+            assert_eq!(mask & !0b100, 0, "empty lanes are never entered");
+            (mask != 0).then_some(t[2])
+        };
+        for d in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.0, 0.6, 0.8),
+            Vec3::new(-0.0, -0.6, -0.8),
+        ] {
+            // On the min and max faces of a slab the ray runs parallel to: inside.
+            for o in [
+                Vec3::new(0.0, 0.5, 0.5),
+                Vec3::new(1.0, 0.5, 0.5),
+                Vec3::new(0.0, 0.0, 0.5),
+            ] {
+                assert_eq!(entry(o, d, &unit), Some(0.0), "{o} {d}");
+            }
+            // Just outside: miss.
+            assert_eq!(entry(Vec3::new(-1e-6, 0.5, 0.5), d, &unit), None);
+            assert_eq!(entry(Vec3::new(1.0 + 1e-6, 0.5, 0.5), d, &unit), None);
+        }
+        // A flat box, approached from outside within its plane and across it.
+        assert_eq!(entry(Vec3::new(-1.0, 0.5, 0.0), Vec3::X, &flat), Some(1.0));
+        assert_eq!(entry(Vec3::new(0.5, 0.5, 2.0), -Vec3::Z, &flat), Some(2.0));
+        assert_eq!(entry(Vec3::new(-1.0, 0.5, 1e-6), Vec3::X, &flat), None);
+        // From outside along an axis.
+        assert_eq!(entry(Vec3::new(0.5, 0.5, -2.0), Vec3::Z, &unit), Some(2.0));
+        assert_eq!(entry(Vec3::new(0.5, 0.5, 3.0), -Vec3::Z, &unit), Some(2.0));
+        assert_eq!(entry(Vec3::new(0.5, 0.5, 3.0), Vec3::Z, &unit), None);
+    }
 }

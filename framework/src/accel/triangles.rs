@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::Bvh;
-use super::bvh::HOLE;
+use super::sah::HOLE;
 use super::stats::{Counter, TraversalStats};
 use crate::geometry::{TriangleBlock, TriangleRay};
 use crate::math::{Aabb, Ray};

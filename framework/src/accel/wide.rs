@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::bvh::Node;
+use super::sah::Node;
 
 /// Children per wide node.
 pub(crate) const WIDTH: usize = 8;

@@ -7,6 +7,7 @@ mod golden;
 pub mod harness;
 mod property;
 mod snapshot;
+pub mod stats;
 mod strata;
 pub mod verdict;
 

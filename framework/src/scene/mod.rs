@@ -20,6 +20,7 @@ pub use material::{IllumModel, Material, MaterialId};
 pub use obj::{ObjData, load_obj, load_obj_str};
 pub use shapes::{Mesh, Plane, Sphere};
 pub use texture::Texture;
+pub use trace::{PrimitiveHit, PrimitiveTests};
 
 use glam::Vec3;
 

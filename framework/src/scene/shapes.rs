@@ -98,6 +98,12 @@ impl Mesh {
         ]
     }
 
+    /// The unit geometric normal of face `f` (see [`triangle_normal`]).
+    #[inline(always)]
+    pub fn face_normal(&self, f: usize) -> Vec3 {
+        triangle_normal(self.triangle(f))
+    }
+
     /// Appends `other`, renumbering its vertices.
     pub fn append(&mut self, other: &Mesh) {
         let base = self.positions.len() as u32;
@@ -131,4 +137,11 @@ impl Mesh {
             .extend(other.faces.iter().map(|f| f.map(|i| i + base)));
         self.face_materials.extend_from_slice(&other.face_materials);
     }
+}
+
+/// The unit normal `(v1 − v0) × (v2 − v0)`, normalized, of the triangle `[v0, v1, v2]`: counter-
+/// clockwise vertices seen from the side it points to.
+#[inline(always)]
+pub(super) fn triangle_normal([v0, v1, v2]: [Vec3; 3]) -> Vec3 {
+    (v1 - v0).cross(v2 - v0).normalize()
 }

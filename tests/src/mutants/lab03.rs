@@ -346,6 +346,7 @@ pub fn variants() -> Vec<Variant> {
 mod tests {
     use std::sync::Arc;
 
+    use framework::grading::stats::compare_noisy;
     use framework::labs::lab03::checks::{self, Part};
 
     use super::*;
@@ -387,7 +388,7 @@ mod tests {
                 let pipeline =
                     checks::part_pipeline(part, &s, &ctx.base, checks::SNAPSHOT_LIGHT_SAMPLES);
                 let student = checks::area_statistics(&pipeline, checks::STUDENT_SEEDS).unwrap();
-                let report = checks::compare_noisy(&student, &reference, &tol);
+                let report = compare_noisy(&student, &reference, &tol);
                 match v.verdict {
                     Verdict::Accept => assert!(
                         report.passes(&tol),

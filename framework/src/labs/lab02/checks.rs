@@ -14,7 +14,7 @@ use crate::grading::{
 };
 use crate::labs::strategies::{point, unit_vector};
 use crate::math::Ray;
-use crate::pipeline::{Pipeline, View};
+use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::scene::{DirectionalLight, MaterialId, Plane, PointLight, Sphere, builtin_scene};
 
@@ -261,43 +261,36 @@ where
 // ---------------------------------------------------------------------------------------------
 // Snapshots
 
-struct MixedIntersection {
-    plane: Arc<dyn Intersection>,
-    triangle: Arc<dyn Intersection>,
-    sphere: Arc<dyn Intersection>,
-}
-
-impl Intersection for MixedIntersection {
+impl Intersection for PartSlot<Part, dyn Intersection> {
     fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {
-        self.plane.intersect_plane(ray, plane)
+        self.pick(Part::Plane).intersect_plane(ray, plane)
     }
     fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit> {
-        self.triangle.intersect_triangle(ray, v0, v1, v2)
+        self.pick(Part::Triangle)
+            .intersect_triangle(ray, v0, v1, v2)
     }
     fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit> {
-        self.sphere.intersect_sphere(ray, sphere)
+        self.pick(Part::Sphere).intersect_sphere(ray, sphere)
     }
 }
 
-struct MixedShading {
-    point: Arc<dyn Shading>,
-    directional: Arc<dyn Shading>,
-    lambertian: Arc<dyn Shading>,
-}
-
-impl Shading for MixedShading {
+impl Shading for PartSlot<Part, dyn Shading> {
     fn sample_point_light(&self, light: &PointLight, position: Vec3) -> LightSample {
-        self.point.sample_point_light(light, position)
+        self.pick(Part::PointLight)
+            .sample_point_light(light, position)
     }
     fn sample_directional_light(&self, light: &DirectionalLight, position: Vec3) -> LightSample {
-        self.directional.sample_directional_light(light, position)
+        self.pick(Part::DirectionalLight)
+            .sample_directional_light(light, position)
     }
     fn shade_lambertian(&self, rho_d: Vec3, normal: Vec3, lights: &[LightSample]) -> Vec3 {
-        self.lambertian.shade_lambertian(rho_d, normal, lights)
+        self.pick(Part::Lambertian)
+            .shade_lambertian(rho_d, normal, lights)
     }
 }
 
-/// The pipeline of one part's snapshot: `student` for that part only, `base` for the rest.
+/// The pipeline of one part's snapshot: `student` for that part only, `base` for the rest
+/// (the framework's kernels where the base has no intersection code of its own).
 pub fn part_pipeline(
     part: Part,
     student: &Arc<dyn Lab02>,
@@ -310,31 +303,10 @@ pub fn part_pipeline(
         .intersection
         .clone()
         .unwrap_or_else(|| Arc::new(BuiltinIntersection));
-    let pick_i = |p: Part| {
-        if p == part {
-            isect.clone()
-        } else {
-            base_isect.clone()
-        }
-    };
-    let pick_s = |p: Part| {
-        if p == part {
-            shade.clone()
-        } else {
-            base.shading.clone()
-        }
-    };
+    let intersection: Arc<dyn Intersection> = PartSlot::shared(part, &isect, &base_isect);
     Pipeline {
-        intersection: Some(Arc::new(MixedIntersection {
-            plane: pick_i(Part::Plane),
-            triangle: pick_i(Part::Triangle),
-            sphere: pick_i(Part::Sphere),
-        })),
-        shading: Arc::new(MixedShading {
-            point: pick_s(Part::PointLight),
-            directional: pick_s(Part::DirectionalLight),
-            lambertian: pick_s(Part::Lambertian),
-        }),
+        intersection: Some(intersection),
+        shading: PartSlot::shared(part, &shade, &base.shading),
         lab: 2,
         view,
         ..base.clone()

@@ -22,7 +22,11 @@ use glam::{DVec3, Vec2, Vec3};
 use proptest::prelude::*;
 
 use super::Shadows;
-use crate::film::{Film, ToneMap, luminance, write_png};
+use crate::film::{Film, ToneMap, write_png};
+use crate::grading::stats::{
+    NoiseTolerance, RenderStatistics, chi_square_p_value, chi_square_uniform, compare_noisy,
+    normal_two_sided_quantile, sidak, z_score_map,
+};
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
     check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
@@ -31,7 +35,7 @@ use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;
 use crate::labs::strategies::{point, unit_vector};
 use crate::math::{Hit, Ray};
-use crate::pipeline::{Pipeline, View};
+use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
 use crate::scene::{
@@ -121,22 +125,15 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
 // ---------------------------------------------------------------------------------------------
 // The pipeline of one part
 
-struct MixedShadows {
-    shadow_ray: Arc<dyn Shadows>,
-    stratified: Arc<dyn Shadows>,
-    triangle: Arc<dyn Shadows>,
-    area: Arc<dyn Shadows>,
-}
-
-impl Shadows for MixedShadows {
+impl Shadows for PartSlot<Part, dyn Shadows> {
     fn shadow_ray(&self, position: Vec3, light: &LightSample) -> Ray {
-        self.shadow_ray.shadow_ray(position, light)
+        self.pick(Part::ShadowRay).shadow_ray(position, light)
     }
     fn stratified_samples(&self, n: u32, rng: &mut Rng) -> Vec<Vec2> {
-        self.stratified.stratified_samples(n, rng)
+        self.pick(Part::Stratified).stratified_samples(n, rng)
     }
     fn sample_triangle(&self, triangle: [Vec3; 3], u: Vec2) -> Vec3 {
-        self.triangle.sample_triangle(triangle, u)
+        self.pick(Part::Triangle).sample_triangle(triangle, u)
     }
     fn area_light_sample(
         &self,
@@ -146,28 +143,21 @@ impl Shadows for MixedShadows {
         emission: Vec3,
         pdf_area: f32,
     ) -> LightSample {
-        self.area
-            .area_light_sample(position, light_point, light_normal, emission, pdf_area)
+        self.pick(Part::AreaSample).area_light_sample(
+            position,
+            light_point,
+            light_normal,
+            emission,
+            pdf_area,
+        )
     }
 }
 
 /// The lab-3 pipeline with `student` in `part`'s slot and `base` everywhere else, shading
 /// with `n × n` area-light samples.
 pub fn part_pipeline(part: Part, student: &Arc<dyn Shadows>, base: &Pipeline, n: u32) -> Pipeline {
-    let pick = |p: Part| {
-        if p == part {
-            student.clone()
-        } else {
-            base.shadows.clone()
-        }
-    };
     Pipeline {
-        shadows: Arc::new(MixedShadows {
-            shadow_ray: pick(Part::ShadowRay),
-            stratified: pick(Part::Stratified),
-            triangle: pick(Part::Triangle),
-            area: pick(Part::AreaSample),
-        }),
+        shadows: PartSlot::shared(part, student, &base.shadows),
         lab: 3,
         view: View::Shaded,
         area_light_samples: n,
@@ -587,114 +577,6 @@ fn exercise_3_1(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
 
 // ---------------------------------------------------------------------------------------------
 // Statistics
-
-/// `ln Γ(x)` for `x > 0` (Lanczos' approximation, as in Numerical Recipes' `gammln`).
-fn ln_gamma(x: f64) -> f64 {
-    const COF: [f64; 6] = [
-        76.180_091_729_471_46,
-        -86.505_320_329_416_77,
-        24.014_098_240_830_91,
-        -1.231_739_572_450_155,
-        0.120_865_097_386_617_9e-2,
-        -0.539_523_938_495_3e-5,
-    ];
-    let mut y = x;
-    let tmp = x + 5.5;
-    let tmp = tmp - (x + 0.5) * tmp.ln();
-    let mut ser = 1.000_000_000_190_015;
-    for c in COF {
-        y += 1.0;
-        ser += c / y;
-    }
-    -tmp + (2.506_628_274_631_000_5 * ser / x).ln()
-}
-
-/// The regularized upper incomplete gamma function `Q(a, x) = Γ(a, x)/Γ(a)` (series for
-/// `x < a + 1`, Lentz's continued fraction otherwise).
-fn gamma_q(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let prefactor = (-x + a * x.ln() - ln_gamma(a)).exp();
-    if x < a + 1.0 {
-        let (mut ap, mut del) = (a, 1.0 / a);
-        let mut sum = del;
-        for _ in 0..1000 {
-            ap += 1.0;
-            del *= x / ap;
-            sum += del;
-            if del.abs() < sum.abs() * 1e-16 {
-                break;
-            }
-        }
-        (1.0 - sum * prefactor).max(0.0)
-    } else {
-        const TINY: f64 = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / TINY;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..1000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < TINY {
-                d = TINY;
-            }
-            c = b + an / c;
-            if c.abs() < TINY {
-                c = TINY;
-            }
-            d = 1.0 / d;
-            let del = d * c;
-            h *= del;
-            if (del - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        prefactor * h
-    }
-}
-
-/// The probability that a χ² variable with `df` degrees of freedom is at least `stat`.
-pub fn chi_square_p_value(stat: f64, df: u32) -> f64 {
-    gamma_q(0.5 * df as f64, 0.5 * stat)
-}
-
-/// The probability that a standard normal variable is at least `z` in magnitude.
-pub fn normal_two_sided_p(z: f64) -> f64 {
-    gamma_q(0.5, 0.5 * z * z)
-}
-
-/// The `z` with `P(|Z| ≥ z) = p` for a standard normal `Z` (by bisection).
-pub fn normal_two_sided_quantile(p: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 40.0);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if normal_two_sided_p(mid) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// Šidák's per-test level: `m` independent tests at this level all pass with probability
-/// `1 − family_alpha`.
-pub fn sidak(family_alpha: f64, m: usize) -> f64 {
-    -((-family_alpha).ln_1p() / m as f64).exp_m1()
-}
-
-/// Pearson's χ² statistic of observed counts against equal expected counts.
-fn chi_square_uniform(counts: &[u32]) -> f64 {
-    let total: u32 = counts.iter().sum();
-    let expected = total as f64 / counts.len() as f64;
-    counts
-        .iter()
-        .map(|&c| (c as f64 - expected).powi(2) / expected)
-        .sum()
-}
 
 /// Rejection level of the chi-square tests of 3.2 and 3.3 (each test; there are about ten).
 pub const CHI_SQUARE_P: f64 = 1e-6;
@@ -1323,28 +1205,6 @@ pub fn check_irradiance(part: Part, s: &Arc<dyn Shadows>, base: &Pipeline) -> Re
 // ---------------------------------------------------------------------------------------------
 // Soft-shadow renders: a Z-test against the reference statistics
 
-/// How a Monte Carlo render is compared with the reference's statistics (per-pixel mean `μ`
-/// and variance `s²` of one render, from `K` renders with independent seeds).
-///
-/// The student's image is the mean `x̄` of `R` renders with other seeds. Per pixel and channel
-/// `z = (x̄ − μ)/√(s²(1/R + 1/K) + τ²)` with `τ = abs + rel·|μ|`, which covers rounding where
-/// the reference has no noise (the lamp, full shadow). A pixel is an outlier when some channel
-/// has `|z|` above the Šidák-corrected threshold for `family_alpha` over all pixels and
-/// channels; the image passes with at most `max_outlier_fraction` outliers (the pixel values are
-/// not exactly normal — a deep-penumbra pixel that sees the light in one render of a hundred
-/// has a long tail — and `s²` is itself estimated).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NoiseTolerance {
-    /// Family-wise false-alarm rate of the per-pixel Z-tests.
-    pub family_alpha: f64,
-    /// Absolute floor of the noise per channel.
-    pub abs: f32,
-    /// Relative floor of the noise per channel.
-    pub rel: f32,
-    /// Fraction of pixels allowed beyond the threshold.
-    pub max_outlier_fraction: f32,
-}
-
 /// The tolerance of the soft-shadow snapshot.
 pub const AREA_TOLERANCE: NoiseTolerance = NoiseTolerance {
     family_alpha: 1e-3,
@@ -1352,104 +1212,6 @@ pub const AREA_TOLERANCE: NoiseTolerance = NoiseTolerance {
     rel: 1e-3,
     max_outlier_fraction: 0.003,
 };
-
-/// The outcome of [`compare_noisy`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NoiseReport {
-    /// Pixels beyond the threshold.
-    pub outliers: usize,
-    /// NaN or infinite pixels in the render.
-    pub non_finite: usize,
-    /// Pixels compared.
-    pub pixels: usize,
-    /// The per-test threshold on `|z|`.
-    pub z_threshold: f64,
-    /// The largest `|z|` and its pixel.
-    pub worst: (f64, u32, u32),
-    /// Total luminance of the render over that of the reference mean.
-    pub brightness: f64,
-}
-
-impl NoiseReport {
-    /// Whether the render passes under `tol`.
-    pub fn passes(&self, tol: &NoiseTolerance) -> bool {
-        self.non_finite == 0
-            && self.outliers as f32 <= tol.max_outlier_fraction * self.pixels as f32
-    }
-}
-
-/// `|z|` per pixel (the largest over the channels); NaN for a non-finite render pixel.
-fn z_scores(student: &Sample, reference: &Sample, tol: &NoiseTolerance) -> Vec<f64> {
-    let (r, k) = (student.renders as f64, reference.renders as f64);
-    (0..reference.mean.pixels.len())
-        .map(|i| {
-            let x = student.mean.pixels[i];
-            if !x.is_finite() {
-                return f64::NAN;
-            }
-            let mu = reference.mean.pixels[i];
-            let var = reference.variance.pixels[i];
-            let own = student.variance.pixels[i];
-            (0..3)
-                .map(|c| {
-                    let floor = tol.abs as f64 + tol.rel as f64 * (mu[c] as f64).abs();
-                    let v_ref = var[c].max(0.0) as f64;
-                    let v_own = if own[c].is_finite() {
-                        own[c].max(0.0) as f64
-                    } else {
-                        0.0
-                    };
-                    let sd = (v_ref / k + v_ref.max(v_own) / r + floor * floor).sqrt();
-                    (x[c] as f64 - mu[c] as f64).abs() / sd
-                })
-                .fold(0.0, f64::max)
-        })
-        .collect()
-}
-
-/// Per-pixel statistics of a set of renders with independent seeds.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Sample {
-    /// Number of renders.
-    pub renders: u32,
-    /// Per-pixel mean.
-    pub mean: Film,
-    /// Per-pixel unbiased variance of one render.
-    pub variance: Film,
-}
-
-/// Compares the student's renders with the reference's (see [`NoiseTolerance`]).
-pub fn compare_noisy(student: &Sample, reference: &Sample, tol: &NoiseTolerance) -> NoiseReport {
-    let render = &student.mean;
-    let mean = &reference.mean;
-    let z = z_scores(student, reference, tol);
-    let threshold = normal_two_sided_quantile(sidak(tol.family_alpha, 3 * z.len()));
-    let mut worst = (0.0, 0, 0);
-    let mut outliers = 0;
-    for (k, &v) in z.iter().enumerate() {
-        if v.is_nan() || v > threshold {
-            outliers += 1;
-        }
-        if v.is_finite() && v > worst.0 {
-            worst = (v, k as u32 % render.width, k as u32 / render.width);
-        }
-    }
-    let lum = |f: &Film| {
-        f.pixels
-            .iter()
-            .filter(|p| p.is_finite())
-            .map(|&p| luminance(p) as f64)
-            .sum::<f64>()
-    };
-    NoiseReport {
-        outliers,
-        non_finite: render.non_finite_count(),
-        pixels: z.len(),
-        z_threshold: threshold,
-        worst,
-        brightness: lum(render) / lum(mean).max(1e-300),
-    }
-}
 
 /// One soft-shadow render: the Cornell box lit by its area light, `seed`.
 pub fn render_area(pipeline: &Pipeline, seed: u64) -> Result<Film, crate::Error> {
@@ -1467,39 +1229,21 @@ pub fn render_area(pipeline: &Pipeline, seed: u64) -> Result<Film, crate::Error>
 pub fn area_statistics(
     pipeline: &Pipeline,
     seeds: std::ops::Range<u64>,
-) -> Result<Sample, crate::Error> {
+) -> Result<RenderStatistics, crate::Error> {
     let films = seeds
         .map(|seed| render_area(pipeline, seed))
         .collect::<Result<Vec<_>, _>>()?;
-    let (w, h) = (films[0].width, films[0].height);
-    let k = films.len() as f64;
-    let mut mean = Film::new(w, h);
-    let mut variance = Film::new(w, h);
-    for i in 0..mean.pixels.len() {
-        let m: DVec3 = films.iter().map(|f| f.pixels[i].as_dvec3()).sum::<DVec3>() / k;
-        let v: DVec3 = films
-            .iter()
-            .map(|f| (f.pixels[i].as_dvec3() - m).powf(2.0))
-            .sum::<DVec3>()
-            / (k - 1.0).max(1.0);
-        mean.pixels[i] = m.as_vec3();
-        variance.pixels[i] = v.as_vec3();
-    }
-    Ok(Sample {
-        renders: films.len() as u32,
-        mean,
-        variance,
-    })
+    Ok(RenderStatistics::of(&films))
 }
 
 /// The reference statistics of the soft-shadow snapshot, as `raylab golden` stored them.
-pub fn load_area_reference(ctx: &LabContext) -> Result<Sample, String> {
+pub fn load_area_reference(ctx: &LabContext) -> Result<RenderStatistics, String> {
     let read = |name: &str| {
         crate::film::read_exr(&ctx.snapshot_path(&format!("{name}.exr"))).map_err(|e| {
             format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
         })
     };
-    Ok(Sample {
+    Ok(RenderStatistics {
         renders: (REFERENCE_SEEDS.end - REFERENCE_SEEDS.start) as u32,
         mean: read(SNAPSHOT_AREA_MEAN)?,
         variance: read(SNAPSHOT_AREA_VARIANCE)?,
@@ -1546,12 +1290,12 @@ pub fn check_area_snapshot(
     ))
 }
 
-/// Writes the student's mean render, the reference mean and a map of `|z|` (grey within the
-/// threshold, yellow to red beyond it, magenta for NaN).
+/// Writes the student's mean render, the reference mean and the map of `|z|`
+/// ([`z_score_map`]).
 fn write_noise_images(
     ctx: &LabContext,
-    student: &Sample,
-    reference: &Sample,
+    student: &RenderStatistics,
+    reference: &RenderStatistics,
     tol: &NoiseTolerance,
 ) -> Result<Vec<std::path::PathBuf>, crate::Error> {
     let name = "cornell-area";
@@ -1561,25 +1305,7 @@ fn write_noise_images(
     let zmap_png = ctx.failure_dir.join(format!("{name}-zscore.png"));
     write_png(&mark_non_finite(&student.mean), &student_png, tonemap)?;
     write_png(&reference.mean, &reference_png, tonemap)?;
-    let z = z_scores(student, reference, tol);
-    let threshold = normal_two_sided_quantile(sidak(tol.family_alpha, 3 * z.len()));
-    let heat = Film {
-        pixels: z
-            .iter()
-            .zip(&reference.mean.pixels)
-            .map(|(&z, &m)| {
-                if z.is_nan() {
-                    Vec3::new(1.0, 0.0, 1.0)
-                } else if z <= threshold {
-                    Vec3::splat(0.25 * luminance(m.min(Vec3::ONE)))
-                } else {
-                    let s = ((z / threshold).log10() / 2.0).clamp(0.0, 1.0) as f32;
-                    Vec3::new(1.0, 1.0 - s, 0.0)
-                }
-            })
-            .collect(),
-        ..reference.mean.clone()
-    };
+    let heat = z_score_map(student, reference, tol);
     write_png(&heat, &zmap_png, tonemap)?;
     Ok(vec![student_png, reference_png, zmap_png])
 }
@@ -1587,20 +1313,6 @@ fn write_noise_images(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn chi_square_and_normal_tails_match_tables() {
-        // χ²(15): the 0.999 quantile is 37.697; χ²(1) at 3.841 is p = 0.05.
-        assert!((chi_square_p_value(37.697, 15) - 1e-3).abs() < 2e-6);
-        assert!((chi_square_p_value(3.841, 1) - 0.05).abs() < 1e-4);
-        assert!((chi_square_p_value(10.0, 30) - 0.999_773_7).abs() < 1e-6);
-        assert!((chi_square_p_value(16.0, 8) - 0.042_380_1).abs() < 1e-6);
-        // Two-sided normal: 1.96 → 0.05, 3.2905 → 0.001.
-        assert!((normal_two_sided_p(1.959_964) - 0.05).abs() < 1e-6);
-        assert!((normal_two_sided_quantile(1e-3) - 3.290_527).abs() < 1e-4);
-        assert!((sidak(0.05, 1) - 0.05).abs() < 1e-12);
-        assert!((sidak(0.05, 10) - 0.005_116_197).abs() < 1e-9);
-    }
 
     #[test]
     fn lamberts_formula_matches_the_rectangle_form_factor() {

@@ -27,7 +27,7 @@ use crate::grading::{
 use crate::labs::lab02::LightSample;
 use crate::labs::strategies::{point, unit_vector};
 use crate::math::{Hit, RAY_EPSILON, Ray};
-use crate::pipeline::{Pipeline, View};
+use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::scene::{IllumModel, Light, MaterialId, Scene, builtin_scene, parse_scene_str};
 
@@ -624,24 +624,7 @@ impl Part {
     ];
 }
 
-/// Lab 04's slot with the student's code for one part and the base's for the rest.
-struct PartReflection {
-    part: Part,
-    student: Arc<dyn Reflection>,
-    base: Arc<dyn Reflection>,
-}
-
-impl PartReflection {
-    fn pick(&self, part: Part) -> &dyn Reflection {
-        if self.part == part {
-            self.student.as_ref()
-        } else {
-            self.base.as_ref()
-        }
-    }
-}
-
-impl Reflection for PartReflection {
+impl Reflection for PartSlot<Part, dyn Reflection> {
     fn reflect(&self, direction: Vec3, normal: Vec3) -> Vec3 {
         self.pick(Part::Reflect).reflect(direction, normal)
     }
@@ -706,11 +689,7 @@ impl Reflection for PartReflection {
 /// at lab 4 with the depth limit [`SNAPSHOT_MAX_DEPTH`].
 pub fn part_pipeline(part: Part, student: &Arc<dyn Reflection>, base: &Pipeline) -> Pipeline {
     Pipeline {
-        reflection: Arc::new(PartReflection {
-            part,
-            student: student.clone(),
-            base: base.reflection.clone(),
-        }),
+        reflection: PartSlot::shared(part, student, &base.reflection),
         lab: 4,
         view: View::Shaded,
         max_depth: SNAPSHOT_MAX_DEPTH,

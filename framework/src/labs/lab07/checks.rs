@@ -38,11 +38,14 @@ use proptest::prelude::*;
 
 use super::Antialiasing;
 use crate::film::Film;
+use crate::grading::stats::{
+    chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z,
+};
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_name, cell_of,
     check_one_per_cell, compare_vec3, for_all,
 };
-use crate::pipeline::{Pipeline, View};
+use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
 use crate::scene::builtin_scene;
@@ -117,14 +120,9 @@ pub enum Part {
     Pixel,
 }
 
-struct PartAntialiasing {
-    jitters: Arc<dyn Antialiasing>,
-    pixel: Arc<dyn Antialiasing>,
-}
-
-impl Antialiasing for PartAntialiasing {
+impl Antialiasing for PartSlot<Part, dyn Antialiasing> {
     fn compute_jitters(&self, subdivisions: u32, rng: &mut Rng) -> Vec<Vec2> {
-        self.jitters.compute_jitters(subdivisions, rng)
+        self.pick(Part::Jitters).compute_jitters(subdivisions, rng)
     }
     fn compute_pixel(
         &self,
@@ -132,19 +130,16 @@ impl Antialiasing for PartAntialiasing {
         jitters: &[Vec2],
         radiance: &mut dyn FnMut(Vec2) -> Vec3,
     ) -> Vec3 {
-        self.pixel.compute_pixel(pixel, jitters, radiance)
+        self.pick(Part::Pixel)
+            .compute_pixel(pixel, jitters, radiance)
     }
 }
 
 /// The pipeline of one part's renders: `student` for that part only, `base` for the rest,
 /// shaded, at lab 7.
 pub fn part_pipeline(part: Part, student: &Arc<dyn Antialiasing>, base: &Pipeline) -> Pipeline {
-    let (jitters, pixel) = match part {
-        Part::Jitters => (student.clone(), base.antialiasing.clone()),
-        Part::Pixel => (base.antialiasing.clone(), student.clone()),
-    };
     Pipeline {
-        antialiasing: Arc::new(PartAntialiasing { jitters, pixel }),
+        antialiasing: PartSlot::shared(part, student, &base.antialiasing),
         lab: 7,
         view: View::Shaded,
         ..base.clone()
@@ -193,61 +188,15 @@ pub fn image_error(
 // ---------------------------------------------------------------------------------------------
 // Statistics
 
-/// The complementary error function (Numerical Recipes' Chebyshev fit, relative error below
-/// 1.2·10⁻⁷).
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let poly = -z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
-    let r = t * poly.exp();
-    if x >= 0.0 { r } else { 2.0 - r }
-}
-
-/// The `z` with `P(|Z| ≥ z) = p` for a standard normal `Z` (by bisection).
-pub fn normal_two_sided_quantile(p: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 40.0);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if erfc(mid / std::f64::consts::SQRT_2) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// Šidák's per-test level: `m` independent tests at this level all pass with probability
-/// `1 − family_alpha`.
-pub fn sidak(family_alpha: f64, m: usize) -> f64 {
-    -((-family_alpha).ln_1p() / m as f64).exp_m1()
-}
-
 /// The largest |z| a statistic of Exercise 7.1 may reach.
 pub fn z_limit() -> f64 {
     normal_two_sided_quantile(sidak(FAMILY_ALPHA, STATISTICAL_TESTS))
 }
 
-/// Pearson's χ² of counts against equal expected counts, as a standard normal z-score
-/// (Wilson–Hilferty: `(χ²/k)^(1/3)` is nearly normal with mean `1 − 2/(9k)`, variance
-/// `2/(9k)`), with the statistic.
+/// Pearson's χ² of counts against equal expected counts, with its z-score (Wilson–Hilferty).
 fn chi_square_z(counts: &[u32]) -> (f64, f64) {
-    let total: u32 = counts.iter().sum();
-    let expected = total as f64 / counts.len() as f64;
-    let chi2: f64 = counts
-        .iter()
-        .map(|&c| (c as f64 - expected).powi(2) / expected)
-        .sum();
-    let k = (counts.len() - 1) as f64;
-    let v = 2.0 / (9.0 * k);
-    (chi2, ((chi2 / k).cbrt() - (1.0 - v)) / v.sqrt())
+    let chi2 = chi_square_uniform(counts);
+    (chi2, wilson_hilferty_z(chi2, counts.len() as u32 - 1))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -733,12 +682,6 @@ fn exercise_7_2(p: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<(), Strin
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn normal_quantile_matches_tables() {
-        assert!((normal_two_sided_quantile(0.05) - 1.959_964).abs() < 1e-4);
-        assert!((normal_two_sided_quantile(1e-4) - 3.890_592).abs() < 1e-3);
-    }
 
     /// The jitters of many pixels, `f(i, j, s, rng)` per subpixel.
     fn pixels_of(s: u32, f: impl Fn(u32, u32, f32, &mut Rng) -> Vec2) -> Vec<Vec<Vec2>> {
