@@ -93,7 +93,9 @@ fn write_reference_pngs(written: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
     let not_an_image = format!("{}.exr", lab03::checks::SNAPSHOT_AREA_VARIANCE);
     let snapshots = written.iter().filter(|p| {
         p.extension().is_some_and(|e| e == "exr")
-            && p.parent().and_then(Path::file_name).is_some_and(|d| d == "snapshots")
+            && p.parent()
+                .and_then(Path::file_name)
+                .is_some_and(|d| d == "snapshots")
             && p.file_name().is_some_and(|n| *n != *not_an_image)
     });
     snapshots

@@ -158,7 +158,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         ViewChoice::BaseColour => View::BaseColour,
         ViewChoice::Normals => View::Normals,
     };
-    for note in student_code_notes(args.pipeline, lab) {
+    if let Some(note) = student_code_note(args.pipeline, lab) {
         eprintln!("note: {note}");
     }
     let start = Instant::now();
@@ -195,26 +195,26 @@ pub fn labs_without_solution(lab: u32) -> Vec<u32> {
 
 /// What to say on stderr about the student's code in a `choice` pipeline at `lab`, before
 /// rendering: which slots of `reference::pipeline` hold it.
-pub fn student_code_notes(choice: PipelineChoice, lab: u32) -> Vec<String> {
+pub fn student_code_note(choice: PipelineChoice, lab: u32) -> Option<String> {
     let own: Vec<String> = labs_without_solution(lab)
         .into_iter()
         .filter(|&l| choice == PipelineChoice::Reference || l != lab)
         .map(|l| l.to_string())
         .collect();
     if own.is_empty() {
-        return Vec::new();
+        return None;
     }
-    let (plural, labs) = match own.len() {
-        1 => ("", own[0].clone()),
-        _ => ("s", own.join(", ")),
+    let what = match own.len() {
+        1 => format!("the solution of lab {} is", own[0]),
+        _ => format!("the solutions of labs {} are", own.join(", ")),
     };
     let whose = match choice {
         PipelineChoice::Reference => "--pipeline reference",
         PipelineChoice::Student => "the rest of the pipeline",
     };
-    vec![format!(
-        "the solution of lab{plural} {labs} is not released, so {whose} runs your own code there; the reference images are labs/labNN/snapshots/*.png"
-    )]
+    Some(format!(
+        "{what} not released, so {whose} runs your own code there; the reference images are labs/labNN/snapshots/*.png"
+    ))
 }
 
 /// The lines naming what went wrong in a render: the unfinished exercises and other panics

@@ -137,7 +137,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         quick: args.quick,
         failures: RefCell::default(),
     };
-    for note in crate::render::student_code_notes(args.pipeline, args.lab) {
+    if let Some(note) = crate::render::student_code_note(args.pipeline, args.lab) {
         eprintln!("note: {note}");
     }
     let figures = match args.lab {
