@@ -26,6 +26,13 @@ pub enum View {
     Normals,
 }
 
+/// Whether `ray` can be traced: finite origin and direction, and an interval that is not NaN.
+/// A NaN direction (a student's `normalize` of a zero vector, say) makes every slab test of the
+/// BVH pass, so tracing it would never end.
+pub fn traceable(ray: &Ray) -> bool {
+    ray.origin.is_finite() && ray.direction.is_finite() && ray.tmin <= ray.tmax
+}
+
 /// The components of a render, one slot per lab contract, and the integrator that calls them
 /// (the DTU `RayTracer` and shaders).
 #[derive(Clone)]
@@ -128,16 +135,24 @@ impl Pipeline {
         self.camera.camera_ray(camera.eye, dir)
     }
 
-    /// The closest hit along `ray`, through the lab 02 slot.
+    /// The closest hit along `ray`, through the lab 02 slot; none for a ray with a NaN or
+    /// infinite origin or direction, or a NaN interval (see [`traceable`]).
     pub fn trace_to_closest(&self, scene: &Scene, ray: &Ray) -> Option<Hit> {
+        if !traceable(ray) {
+            return None;
+        }
         match &self.intersection {
             Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_closest(ray),
         }
     }
 
-    /// Whether anything blocks `ray`, through the lab 02 slot.
+    /// Whether anything blocks `ray`, through the lab 02 slot; nothing blocks a ray that is
+    /// not [`traceable`].
     pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
+        if !traceable(ray) {
+            return false;
+        }
         match &self.intersection {
             Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_any(ray),
@@ -149,8 +164,12 @@ impl Pipeline {
         self.radiance_at(scene, ray, 0, 1.0, rng)
     }
 
-    /// Radiance along `ray` after `depth` bounces, travelling in a medium of index `ior`.
+    /// Radiance along `ray` after `depth` bounces, travelling in a medium of index `ior`; NaN
+    /// along a ray that is not [`traceable`], so that the render marks the pixel.
     fn radiance_at(&self, scene: &Scene, ray: &Ray, depth: u32, ior: f32, rng: &mut Rng) -> Vec3 {
+        if !traceable(ray) {
+            return Vec3::NAN;
+        }
         let Some(mut hit) = self.trace_to_closest(scene, ray) else {
             return scene.background;
         };

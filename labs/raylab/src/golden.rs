@@ -1,10 +1,12 @@
-//! `raylab golden`: regenerate every lab's golden cases and snapshots from the reference.
+//! `raylab golden`: regenerate every lab's golden cases and snapshots from the reference, and
+//! beside each snapshot `NAME.exr` the reference image `NAME.png` students look at.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use clap::Args;
 use framework::Error;
+use framework::film::{ToneMap, read_exr, write_png};
 use framework::grading::LabContext;
 use framework::labs::{lab01, lab02, lab03, lab04, lab07};
 
@@ -73,9 +75,34 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
                 continue;
             }
         };
-        for path in written {
+        let pngs = write_reference_pngs(&written)?;
+        for path in written.iter().chain(&pngs) {
             println!("{}", path.display());
         }
     }
     Ok(())
+}
+
+/// Writes `NAME.png` beside each snapshot `NAME.exr` among `written`: the reference render,
+/// tone mapped as a failing image check's `NAME-reference.png` (clamp at exposure 1, sRGB), so
+/// that students can look at what their render should be before a check fails. The PNG
+/// encoder is deterministic, so the same snapshot gives the same bytes. Lab 03's per-pixel
+/// variance is a statistic of renders, not an image of the scene (and black at exposure 1): it
+/// gets none.
+fn write_reference_pngs(written: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
+    let not_an_image = format!("{}.exr", lab03::checks::SNAPSHOT_AREA_VARIANCE);
+    let snapshots = written.iter().filter(|p| {
+        p.extension().is_some_and(|e| e == "exr")
+            && p.parent()
+                .and_then(Path::file_name)
+                .is_some_and(|d| d == "snapshots")
+            && p.file_name().is_some_and(|n| *n != *not_an_image)
+    });
+    snapshots
+        .map(|exr| {
+            let png = exr.with_extension("png");
+            write_png(&read_exr(exr)?, &png, ToneMap::Clamp { exposure: 1.0 })?;
+            Ok(png)
+        })
+        .collect()
 }

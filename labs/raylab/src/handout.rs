@@ -370,6 +370,14 @@ your camera from lab 1 until its solution is out. A failing test names the exerc
 function to fix; for images it writes your render, the expected image and a difference heat map
 to `target/raylab-failures/labNN/`.
 
+The reference images are in the labs from the start: `labs/labNN/snapshots/NAME.png` is what
+the image check `NAME` expects (the `.exr` beside it holds the exact radiance it compares
+with). `render` and `report` show what your code does so far: a pixel that reaches an
+unfinished stub (`todo!()`) or panics is magenta, one whose radiance is NaN or infinite is
+cyan, and the command names each unfinished exercise and the pixels it cost. `--pipeline
+reference` (the default) is `reference::pipeline` too, so here it runs your own code for every
+lab not released yet (the command says so): compare with the snapshot PNGs instead.
+
 Hand in the whole directory. Only the regular files of `labs/labNN/src/` are graded (no
 symbolic links, nothing over 1 MiB): the tests, golden data and snapshots come from the
 course's own copy, and a change to any other file is reported to your instructor. Code that

@@ -7,16 +7,17 @@ use clap::{Args, ValueEnum};
 use framework::Error;
 use framework::film::{ToneMap, write_exr, write_png};
 use framework::pipeline::View;
-use framework::render::{RenderSettings, render};
+use framework::render::{PartialRender, PixelFailures, RenderSettings, render_partial};
 use framework::scene::{BUILTIN_SCENES, Scene, builtin_scene, load_scene_file};
 
 /// Whose code renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum PipelineChoice {
-    /// The reference solution for every lab.
+    /// `reference::pipeline`: the reference solution of every lab — in a handout the released
+    /// solutions, and your own code for the labs whose solutions are not released.
     #[default]
     Reference,
-    /// Your code for the lab given by --lab, the reference for the others.
+    /// Your code for the lab given by --lab, `reference::pipeline` for the others.
     Student,
 }
 
@@ -157,21 +158,107 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         ViewChoice::BaseColour => View::BaseColour,
         ViewChoice::Normals => View::Normals,
     };
-    let start = Instant::now();
-    let film = render(&scene, &pipeline, &settings)?;
-    let seconds = start.elapsed().as_secs_f64();
-    let bad = film.non_finite_count();
-    if bad > 0 {
-        eprintln!("warning: {bad} pixels are NaN or infinite (shown black in PNG output)");
+    if let Some(note) = student_code_note(args.pipeline, lab) {
+        eprintln!("note: {note}");
     }
-    match ext.as_deref() {
-        Some("exr") => write_exr(&film, &args.output)?,
-        _ => write_png(&film, &args.output, tonemap)?,
+    let start = Instant::now();
+    let rendered = render_partial(&scene, &pipeline, &settings)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let exr = ext.as_deref() == Some("exr");
+    if exr {
+        write_exr(&rendered.film, &args.output)?;
+    } else {
+        write_png(&rendered.display(tonemap), &args.output, ToneMap::default())?;
     }
     eprintln!(
         "rendered '{}' ({}×{}, {} spp, lab {lab}, {:?} pipeline) in {seconds:.2} s",
         scene.name, args.width, args.height, args.spp, args.pipeline
     );
+    for line in warnings(&rendered, exr) {
+        eprintln!("{line}");
+    }
     println!("{}", args.output.display());
     Ok(())
+}
+
+/// The labs up to `lab` whose slots `reference::pipeline` fills with the student's own code:
+/// those whose solution is not in this tree's `reference/src/` (a handout holds only the
+/// released ones).
+pub fn labs_without_solution(lab: u32) -> Vec<u32> {
+    let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reference/src");
+    crate::students::labs()
+        .iter()
+        .copied()
+        .filter(|&l| l <= lab && !reference.join(format!("lab{l:02}.rs")).is_file())
+        .collect()
+}
+
+/// What to say on stderr about the student's code in a `choice` pipeline at `lab`, before
+/// rendering: which slots of `reference::pipeline` hold it.
+pub fn student_code_note(choice: PipelineChoice, lab: u32) -> Option<String> {
+    let own: Vec<String> = labs_without_solution(lab)
+        .into_iter()
+        .filter(|&l| choice == PipelineChoice::Reference || l != lab)
+        .map(|l| l.to_string())
+        .collect();
+    if own.is_empty() {
+        return None;
+    }
+    let what = match own.len() {
+        1 => format!("the solution of lab {} is", own[0]),
+        _ => format!("the solutions of labs {} are", own.join(", ")),
+    };
+    let whose = match choice {
+        PipelineChoice::Reference => "--pipeline reference",
+        PipelineChoice::Student => "the rest of the pipeline",
+    };
+    Some(format!(
+        "{what} not released, so {whose} runs your own code there; the reference images are labs/labNN/snapshots/*.png"
+    ))
+}
+
+/// The lines naming what went wrong in a render: the unfinished exercises and other panics
+/// with the pixels each cost (marked [`PANICKED_COLOUR`](framework::render::PANICKED_COLOUR)),
+/// and the pixels whose radiance is NaN or infinite; `exr` says what the EXR holds there.
+pub fn warnings(rendered: &PartialRender, exr: bool) -> Vec<String> {
+    let mut lines = failure_lines(&rendered.failures, rendered.film.pixels.len());
+    if !lines.is_empty() {
+        lines.push(if exr {
+            "  (these pixels are NaN in the EXR: no radiance was computed there)".into()
+        } else {
+            "  (a pixel stops at the first panic it meets, so later exercises it needs may be unfinished too)".into()
+        });
+    }
+    let bad = rendered.non_finite_pixels();
+    if bad > 0 {
+        lines.push(format!(
+            "warning: {bad} pixels have NaN or infinite radiance ({}; a division by zero or the square root of a negative number, say)",
+            if exr { "kept as they are in the EXR" } else { "shown cyan" }
+        ));
+    }
+    lines
+}
+
+/// The lines naming each cause of `failures` (of `total` pixels) and the pixels it cost.
+pub fn failure_lines(failures: &PixelFailures, total: usize) -> Vec<String> {
+    if failures.is_empty() {
+        return Vec::new();
+    }
+    let share = |n: usize| format!("{n} pixels ({:.1}%)", 100.0 * n as f64 / total as f64);
+    let mut lines = vec![format!(
+        "warning: {} of {total} pixels are magenta: their computation panicked",
+        failures.pixels()
+    )];
+    for f in failures.sorted() {
+        lines.push(match f.exercise() {
+            Some(id) => format!("  Exercise {id} is unfinished: {}", share(f.pixels)),
+            None => format!(
+                "  a panic at {}: {:?}: {}",
+                f.panic.location.as_deref().unwrap_or("an unknown place"),
+                f.panic.message,
+                share(f.pixels)
+            ),
+        });
+    }
+    lines
 }

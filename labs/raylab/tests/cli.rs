@@ -83,24 +83,79 @@ fn bad_input_is_a_clear_error_not_a_panic() {
 }
 
 #[test]
-fn student_pipeline_on_stubs_names_the_unfinished_exercise() {
+fn student_pipeline_on_stubs_renders_magenta_and_names_the_unfinished_exercises() {
+    // The repository's lab crates hold the stubs, as a handout's do before any work.
     let dir = scratch("student");
-    let (ok, _, stderr) = raylab(
+    let size = ["--width", "24", "--height", "16"];
+    for (lab, exercise) in [
+        ("1", "Exercise 1.2 is unfinished: 384 pixels (100.0%)"),
+        ("2", "Exercise 2."),
+    ] {
+        let args = [
+            &[
+                "render",
+                "--lab",
+                lab,
+                "--pipeline",
+                "student",
+                "-o",
+                "s.png",
+            ][..],
+            &size,
+        ]
+        .concat();
+        let (ok, stdout, stderr) = raylab(&args, &dir);
+        assert!(ok, "lab {lab}: {stderr}");
+        assert!(stderr.contains(exercise), "lab {lab}: {stderr}");
+        assert!(
+            stderr.contains("384 of 384 pixels are magenta"),
+            "lab {lab}: {stderr}"
+        );
+        // One summary, not a panic message per pixel.
+        assert!(!stderr.contains("panicked at"), "lab {lab}: {stderr}");
+        assert!(stderr.lines().count() < 10, "lab {lab}: {stderr}");
+        let img = image::open(dir.join(stdout.trim())).unwrap().to_rgb8();
+        assert!(
+            img.pixels().all(|p| p.0 == [255, 0, 255]),
+            "lab {lab}: not all magenta"
+        );
+    }
+    // The EXR holds no radiance where none was computed.
+    let args = [
         &[
             "render",
             "--lab",
             "1",
             "--pipeline",
             "student",
-            "--width",
-            "8",
-            "--height",
-            "8",
-        ],
+            "-o",
+            "s.exr",
+        ][..],
+        &size,
+    ]
+    .concat();
+    let (ok, stdout, stderr) = raylab(&args, &dir);
+    assert!(ok, "{stderr}");
+    let film = framework::film::read_exr(&dir.join(stdout.trim())).unwrap();
+    assert!(film.pixels.iter().all(|p| p.is_nan()), "{stderr}");
+    assert!(stderr.contains("NaN in the EXR"), "{stderr}");
+    // The report marks its figures the same way and names the exercise.
+    let (ok, _, stderr) = raylab(
+        &["report", "--lab", "1", "--pipeline", "student", "--quick"],
         &dir,
     );
-    assert!(!ok);
-    assert!(stderr.contains("Exercise 1."), "{stderr}");
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("Exercise 1.2 is unfinished"), "{stderr}");
+    let md = std::fs::read_to_string(dir.join("out/report/lab01/report.md")).unwrap();
+    assert!(md.contains("Exercise 1.2 is unfinished"), "{md}");
+    // The reference pipeline in the repository holds no student code and says nothing of it.
+    let args = [&["render", "-o", "r.png"][..], &size].concat();
+    let (ok, _, stderr) = raylab(&args, &dir);
+    assert!(ok, "{stderr}");
+    assert!(
+        !stderr.contains("magenta") && !stderr.contains("not released"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -8,6 +8,7 @@ mod lab03;
 mod lab04;
 mod lab07;
 
+use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -17,7 +18,7 @@ use framework::Error;
 use framework::film::{Film, ToneMap, write_png};
 use framework::glam::Vec3;
 use framework::pipeline::Pipeline;
-use framework::render::{RenderSettings, render};
+use framework::render::{PixelFailures, RenderSettings, render_partial};
 use framework::scene::Scene;
 
 use crate::render::PipelineChoice;
@@ -49,6 +50,8 @@ pub struct ReportContext {
     pub dir: PathBuf,
     /// Quick mode: small images, few samples.
     pub quick: bool,
+    /// The failed pixels of every render so far, and how many pixels were rendered.
+    pub failures: RefCell<(PixelFailures, usize)>,
 }
 
 /// One figure of a report.
@@ -64,7 +67,9 @@ pub struct Figure {
 }
 
 impl ReportContext {
-    /// Renders and times a scene.
+    /// Renders and times a scene, marked as `raylab render` marks it: magenta where the
+    /// computation panicked (an unfinished exercise), cyan where the radiance is NaN or
+    /// infinite. The failures are counted in [`ReportContext::failures`].
     pub fn render_timed(
         &self,
         scene: &Scene,
@@ -72,8 +77,12 @@ impl ReportContext {
         settings: &RenderSettings,
     ) -> Result<(Film, f64), Error> {
         let start = Instant::now();
-        let film = render(scene, pipeline, settings)?;
-        Ok((film, start.elapsed().as_secs_f64()))
+        let rendered = render_partial(scene, pipeline, settings)?;
+        let seconds = start.elapsed().as_secs_f64();
+        let mut failures = self.failures.borrow_mut();
+        failures.0.merge(&rendered.failures);
+        failures.1 += rendered.film.pixels.len();
+        Ok((rendered.marked(), seconds))
     }
 
     /// Writes a film as a PNG figure in the report directory.
@@ -126,7 +135,11 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         pipeline,
         dir,
         quick: args.quick,
+        failures: RefCell::default(),
     };
+    if let Some(note) = crate::render::student_code_note(args.pipeline, args.lab) {
+        eprintln!("note: {note}");
+    }
     let figures = match args.lab {
         1 => lab01::figures(&ctx)?,
         2 => lab02::figures(&ctx)?,
@@ -135,7 +148,12 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         7 => lab07::figures(&ctx)?,
         _ => Vec::new(),
     };
-    let index = write_index(&ctx, args.pipeline, &figures)?;
+    let (failures, total) = &*ctx.failures.borrow();
+    let unfinished = crate::render::failure_lines(failures, *total);
+    for line in &unfinished {
+        eprintln!("{line}");
+    }
+    let index = write_index(&ctx, args.pipeline, &figures, &unfinished)?;
     for f in &figures {
         println!("{}", ctx.dir.join(&f.file).display());
     }
@@ -148,6 +166,7 @@ fn write_index(
     ctx: &ReportContext,
     choice: PipelineChoice,
     figures: &[Figure],
+    unfinished: &[String],
 ) -> Result<PathBuf, Error> {
     let mut md = String::new();
     let _ = writeln!(md, "# Lab {:02} report figures\n", ctx.lab);
@@ -161,6 +180,16 @@ fn write_index(
             ""
         }
     );
+    if !unfinished.is_empty() {
+        let _ = writeln!(
+            md,
+            "**Unfinished.** Magenta pixels are pixels whose computation panicked, over all the figures:\n"
+        );
+        for line in unfinished.iter().skip(1) {
+            let _ = writeln!(md, "- {}", line.trim());
+        }
+        md.push('\n');
+    }
     for f in figures {
         let time = f
             .seconds
