@@ -83,6 +83,9 @@ impl Workspace {
                 "--lib",
                 "-p",
                 package,
+                // As the checks' build will: cargo must find this build fresh there.
+                "--features",
+                HIDDEN_EXERCISES,
             ],
             &[ANSWER_KEY_SOURCES],
         )?;
@@ -648,7 +651,7 @@ mod tests {
             "lab/Cargo.toml",
             &manifest(
                 "lab",
-                "[dev-dependencies]\nreference = { path = \"../reference\" }\n",
+                "[dev-dependencies]\nreference = { path = \"../reference\" }\n\n[features]\nhidden-exercises = []\n",
             ),
         );
         write(
@@ -683,7 +686,19 @@ mod tests {
         );
         workspace.build_lib("lab").unwrap().expect("the lab builds");
         let run = workspace
-            .cargo(&["test", "--no-run", "-p", "lab", "--test", "checks"], &[])
+            .cargo(
+                &[
+                    "test",
+                    "--no-run",
+                    "-p",
+                    "lab",
+                    "--test",
+                    "checks",
+                    "--features",
+                    "lab/hidden-exercises",
+                ],
+                &[],
+            )
             .unwrap();
         assert!(run.status.is_some_and(|s| s.success()), "{}", run.text());
         let _ = fs::remove_dir_all(&tree);
