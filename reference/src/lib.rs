@@ -31,10 +31,4 @@ pub fn pipeline(lab: u32) -> Pipeline {
 /// The labs whose solution this crate holds: the slots of [`pipeline`] that are the answer
 /// key. Checks compare a student's function with the key's where it is present
 /// (`LabContext::with_key_labs`), and judge by golden cases and properties elsewhere.
-pub const KEYS: &[u32] = &[1, 2, 3, 4, 7];
-
-/// The labs the reference implements, in order.
-pub const LABS: &[u32] = &[1, 2, 3, 4, 7];
-
-/// The highest lab the reference implements.
-pub const LAST_LAB: u32 = 7;
+pub const KEYS: &[u32] = &framework::labs::NUMBERS;

@@ -26,8 +26,14 @@ fn render_on(threads: usize, scene: &str) -> framework::film::Film {
         seed: 42,
         progress: false,
     };
-    pool.install(|| render(&scene, &reference::pipeline(reference::LAST_LAB), &settings))
-        .unwrap()
+    pool.install(|| {
+        render(
+            &scene,
+            &reference::pipeline(framework::labs::LAST_LAB),
+            &settings,
+        )
+    })
+    .unwrap()
 }
 
 #[test]

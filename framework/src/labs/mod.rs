@@ -11,37 +11,88 @@ pub mod strategies;
 
 use crate::grading::{DeniedItem, ExerciseInfo};
 
-/// Every lab the framework knows, with its title.
-pub const LABS: &[(u32, &str)] = &[
-    (1, "Camera rays and the image loop"),
-    (2, "Intersections and Lambertian shading"),
-    (3, "Shadows and area lights"),
-    (4, "Reflection, refraction and Phong"),
-    (7, "Anti-aliasing"),
+/// One lab of the course, as the framework knows it.
+#[derive(Clone, Copy, Debug)]
+pub struct Lab {
+    /// Its number: the crate is `labs/labNN`, the docs `docs/labNN.md`.
+    pub number: u32,
+    /// Its title.
+    pub title: &'static str,
+    /// Its exercises, in order, without their checks.
+    pub exercises: fn() -> Vec<ExerciseInfo>,
+    /// The framework items that answer its exercises (see [`DeniedItem`]): a submission whose
+    /// code for the lab names one gets no points for those exercises.
+    pub denied: &'static [DeniedItem],
+}
+
+/// The labs of the course, in order: the one list the command line, the reference's key, the
+/// grader and the docs index take the labs from.
+pub const COURSE: &[Lab] = &[
+    Lab {
+        number: 1,
+        title: "Camera rays and the image loop",
+        exercises: || infos(1, &lab01::checks::exercises()),
+        denied: &[],
+    },
+    Lab {
+        number: 2,
+        title: "Intersections and Lambertian shading",
+        exercises: || infos(2, &lab02::checks::exercises()),
+        denied: LAB02_DENIED,
+    },
+    Lab {
+        number: 3,
+        title: "Shadows and area lights",
+        exercises: || infos(3, &lab03::checks::exercises()),
+        denied: &[],
+    },
+    Lab {
+        number: 4,
+        title: "Reflection, refraction and Phong",
+        exercises: || infos(4, &lab04::checks::exercises()),
+        denied: &[],
+    },
+    Lab {
+        number: 7,
+        title: "Anti-aliasing",
+        exercises: || infos(7, &lab07::checks::exercises()),
+        denied: &[],
+    },
 ];
+
+/// The numbers of the labs of [`COURSE`], in order.
+pub const NUMBERS: [u32; COURSE.len()] = {
+    let mut numbers = [0; COURSE.len()];
+    let mut i = 0;
+    while i < COURSE.len() {
+        numbers[i] = COURSE[i].number;
+        i += 1;
+    }
+    numbers
+};
+
+/// The last lab of the course: `raylab render` turns on every lab up to it.
+pub const LAST_LAB: u32 = NUMBERS[NUMBERS.len() - 1];
+
+/// The lab numbered `number`, if the course has one.
+pub fn lab(number: u32) -> Option<&'static Lab> {
+    COURSE.iter().find(|l| l.number == number)
+}
 
 /// The exercises of lab `lab`, in order, or `None` for a lab the framework does not know.
 pub fn exercise_infos(lab: u32) -> Option<Vec<ExerciseInfo>> {
-    fn infos<S: ?Sized>(lab: u32, exercises: &[crate::grading::Exercise<S>]) -> Vec<ExerciseInfo> {
-        exercises.iter().map(|e| e.info(lab)).collect()
-    }
-    Some(match lab {
-        1 => infos(lab, &lab01::checks::exercises()),
-        2 => infos(lab, &lab02::checks::exercises()),
-        3 => infos(lab, &lab03::checks::exercises()),
-        4 => infos(lab, &lab04::checks::exercises()),
-        7 => infos(lab, &lab07::checks::exercises()),
-        _ => return None,
-    })
+    self::lab(lab).map(|l| (l.exercises)())
 }
 
-/// The framework items that answer exercises of lab `lab` (see [`DeniedItem`]): a submission
-/// whose code for that lab names one gets no points for those exercises.
+/// The framework items that answer exercises of lab `lab` (none for a lab the course does not
+/// have).
 pub fn denied_items(lab: u32) -> &'static [DeniedItem] {
-    match lab {
-        2 => LAB02_DENIED,
-        _ => &[],
-    }
+    self::lab(lab).map_or(&[], |l| l.denied)
+}
+
+/// The exercise table without the checks.
+fn infos<S: ?Sized>(lab: u32, exercises: &[crate::grading::Exercise<S>]) -> Vec<ExerciseInfo> {
+    exercises.iter().map(|e| e.info(lab)).collect()
 }
 
 /// The scene's own ray queries answer the intersection exercises for a one-shape scene.

@@ -2,13 +2,14 @@
 //! beside each snapshot `NAME.exr` the reference image `NAME.png` students look at.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use clap::Args;
 use framework::Error;
 use framework::film::{ToneMap, read_exr, write_png};
 use framework::grading::LabContext;
-use framework::labs::{lab01, lab02, lab03, lab04, lab07};
+use framework::labs::lab03;
+
+use crate::students::{LabCode, LabVisitor};
 
 /// Options of `raylab golden`.
 #[derive(Args, Debug)]
@@ -36,6 +37,17 @@ fn find_root() -> Result<PathBuf, Error> {
         })
 }
 
+/// Records a lab's golden data from the answer key.
+struct Generate<'a>(&'a LabContext);
+
+impl LabVisitor for Generate<'_> {
+    type Output = Result<Vec<PathBuf>, Error>;
+
+    fn visit<S: ?Sized + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
+        (code.generate_golden)(&code.key, self.0)
+    }
+}
+
 /// Runs `raylab golden`.
 pub fn run(args: &GoldenArgs) -> Result<(), Error> {
     let root = match &args.root {
@@ -49,32 +61,7 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
     for lab in labs {
         let dir = root.join("labs").join(format!("lab{lab:02}"));
         let ctx = LabContext::new(lab, &dir, reference::pipeline(lab));
-        let written = match lab {
-            1 => lab01::generate_golden(
-                &(Arc::new(reference::lab01::Lab01) as Arc<dyn lab01::CameraRays>),
-                &ctx,
-            )?,
-            2 => lab02::generate_golden(
-                &(Arc::new(reference::lab02::Lab02) as Arc<dyn lab02::Lab02>),
-                &ctx,
-            )?,
-            3 => lab03::generate_golden(
-                &(Arc::new(reference::lab03::Lab03) as Arc<dyn lab03::Shadows>),
-                &ctx,
-            )?,
-            4 => lab04::generate_golden(
-                &(Arc::new(reference::lab04::Lab04) as Arc<dyn lab04::Reflection>),
-                &ctx,
-            )?,
-            7 => lab07::generate_golden(
-                &(Arc::new(reference::lab07::Lab07) as Arc<dyn lab07::Antialiasing>),
-                &ctx,
-            )?,
-            _ => {
-                crate::students::check_lab(lab)?;
-                continue;
-            }
-        };
+        let written = crate::students::visit(lab, Generate(&ctx))??;
         let pngs = write_reference_pngs(&written)?;
         for path in written.iter().chain(&pngs) {
             println!("{}", path.display());

@@ -315,14 +315,7 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<
         .join(", ");
     lib = replace_once(
         &lib,
-        &format!(
-            "pub const KEYS: &[u32] = &[{}];\n",
-            crate::students::labs()
-                .iter()
-                .map(u32::to_string)
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
+        "pub const KEYS: &[u32] = &framework::labs::NUMBERS;\n",
         &format!("pub const KEYS: &[u32] = &[{keys}];\n"),
         place,
     )?;
@@ -336,7 +329,10 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<
 /// The handout's README: what is in it and how to work with it.
 fn readme(released: &BTreeSet<u32>) -> String {
     let mut labs = String::new();
-    for &(lab, title) in framework::labs::LABS {
+    for &framework::labs::Lab {
+        number: lab, title, ..
+    } in framework::labs::COURSE
+    {
         let solution = if released.contains(&lab) {
             format!("`reference/src/lab{lab:02}.rs`")
         } else {

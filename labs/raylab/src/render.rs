@@ -119,7 +119,7 @@ pub fn load_scene(spec: &str) -> Result<Scene, Error> {
 /// Runs `raylab render`.
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let tonemap: ToneMap = args.tonemap.parse()?;
-    let lab = args.lab.unwrap_or(reference::LAST_LAB);
+    let lab = args.lab.unwrap_or(framework::labs::LAST_LAB);
     crate::students::check_lab(lab)?;
     if args.light_samples == 0 || args.light_samples > 64 {
         return Err(Error::Invalid {

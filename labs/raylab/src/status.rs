@@ -7,7 +7,8 @@ use std::sync::Arc;
 use clap::Args;
 use framework::Error;
 use framework::grading::{Exercise, LabContext, Visibility, run_exercise};
-use framework::labs::{lab01, lab02, lab03, lab04, lab07};
+
+use crate::students::{LabCode, LabVisitor};
 
 /// Options of `raylab status`.
 #[derive(Args, Debug)]
@@ -23,6 +24,17 @@ enum State {
     NotStarted,
     Blocked(String),
     Failing(String),
+}
+
+/// Runs a lab's exercises on the student's code.
+struct Judge;
+
+impl LabVisitor for Judge {
+    type Output = Vec<(String, String, u32, State)>;
+
+    fn visit<S: ?Sized + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
+        judge(code.number, &code.exercises, code.student)
+    }
 }
 
 fn judge<S: ?Sized>(
@@ -64,34 +76,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
     };
     let mut next: Option<String> = None;
     for lab in labs {
-        let rows = match lab {
-            1 => judge::<dyn lab01::CameraRays>(
-                1,
-                &lab01::checks::exercises(),
-                Arc::new(::lab01::Student),
-            ),
-            2 => judge::<dyn lab02::Lab02>(
-                2,
-                &lab02::checks::exercises(),
-                Arc::new(::lab02::Student),
-            ),
-            3 => judge::<dyn lab03::Shadows>(
-                3,
-                &lab03::checks::exercises(),
-                Arc::new(::lab03::Student),
-            ),
-            4 => judge::<dyn lab04::Reflection>(
-                4,
-                &lab04::checks::exercises(),
-                Arc::new(::lab04::Student),
-            ),
-            7 => judge::<dyn lab07::Antialiasing>(
-                7,
-                &lab07::checks::exercises(),
-                Arc::new(::lab07::Student),
-            ),
-            _ => continue,
-        };
+        let rows = crate::students::visit(lab, Judge)?;
         let earned: u32 = rows
             .iter()
             .filter(|r| matches!(r.3, State::Passed))

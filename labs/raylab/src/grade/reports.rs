@@ -52,10 +52,7 @@ fn points(exercises: &[&ExerciseGrade]) -> (u32, u32) {
 }
 
 fn lab_title(lab: u32) -> &'static str {
-    framework::labs::LABS
-        .iter()
-        .find(|(l, _)| *l == lab)
-        .map_or("", |(_, t)| t)
+    framework::labs::lab(lab).map_or("", |l| l.title)
 }
 
 fn verdict(e: &ExerciseGrade) -> &'static str {
