@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use framework::labs::{lab01, lab02};
+use framework::labs::{lab01, lab02, lab03, lab04, lab07};
 use raylab_tests::judge;
 use raylab_tests::mutants;
 
@@ -24,5 +24,41 @@ fn lab02_corpus() {
         .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab02::Lab02>))
         .collect();
     let problems = judge(2, &lab02::checks::exercises(), variants);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn lab03_corpus() {
+    let variants = mutants::lab03::variants()
+        .into_iter()
+        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab03::Shadows>))
+        .collect();
+    let problems = judge(3, &lab03::checks::exercises(), variants);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn lab04_corpus() {
+    let variants = mutants::lab04::variants()
+        .into_iter()
+        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab04::Reflection>))
+        .collect();
+    let problems = judge(4, &lab04::checks::exercises(), variants);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn lab07_corpus() {
+    let variants = mutants::lab07::variants()
+        .into_iter()
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn lab07::Antialiasing>,
+            )
+        })
+        .collect();
+    let problems = judge(7, &lab07::checks::exercises(), variants);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
