@@ -612,10 +612,13 @@ pub fn glossy_default_scene() -> Result<Scene, crate::Error> {
 impl Part {
     /// Every part with the scenes its snapshots render.
     pub const ALL: [(Part, &'static [Shot]); 6] = [
-        (Part::Reflect, &[Shot::Default, Shot::TwoMirrors]),
+        // The renderer reaches `reflect`, `interface` and `refract` only through the student's
+        // `reflected_ray` and `refracted_ray` (Exercises 4.2 and 4.5), whose images check them
+        // together; composing them here would put those exercises' answers in the checks.
+        (Part::Reflect, &[]),
         (Part::ReflectedRay, &[Shot::Default, Shot::TwoMirrors]),
-        (Part::Interface, &[Shot::Default, Shot::CornellSpheres]),
-        (Part::Refract, &[Shot::Default, Shot::CornellSpheres]),
+        (Part::Interface, &[]),
+        (Part::Refract, &[]),
         (
             Part::RefractedRay,
             &[Shot::Default, Shot::CornellSpheres, Shot::Glossy],
@@ -630,14 +633,7 @@ impl Reflection for PartSlot<Part, dyn Reflection> {
     }
 
     fn reflected_ray(&self, ray: &Ray, hit: &Hit) -> Ray {
-        match self.part {
-            Part::Reflect => Ray::unbounded(
-                hit.position,
-                self.reflect(ray.direction, hit.shading_normal),
-                RAY_EPSILON,
-            ),
-            _ => self.pick(Part::ReflectedRay).reflected_ray(ray, hit),
-        }
+        self.pick(Part::ReflectedRay).reflected_ray(ray, hit)
     }
 
     fn interface(&self, direction: Vec3, hit: &Hit, material_ior: f32) -> Interface {
@@ -651,24 +647,8 @@ impl Reflection for PartSlot<Part, dyn Reflection> {
     }
 
     fn refracted_ray(&self, ray: &Ray, hit: &Hit, material_ior: f32) -> Option<(Ray, f32)> {
-        match self.part {
-            Part::Interface | Part::Refract => {
-                let side = self.interface(ray.direction, hit, material_ior);
-                let direction = self.refract(
-                    ray.direction,
-                    side.normal,
-                    side.eta_incident,
-                    side.eta_transmitted,
-                )?;
-                Some((
-                    Ray::unbounded(hit.position, direction, RAY_EPSILON),
-                    side.eta_transmitted,
-                ))
-            }
-            _ => self
-                .pick(Part::RefractedRay)
-                .refracted_ray(ray, hit, material_ior),
-        }
+        self.pick(Part::RefractedRay)
+            .refracted_ray(ray, hit, material_ior)
     }
 
     fn shade_phong(
@@ -783,7 +763,7 @@ fn exercise_4_1(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             0.0,
         )?;
     }
-    check_part_snapshots(Part::Reflect, s, ctx)
+    Ok(())
 }
 
 /// A hit with a shading normal near its geometric normal (as on a smooth mesh) or equal to it
@@ -894,7 +874,7 @@ fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             case.expected,
         )?;
     }
-    check_part_snapshots(Part::Interface, s, ctx)
+    Ok(())
 }
 
 fn refract_call(&(w, n, eta_i, eta_t): &RefractInput) -> String {
@@ -966,7 +946,7 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             case.expected,
         )?;
     }
-    check_part_snapshots(Part::Refract, s, ctx)
+    Ok(())
 }
 
 /// Checks `refracted_ray` on `input` arriving from `distance` away. `expected` is the known
