@@ -192,6 +192,55 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        // Fixed epsilons that hold at the scale of the checks' usual scenes and fail on a mesh
+        // of small triangles or a far-away camera.
+        Variant {
+            name: "plane: an absolute epsilon t > 1e-3 besides tmin",
+            verdict: Verdict::Reject("2.1"),
+            plane: Some(|r, p| {
+                Reference
+                    .intersect_plane(r, p)
+                    .filter(|h| h.distance > 1e-3)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "triangle: parallel test with an absolute epsilon (|det| < 1e-6)",
+            verdict: Verdict::Reject("2.2"),
+            triangle: Some(|r, a, b, c| {
+                let det = (b - a).dot(r.direction.cross(c - a));
+                if det.abs() < 1e-6 {
+                    return None;
+                }
+                Reference.intersect_triangle(r, a, b, c)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "triangle: an absolute epsilon t > 1e-3 besides tmin",
+            verdict: Verdict::Reject("2.2"),
+            triangle: Some(|r, a, b, c| {
+                Reference
+                    .intersect_triangle(r, a, b, c)
+                    .filter(|h| h.distance > 1e-3)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "sphere: a miss when the discriminant is below an absolute 1e-6",
+            verdict: Verdict::Reject("2.3"),
+            sphere: Some(|r, s| {
+                let oc = r.origin - s.center;
+                let half_b = oc.dot(r.direction);
+                let disc = half_b * half_b
+                    - r.direction.length_squared() * (oc.length_squared() - s.radius * s.radius);
+                if disc < 1e-6 {
+                    return None;
+                }
+                Reference.intersect_sphere(r, s)
+            }),
+            ..NONE
+        },
         Variant {
             name: "sphere: returns the far root",
             verdict: Verdict::Reject("2.3"),

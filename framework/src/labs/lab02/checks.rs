@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 
 use super::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
@@ -185,6 +185,34 @@ pub fn ray_towards(target: Vec3, spread: f32) -> impl Strategy<Value = RayInput>
         })
 }
 
+/// The scales the intersection checks run each configuration at again — a mesh's triangles of
+/// 10⁻⁴ scene units to a terrain of 10³ — and how far back the ray starts: where drawn (1), or
+/// 100 times as far (a far-away camera). Lengths scale with the configuration, so the answer
+/// is known; an absolute epsilon in the student's code shows up at one end or the other.
+fn scale_strategy() -> impl Strategy<Value = (f32, f32)> + Clone {
+    (0..SCALES.len(), any::<bool>()).prop_map(|(i, far)| (SCALES[i], if far { 100.0 } else { 1.0 }))
+}
+
+/// See [`scale_strategy`].
+const SCALES: [f32; 5] = [1e-4, 1e-2, 1.0, 1e2, 1e3];
+
+/// The ray of a scaled configuration: it ends at `target` (a point of the scaled shape, in
+/// double precision) and starts where `origin` was relative to `target_unscaled`, scaled by
+/// `scale` and `far` times as far back. Returns the origin and unit direction as the check
+/// passes them, and the distance from that origin to `target`.
+fn scaled_ray(
+    origin: Vec3,
+    target_unscaled: Vec3,
+    target: DVec3,
+    scale: f32,
+    far: f32,
+) -> (Vec3, Vec3, f32) {
+    let back = (origin - target_unscaled).as_dvec3() * f64::from(scale) * f64::from(far);
+    let from = (target + back).as_vec3();
+    let towards = target - from.as_dvec3();
+    (from, towards.normalize().as_vec3(), towards.length() as f32)
+}
+
 fn triangle_point(t: &[Vec3; 3], beta: f32, gamma: f32) -> Vec3 {
     (1.0 - beta - gamma) * t[0] + beta * t[1] + gamma * t[2]
 }
@@ -197,6 +225,17 @@ fn compare_surface_hit(
     got: Option<SurfaceHit>,
     expected: Option<SurfaceHit>,
 ) -> Result<(), String> {
+    compare_surface_hit_at(call, got, expected, 1.0)
+}
+
+/// [`compare_surface_hit`] for a configuration of size `unit`: `t` to `10⁻³·unit` plus
+/// `10⁻³` relative.
+fn compare_surface_hit_at(
+    call: &str,
+    got: Option<SurfaceHit>,
+    expected: Option<SurfaceHit>,
+    unit: f32,
+) -> Result<(), String> {
     match (got, expected) {
         (None, None) => Ok(()),
         (Some(g), None) => Err(format!(
@@ -208,7 +247,13 @@ fn compare_surface_hit(
             e.distance
         )),
         (Some(g), Some(e)) => {
-            compare_f32(&format!("t of {call}"), g.distance, e.distance, 1e-3, 1e-3)?;
+            compare_f32(
+                &format!("t of {call}"),
+                g.distance,
+                e.distance,
+                1e-3 * unit,
+                1e-3,
+            )?;
             compare_vec3(
                 &format!("the normal of {call}"),
                 g.normal,
@@ -225,6 +270,16 @@ fn compare_triangle_hit(
     got: Option<TriangleHit>,
     expected: Option<TriangleHit>,
 ) -> Result<(), String> {
+    compare_triangle_hit_at(call, got, expected, 1.0)
+}
+
+/// [`compare_triangle_hit`] for a configuration of size `unit`.
+fn compare_triangle_hit_at(
+    call: &str,
+    got: Option<TriangleHit>,
+    expected: Option<TriangleHit>,
+    unit: f32,
+) -> Result<(), String> {
     match (got, expected) {
         (None, None) => Ok(()),
         (Some(g), None) => Err(format!(
@@ -236,7 +291,13 @@ fn compare_triangle_hit(
             e.distance, e.beta, e.gamma
         )),
         (Some(g), Some(e)) => {
-            compare_f32(&format!("t of {call}"), g.distance, e.distance, 1e-3, 1e-3)?;
+            compare_f32(
+                &format!("t of {call}"),
+                g.distance,
+                e.distance,
+                1e-3 * unit,
+                1e-3,
+            )?;
             compare_f32(&format!("β of {call}"), g.beta, e.beta, 1e-3, 0.0)?;
             compare_f32(&format!("γ of {call}"), g.gamma, e.gamma, 1e-3, 0.0)?;
             compare_vec3(
@@ -351,7 +412,7 @@ fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
                 .then_some((plane, o, target, d))
         },
     );
-    for_all(300, strategy, |(plane, o, target, d)| {
+    for_all(300, strategy.clone(), |(plane, o, target, d)| {
         let t = (target - o).length();
         let call = |r: &Ray| {
             format!(
@@ -394,6 +455,40 @@ fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             None,
         )
     })?;
+    // The same configurations at every scale, and from far away.
+    for_all(
+        300,
+        (strategy, scale_strategy()),
+        |((plane, o, target, _), (k, far))| {
+            let point = target * k;
+            let plane = Plane::new(point, plane.normal, plane.material);
+            let (o, d, t) = scaled_ray(o, target, point.as_dvec3(), k, far);
+            let call = |r: &Ray| {
+                format!(
+                    "intersect_plane(ray from {} along {} over [{}, {}], plane n = {}, d = {}) (a configuration at scale {k})",
+                    r.origin, r.direction, r.tmin, r.tmax, plane.normal, plane.d
+                )
+            };
+            let r = Ray::new(o, d, 0.0, f32::INFINITY);
+            let expected = SurfaceHit {
+                distance: t,
+                normal: plane.normal,
+            };
+            compare_surface_hit_at(
+                &call(&r),
+                s.intersect_plane(&r, &plane),
+                Some(expected),
+                k * far,
+            )?;
+            let r = Ray::new(o, d, 0.0, 0.99 * t);
+            compare_surface_hit_at(
+                &format!("{} (the hit is beyond tmax)", call(&r)),
+                s.intersect_plane(&r, &plane),
+                None,
+                k * far,
+            )
+        },
+    )?;
     let golden: GoldenFile<(RayInput, Plane), Option<SurfaceHit>> = load(ctx, GOLDEN_PLANE)?;
     for case in &golden.cases {
         let (r, plane) = &case.input;
@@ -431,7 +526,7 @@ fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             let d = (p - o).try_normalize()?;
             (d.dot(n).abs() > 0.1 && (p - o).length() > 0.1).then_some((t, b, g, o, d))
         });
-    for_all(300, inside, |(t, b, g, o, d)| {
+    for_all(300, inside.clone(), |(t, b, g, o, d)| {
         let dist = (triangle_point(&t, b, g) - o).length();
         let normal = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
         let call = |r: &Ray| {
@@ -471,6 +566,44 @@ fn exercise_2_2(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             None,
         )
     })?;
+    // The same configurations at every scale, and from far away.
+    for_all(
+        300,
+        (inside, scale_strategy()),
+        |((t, b, g, o, _), (k, far))| {
+            let v = t.map(|v| v * k);
+            let p = (1.0 - f64::from(b) - f64::from(g)) * v[0].as_dvec3()
+                + f64::from(b) * v[1].as_dvec3()
+                + f64::from(g) * v[2].as_dvec3();
+            let (o, d, dist) = scaled_ray(o, triangle_point(&t, b, g), p, k, far);
+            let call = |r: &Ray| {
+                format!(
+                    "intersect_triangle(ray from {} along {} over [{}, {}], v0 = {}, v1 = {}, v2 = {}) (a configuration at scale {k})",
+                    r.origin, r.direction, r.tmin, r.tmax, v[0], v[1], v[2]
+                )
+            };
+            let expected = TriangleHit {
+                distance: dist,
+                beta: b,
+                gamma: g,
+                normal: (v[1] - v[0]).cross(v[2] - v[0]).normalize(),
+            };
+            let r = Ray::new(o, d, 0.0, f32::INFINITY);
+            compare_triangle_hit_at(
+                &call(&r),
+                s.intersect_triangle(&r, v[0], v[1], v[2]),
+                Some(expected),
+                k * far,
+            )?;
+            let r = Ray::new(o, d, 0.0, 0.99 * dist);
+            compare_triangle_hit_at(
+                &format!("{} (the hit is beyond tmax)", call(&r)),
+                s.intersect_triangle(&r, v[0], v[1], v[2]),
+                None,
+                k * far,
+            )
+        },
+    )?;
     // Points in the triangle's plane but outside it (β < 0, γ < 0 or β + γ > 1) are missed.
     let outside = (triangle_strategy(), -1.0f32..2.0, -1.0f32..2.0, point(8.0)).prop_filter_map(
         "point clearly outside, origin off the plane",
@@ -604,6 +737,45 @@ fn exercise_2_3(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
                 )?;
             }
             Ok(())
+        },
+    )?;
+    // The same configurations at every scale. Not from far away: the quadratic's `c = |o −
+    // c|² − r²` loses `r²` in single precision once the origin is thousands of radii away, for
+    // the reference too (a robust form is beyond this lab).
+    for_all(
+        300,
+        (sphere_chord_strategy(), scale_strategy()),
+        |((sphere, o, d, (near, far_root), (a, b)), (k, _))| {
+            let far = 1.0;
+            let (t, normal) = if near >= 0.0 {
+                (near, a)
+            } else {
+                (far_root, b)
+            };
+            let scaled = Sphere {
+                center: sphere.center * k,
+                radius: sphere.radius * k,
+                material: sphere.material,
+            };
+            let target = scaled.center.as_dvec3() + f64::from(scaled.radius) * normal.as_dvec3();
+            let (o, d, dist) = scaled_ray(o, o + t * d, target, k, far);
+            let call = |r: &Ray| {
+                format!(
+                    "intersect_sphere(ray from {} along {} over [{}, {}], sphere at {} radius {}) (a configuration at scale {k})",
+                    r.origin, r.direction, r.tmin, r.tmax, scaled.center, scaled.radius
+                )
+            };
+            let r = Ray::new(o, d, 0.0, f32::INFINITY);
+            let expected = SurfaceHit {
+                distance: dist,
+                normal,
+            };
+            compare_surface_hit_at(
+                &call(&r),
+                s.intersect_sphere(&r, &scaled),
+                Some(expected),
+                k * far,
+            )
         },
     )?;
     let golden: GoldenFile<(RayInput, Sphere), Option<SurfaceHit>> = load(ctx, GOLDEN_SPHERE)?;
