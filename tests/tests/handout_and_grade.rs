@@ -114,7 +114,14 @@ fn handout_then_grade_four_submissions() {
     }
     let partial = subs.join("partial");
     copy_tree(&handout, &partial);
-    write_lab(&partial, 1, &correct_code(1));
+    // A wrong focal length: Exercise 1.4's property check fails, and 1.6's image of the whole
+    // camera, which writes images into the report.
+    let lab01 = inject(
+        &correct_code(1),
+        "fn ray_direction(&self, basis: &CameraBasis, focal_distance: f32, ip: Vec2) -> Vec3 {",
+        "let focal_distance = focal_distance * 1.25;",
+    );
+    write_lab(&partial, 1, &lab01);
     let lab02 = inject(
         &correct_code(2),
         "fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit> {",
@@ -193,14 +200,15 @@ fn handout_then_grade_four_submissions() {
     );
 
     let row = csv_row(&csv, "partial");
-    // Each exercise is checked with the answer key everywhere else: the NaN triangle sample
-    // costs Exercise 3.3 alone, the panic 2.3 and the infinite loop 2.1.
+    // Each exercise is checked with the answer key everywhere else: the wrong focal length
+    // costs Exercises 1.4 and 1.6 (the whole camera) and nothing in labs 2 and 3, the NaN
+    // triangle sample 3.3 alone, the panic 2.3 and the infinite loop 2.1.
     for id in [
-        "1.1", "1.2", "1.3", "1.4", "1.5", "1.6", "2.2", "2.4", "2.5", "2.6", "3.1", "3.2", "3.4",
+        "1.1", "1.2", "1.3", "1.5", "2.2", "2.4", "2.5", "2.6", "3.1", "3.2", "3.4",
     ] {
         assert_ne!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
-    for id in ["2.1", "2.3", "3.3"] {
+    for id in ["1.4", "1.6", "2.1", "2.3", "3.3"] {
         assert_eq!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
     let report = read(&grades.join("partial/report.md"));
