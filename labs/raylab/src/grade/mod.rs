@@ -353,7 +353,8 @@ fn grade_submission(
         let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
-        let flags = scan::scan_lab(&workspace.tree, lab);
+        let scan::LabScan { flags, denied } =
+            scan::scan_lab(&workspace.tree, lab, framework::labs::denied_items(lab));
         if !flags.is_empty() {
             broken.insert(
                 lab,
@@ -365,7 +366,7 @@ fn grade_submission(
             flagged.extend(flags);
             continue;
         }
-        for denied in scan::denied_uses(&workspace.tree, lab, framework::labs::denied_items(lab)) {
+        for denied in denied {
             for &id in denied.exercises {
                 answered.entry(id).or_default().push(denied.line.clone());
             }

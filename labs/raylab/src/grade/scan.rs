@@ -43,14 +43,26 @@ const MAX_ENTRIES: usize = 4096;
 /// The deepest directory looked at under `src/` (the copy is at most 8 levels deep).
 const MAX_DEPTH: usize = 16;
 
-/// One line per occurrence, in the `.rs` files under `tree/labs/labNN/src`, of something that
-/// reads a file outside that directory at compile time, or may:
-/// `labs/lab02/src/lib.rs:3: #[path = "../../../reference/src/lab02.rs"] names a file outside
-/// labs/lab02/src/`. A file that does not lex as Rust is flagged as not compiling.
-pub fn scan_lab(tree: &Path, lab: u32) -> Vec<String> {
+/// What the scan of a lab's code found.
+#[derive(Debug, Default)]
+pub struct LabScan {
+    /// One line per occurrence, in the `.rs` files under `tree/labs/labNN/src`, of something
+    /// that reads a file outside that directory at compile time, or may:
+    /// `labs/lab02/src/lib.rs:3: #[path = "../../../reference/src/lab02.rs"] names a file
+    /// outside labs/lab02/src/`. A file that does not lex as Rust is flagged as not compiling.
+    pub flags: Vec<String>,
+    /// Every place that names one of the lab's denied framework items as an identifier (in code
+    /// or a macro body; not in a comment or a string).
+    pub denied: Vec<DeniedUse>,
+}
+
+/// Scans the `.rs` files under `tree/labs/labNN/src`, each read and lexed once, for what
+/// [`LabScan`] holds; `denied` are the lab's denied framework items.
+pub fn scan_lab(tree: &Path, lab: u32, denied: &'static [DeniedItem]) -> LabScan {
     let src = PathBuf::from(format!("labs/lab{lab:02}/src"));
     let root = tree.join(&src);
     let mut flags = Vec::new();
+    let mut denied_uses = Vec::new();
     let mut files = Vec::new();
     let mut entries = 0;
     rust_files(
@@ -73,6 +85,8 @@ pub fn scan_lab(tree: &Path, lab: u32) -> Vec<String> {
                 .map(|c| c.as_os_str().to_string_lossy().into_owned())
                 .collect(),
             flags: Vec::new(),
+            denied_items: denied,
+            denied: Vec::new(),
         };
         let unlexed = format!(
             "{}: does not parse as Rust; it will not compile",
@@ -94,13 +108,17 @@ pub fn scan_lab(tree: &Path, lab: u32) -> Vec<String> {
             Ok(tokens) => {
                 scanner.scan(tokens, Context::default());
                 flags.extend(scanner.flags);
+                denied_uses.extend(scanner.denied);
             }
             Err(_) => flags.push(unlexed),
         }
         // The spans of this file are not used again: let the lexer forget its text.
         proc_macro2::extra::invalidate_current_thread_spans();
     }
-    flags
+    LabScan {
+        flags,
+        denied: denied_uses,
+    }
 }
 
 /// A framework item that answers an exercise, named in a lab's code.
@@ -111,66 +129,6 @@ pub struct DeniedUse {
     /// Where, and what the item computes: `labs/lab02/src/lib.rs:12: \`trace_to_closest\`
     /// (the closest hit of a ray …)`.
     pub line: String,
-}
-
-/// Every place in the `.rs` files under `tree/labs/labNN/src` that names one of `items` as an
-/// identifier (in code or a macro body; not in a comment or a string). Run on a lab whose
-/// [`scan_lab`] found nothing, so every file is there and lexes.
-pub fn denied_uses(tree: &Path, lab: u32, items: &'static [DeniedItem]) -> Vec<DeniedUse> {
-    if items.is_empty() {
-        return Vec::new();
-    }
-    let src = PathBuf::from(format!("labs/lab{lab:02}/src"));
-    let root = tree.join(&src);
-    let mut files = Vec::new();
-    rust_files(
-        &root,
-        &src,
-        Path::new(""),
-        1,
-        &mut 0,
-        &mut files,
-        &mut Vec::new(),
-    );
-    let mut uses = Vec::new();
-    for relative in files {
-        let Ok(bytes) = read_regular(&root.join(&relative), MAX_FILE_BYTES) else {
-            continue;
-        };
-        let Ok(tokens) = without_shebang(&String::from_utf8_lossy(&bytes)).parse::<TokenStream>()
-        else {
-            continue;
-        };
-        let file = shown(&src.join(&relative));
-        find_idents(tokens, &mut |ident| {
-            let name = ident.to_string();
-            if let Some(item) = items.iter().find(|i| unraw(&name) == i.name) {
-                uses.push(DeniedUse {
-                    exercises: item.exercises,
-                    line: format!(
-                        "{file}:{}: `{}` (the framework's {}) answers Exercise {}",
-                        ident.span().start().line,
-                        item.name,
-                        item.computes,
-                        item.exercises.join(", ")
-                    ),
-                });
-            }
-        });
-        proc_macro2::extra::invalidate_current_thread_spans();
-    }
-    uses
-}
-
-/// Calls `found` for every identifier in `tokens`, groups included.
-fn find_idents(tokens: TokenStream, found: &mut impl FnMut(&proc_macro2::Ident)) {
-    for token in tokens {
-        match token {
-            TokenTree::Ident(ident) => found(&ident),
-            TokenTree::Group(group) => find_idents(group.stream(), found),
-            _ => {}
-        }
-    }
 }
 
 /// Collects the `.rs` files of `root/relative` (whose entries are `depth` levels below `root`,
@@ -268,6 +226,10 @@ struct Scanner {
     dir: Vec<String>,
     /// The flags found so far.
     flags: Vec<String>,
+    /// The lab's denied framework items.
+    denied_items: &'static [DeniedItem],
+    /// The places found so far that name one of them.
+    denied: Vec<DeniedUse>,
 }
 
 /// `name` without the `r#` of a raw identifier.
@@ -392,6 +354,18 @@ impl Scanner {
                 TokenTree::Ident(ident) => {
                     let name = ident.to_string();
                     let name = unraw(&name);
+                    if let Some(item) = self.denied_items.iter().find(|d| d.name == name) {
+                        self.denied.push(DeniedUse {
+                            exercises: item.exercises,
+                            line: format!(
+                                "{}:{}: `{name}` (the framework's {}) answers Exercise {}",
+                                self.file,
+                                ident.span().start().line,
+                                item.computes,
+                                item.exercises.join(", ")
+                            ),
+                        });
+                    }
                     if INCLUDES.contains(&name) {
                         self.include(name, &tokens, i, context);
                     } else if ASSEMBLY.contains(&name) {
@@ -555,7 +529,7 @@ mod tests {
     /// The flags of lab 2 holding only the file `path` with `code`.
     fn flags_in(path: &str, code: &str) -> Vec<String> {
         let tree = Tree::with(&[(path, code.as_bytes())]);
-        scan_lab(&tree.0, 2)
+        scan_lab(&tree.0, 2, &[]).flags
     }
 
     #[test]
@@ -746,7 +720,7 @@ macro_rules! m {
         );
         let tree = Tree::with(&[("lib.rs", b"fn f() {}\n"), ("bad.rs", b"fn \xff() {}")]);
         assert_eq!(
-            scan_lab(&tree.0, 2),
+            scan_lab(&tree.0, 2, &[]).flags,
             ["labs/lab02/src/bad.rs: does not parse as Rust; it will not compile"]
         );
     }
@@ -763,7 +737,7 @@ macro_rules! m {
             ("data/notes.txt", b"include_str!(\"/etc/passwd\")"),
         ]);
         assert_eq!(
-            scan_lab(&tree.0, 2),
+            scan_lab(&tree.0, 2, &[]).flags,
             [
                 r#"labs/lab02/src/shapes/a/b.rs:1: include!("../../../../x.rs") names a file outside labs/lab02/src/"#,
                 r#"labs/lab02/src/shapes/mod.rs:3: include_str!("../../key.rs") names a file outside labs/lab02/src/"#,
@@ -782,7 +756,9 @@ macro_rules! m {
             "lib.rs",
             b"// trace_to_closest in a comment\nconst S: &str = \"trace_to_closest\";\nfn f(s: &Scene) { s.r#trace_to_closest(r) }\nmacro_rules! m { () => { x.trace_to_closest(y) } }\n",
         )]);
-        let uses = denied_uses(&tree.0, 2, ITEMS);
+        let scan = scan_lab(&tree.0, 2, ITEMS);
+        assert!(scan.flags.is_empty(), "{:?}", scan.flags);
+        let uses = scan.denied;
         let lines: Vec<&str> = uses.iter().map(|u| u.line.as_str()).collect();
         assert_eq!(lines.len(), 2, "{lines:?}");
         assert!(
@@ -794,6 +770,6 @@ macro_rules! m {
             "{lines:?}"
         );
         assert_eq!(uses[0].exercises, &["2.1"]);
-        assert!(denied_uses(&tree.0, 2, &[]).is_empty());
+        assert!(scan_lab(&tree.0, 2, &[]).denied.is_empty());
     }
 }
