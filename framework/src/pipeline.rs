@@ -7,9 +7,10 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::labs::{lab01, lab02, lab03, lab04, lab07};
-use crate::math::{Hit, Ray};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab07};
+use crate::math::Ray;
 use crate::sampling::Rng;
+use crate::scene::Hit;
 use crate::scene::{
     AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
 };
@@ -60,6 +61,59 @@ pub struct Pipeline {
     pub area_light_samples: u32,
     /// Reflected and refracted rays stop after this many bounces (lab 04).
     pub max_depth: u32,
+}
+
+/// A lab contract with its slots in the [`Pipeline`]: how a whole lab's code goes in, so that
+/// code generic over the labs (`raylab render --pipeline student`) needs no list of slots.
+pub trait LabSlots {
+    /// `base` with every slot of this lab holding `code`.
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline;
+}
+
+impl LabSlots for dyn lab01::CameraRays {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            camera: code,
+            ..base
+        }
+    }
+}
+
+impl LabSlots for dyn lab02::Lab02 {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            intersection: Some(code.clone()),
+            shading: code,
+            ..base
+        }
+    }
+}
+
+impl LabSlots for dyn lab03::Shadows {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            shadows: code,
+            ..base
+        }
+    }
+}
+
+impl LabSlots for dyn lab04::Reflection {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            reflection: code,
+            ..base
+        }
+    }
+}
+
+impl LabSlots for dyn lab07::Antialiasing {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            antialiasing: code,
+            ..base
+        }
+    }
 }
 
 /// One slot of a pipeline that a check of one exercise fills: the student's implementation

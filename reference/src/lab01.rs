@@ -1,7 +1,7 @@
 //! Reference solution of lab 01 (docs/lab01.md).
 
+use framework::contracts::lab01::{CameraBasis, CameraRays};
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab01::{CameraBasis, CameraRays};
 use framework::math::Ray;
 
 /// The reference camera.

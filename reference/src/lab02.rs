@@ -2,8 +2,8 @@
 
 use std::f32::consts::PI;
 
+use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::glam::Vec3;
-use framework::labs::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::math::Ray;
 use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
 

@@ -1,8 +1,8 @@
 //! Reference solution of lab 03 (docs/lab03.md).
 
+use framework::contracts::lab02::LightSample;
+use framework::contracts::lab03::Shadows;
 use framework::glam::{Vec2, Vec3};
-use framework::labs::lab02::LightSample;
-use framework::labs::lab03::Shadows;
 use framework::math::{RAY_EPSILON, Ray};
 use framework::sampling::Rng;
 

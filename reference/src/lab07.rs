@@ -1,8 +1,8 @@
 //! Reference solution of lab 07 (docs/lab07.md).
 
+use framework::contracts::lab03::Shadows;
+use framework::contracts::lab07::Antialiasing;
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab03::Shadows;
-use framework::labs::lab07::Antialiasing;
 use framework::sampling::Rng;
 
 /// The reference pixel subdivision.

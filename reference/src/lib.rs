@@ -1,5 +1,5 @@
 //! The answer key: one module per lab implementing that lab's contract from
-//! `framework::labs`, and [`pipeline`], the reference [`Pipeline`] every check and render
+//! `framework::contracts`, and [`pipeline`], the reference [`Pipeline`] every check and render
 //! starts from.
 
 pub mod lab01;

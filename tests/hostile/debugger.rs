@@ -10,7 +10,7 @@ use std::process::{Command, Stdio};
 use std::sync::Once;
 
 use framework::glam::Vec3;
-use framework::labs::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::math::Ray;
 use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
 

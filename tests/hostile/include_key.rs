@@ -11,7 +11,7 @@
 //! unreleased key may reach any report.
 
 use framework::glam::Vec3;
-use framework::labs::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::math::Ray;
 use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
 

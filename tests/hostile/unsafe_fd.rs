@@ -15,7 +15,7 @@ use std::io::Write;
 use std::os::fd::FromRawFd;
 
 use framework::glam::Vec3;
-use framework::labs::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::math::Ray;
 use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
 

@@ -2,9 +2,9 @@
 
 use std::sync::Arc;
 
+use framework::contracts::lab01::CameraBasis;
 use framework::film::{Film, ToneMap};
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab01::CameraBasis;
 use framework::math::Ray;
 use framework::pipeline::Pipeline;
 use framework::render::{
@@ -77,7 +77,7 @@ fn another_seed_gives_another_image() {
 /// and a band of rows gets a NaN direction, as a student's camera half done might.
 struct HalfDoneCamera;
 
-impl framework::labs::lab01::CameraRays for HalfDoneCamera {
+impl framework::contracts::lab01::CameraRays for HalfDoneCamera {
     fn image_plane_coords(&self, raster: Vec2, resolution: UVec2) -> Vec2 {
         reference::lab01::Lab01.image_plane_coords(raster, resolution)
     }

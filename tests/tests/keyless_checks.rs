@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 
+use framework::contracts;
 use framework::labs::{lab01, lab02, lab03, lab04, lab07};
 use raylab_tests::mutants::Verdict;
 use raylab_tests::{judge_in, keyed_context, mutants};
@@ -30,7 +31,13 @@ fn assert_discriminates(problems: Vec<String>) {
 fn lab01_without_key() {
     let mut variants: Vec<_> = mutants::lab01::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab01::CameraRays>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab01::CameraRays>,
+            )
+        })
         .collect();
     variants.push((
         "the reference",
@@ -44,7 +51,13 @@ fn lab01_without_key() {
 fn lab02_without_key() {
     let mut variants: Vec<_> = mutants::lab02::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab02::Lab02>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab02::Lab02>,
+            )
+        })
         .collect();
     variants.push((
         "the reference",
@@ -58,7 +71,13 @@ fn lab02_without_key() {
 fn lab03_without_key() {
     let mut variants: Vec<_> = mutants::lab03::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab03::Shadows>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab03::Shadows>,
+            )
+        })
         .collect();
     variants.push((
         "the reference",
@@ -72,7 +91,13 @@ fn lab03_without_key() {
 fn lab04_without_key() {
     let mut variants: Vec<_> = mutants::lab04::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab04::Reflection>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab04::Reflection>,
+            )
+        })
         .collect();
     variants.push((
         "the reference",
@@ -90,7 +115,7 @@ fn lab07_without_key() {
             (
                 v.name,
                 v.verdict,
-                Arc::new(v) as Arc<dyn lab07::Antialiasing>,
+                Arc::new(v) as Arc<dyn contracts::lab07::Antialiasing>,
             )
         })
         .collect();

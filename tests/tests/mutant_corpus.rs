@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use framework::contracts;
 use framework::labs::{lab01, lab02, lab03, lab04, lab07};
 use raylab_tests::judge;
 use raylab_tests::mutants;
@@ -11,7 +12,13 @@ use raylab_tests::mutants;
 fn lab01_corpus() {
     let variants = mutants::lab01::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab01::CameraRays>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab01::CameraRays>,
+            )
+        })
         .collect();
     let problems = judge(1, &lab01::checks::exercises(), variants);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
@@ -21,7 +28,13 @@ fn lab01_corpus() {
 fn lab02_corpus() {
     let variants = mutants::lab02::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab02::Lab02>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab02::Lab02>,
+            )
+        })
         .collect();
     let problems = judge(2, &lab02::checks::exercises(), variants);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
@@ -31,7 +44,13 @@ fn lab02_corpus() {
 fn lab03_corpus() {
     let variants = mutants::lab03::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab03::Shadows>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab03::Shadows>,
+            )
+        })
         .collect();
     let problems = judge(3, &lab03::checks::exercises(), variants);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
@@ -41,7 +60,13 @@ fn lab03_corpus() {
 fn lab04_corpus() {
     let variants = mutants::lab04::variants()
         .into_iter()
-        .map(|v| (v.name, v.verdict, Arc::new(v) as Arc<dyn lab04::Reflection>))
+        .map(|v| {
+            (
+                v.name,
+                v.verdict,
+                Arc::new(v) as Arc<dyn contracts::lab04::Reflection>,
+            )
+        })
         .collect();
     let problems = judge(4, &lab04::checks::exercises(), variants);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
@@ -55,7 +80,7 @@ fn lab07_corpus() {
             (
                 v.name,
                 v.verdict,
-                Arc::new(v) as Arc<dyn lab07::Antialiasing>,
+                Arc::new(v) as Arc<dyn contracts::lab07::Antialiasing>,
             )
         })
         .collect();

@@ -1,5 +1,5 @@
 //! The framework's own ray–primitive kernels, used by the BVH traversal for every lab after
-//! lab02 (where students write their own, see `labs::lab02`).
+//! lab02 (where students write their own, see `contracts::lab02`).
 //!
 //! The kernels are crate-private: they answer Exercises 2.1–2.3, and a student's lab02 code
 //! must not be able to hand the question back to them. Only the prepared ray of the triangle
@@ -13,7 +13,3 @@ pub(crate) use plane::intersect_plane;
 pub(crate) use sphere::intersect_sphere;
 pub use triangle::TriangleRay;
 pub(crate) use triangle::{TriangleBlock, intersect_triangle};
-
-mod builtin;
-
-pub(crate) use builtin::BuiltinIntersection;

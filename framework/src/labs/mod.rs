@@ -1,6 +1,6 @@
-//! The lab contracts: one module per lab with the traits a student implements, the lab's
-//! checks, and the generator of its golden data. The renderer reaches student code only
-//! through these traits, composed in a [`Pipeline`](crate::pipeline::Pipeline).
+//! The course's labs: the one list of them ([`COURSE`]), and per lab its checks (the exercise
+//! table and one check per exercise) and the generator of its golden data. The contracts the
+//! checks test are in [`crate::contracts`].
 
 pub mod lab01;
 pub mod lab02;

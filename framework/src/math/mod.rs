@@ -1,13 +1,11 @@
-//! Geometric building blocks on top of glam: rays, hit records, orthonormal bases and boxes.
+//! Geometric building blocks on top of glam: rays, orthonormal bases and boxes.
 
 mod aabb;
-mod hit;
 mod onb;
 mod ray;
 
 pub use aabb::Aabb;
 pub use glam::{UVec2, Vec2, Vec3, Vec3A};
-pub use hit::Hit;
 pub use onb::Onb;
 pub use ray::Ray;
 

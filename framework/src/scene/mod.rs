@@ -1,10 +1,12 @@
 //! Scenes: geometry (planes, spheres, triangle meshes), materials, lights and the camera, loaded
-//! from OBJ/MTL files, from a scene file, or from the embedded scenes; and the scene-level ray
-//! queries `trace_to_closest` / `trace_to_any` of the DTU `RayTracer`.
+//! from OBJ/MTL files, from a scene file, or from the embedded scenes; the scene-level ray
+//! queries `trace_to_closest` / `trace_to_any` of the DTU `RayTracer`, and the [`Hit`] they
+//! return.
 
 mod builtin;
 mod camera;
 mod file;
+mod hit;
 mod light;
 mod material;
 mod obj;
@@ -15,6 +17,7 @@ mod trace;
 pub use builtin::{BUILTIN_SCENES, builtin_scene};
 pub use camera::CameraSetup;
 pub use file::{load_scene_file, parse_scene_str};
+pub use hit::Hit;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight};
 pub use material::{IllumModel, Material, MaterialId};
 pub use obj::{ObjData, load_obj, load_obj_str};

@@ -6,7 +6,8 @@ use glam::{Vec2, Vec3};
 
 use super::{Plane, Scene, Sphere};
 use crate::geometry::{intersect_plane, intersect_sphere, intersect_triangle};
-use crate::math::{Hit, Ray};
+use crate::math::Ray;
+use crate::scene::Hit;
 
 /// What one ray–primitive test of [`PrimitiveTests`] found.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -19,8 +19,8 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
+use framework::contracts::lab01::{CameraBasis, CameraRays};
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab01::{CameraBasis, CameraRays};
 use framework::math::Ray;
 
 /// Your camera. The framework calls it through the `CameraRays` trait.

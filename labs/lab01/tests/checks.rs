@@ -8,8 +8,9 @@
 
 use std::sync::Arc;
 
+use framework::contracts::lab01::CameraRays;
 use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab01::{CameraRays, checks};
+use framework::labs::lab01::checks;
 
 fn subject() -> Arc<dyn CameraRays> {
     #[cfg(feature = "reference")]

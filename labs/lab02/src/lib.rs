@@ -19,8 +19,8 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
+use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::glam::Vec3;
-use framework::labs::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
 use framework::math::Ray;
 use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
 

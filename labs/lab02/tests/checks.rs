@@ -8,8 +8,9 @@
 
 use std::sync::Arc;
 
+use framework::contracts::lab02::Lab02;
 use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab02::{Lab02, checks};
+use framework::labs::lab02::checks;
 
 fn subject() -> Arc<dyn Lab02> {
     #[cfg(feature = "reference")]

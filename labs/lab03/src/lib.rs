@@ -20,9 +20,9 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
+use framework::contracts::lab02::LightSample;
+use framework::contracts::lab03::Shadows;
 use framework::glam::{Vec2, Vec3};
-use framework::labs::lab02::LightSample;
-use framework::labs::lab03::Shadows;
 use framework::math::Ray;
 use framework::sampling::Rng;
 

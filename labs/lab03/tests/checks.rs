@@ -8,8 +8,9 @@
 
 use std::sync::Arc;
 
+use framework::contracts::lab03::Shadows;
 use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab03::{Shadows, checks};
+use framework::labs::lab03::checks;
 
 fn subject() -> Arc<dyn Shadows> {
     #[cfg(feature = "reference")]

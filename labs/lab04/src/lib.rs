@@ -29,10 +29,11 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
+use framework::contracts::lab02::LightSample;
+use framework::contracts::lab04::{Interface, Reflection};
 use framework::glam::Vec3;
-use framework::labs::lab02::LightSample;
-use framework::labs::lab04::{Interface, Reflection};
-use framework::math::{Hit, Ray};
+use framework::math::Ray;
+use framework::scene::Hit;
 
 /// Your reflection, refraction and Phong shading. The framework calls them through the
 /// `Reflection` trait.

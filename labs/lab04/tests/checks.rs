@@ -8,8 +8,9 @@
 
 use std::sync::Arc;
 
+use framework::contracts::lab04::Reflection;
 use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab04::{Reflection, checks};
+use framework::labs::lab04::checks;
 
 fn subject() -> Arc<dyn Reflection> {
     #[cfg(feature = "reference")]

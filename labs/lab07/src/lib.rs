@@ -21,8 +21,8 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
+use framework::contracts::lab07::Antialiasing;
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab07::Antialiasing;
 use framework::sampling::Rng;
 
 /// Your pixel subdivision. The framework calls it through the `Antialiasing` trait.

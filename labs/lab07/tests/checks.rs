@@ -8,8 +8,9 @@
 
 use std::sync::Arc;
 
+use framework::contracts::lab07::Antialiasing;
 use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab07::{Antialiasing, checks};
+use framework::labs::lab07::checks;
 
 fn subject() -> Arc<dyn Antialiasing> {
     #[cfg(feature = "reference")]

@@ -8,6 +8,7 @@ use framework::Error;
 use framework::film::{ToneMap, read_exr, write_png};
 use framework::grading::LabContext;
 use framework::labs::lab03;
+use framework::pipeline::LabSlots;
 
 use crate::students::{LabCode, LabVisitor};
 
@@ -43,7 +44,7 @@ struct Generate<'a>(&'a LabContext);
 impl LabVisitor for Generate<'_> {
     type Output = Result<Vec<PathBuf>, Error>;
 
-    fn visit<S: ?Sized + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
+    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
         (code.generate_golden)(&code.key, self.0)
     }
 }

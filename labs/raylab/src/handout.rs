@@ -278,7 +278,7 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<
     let place = "reference/src/lib.rs";
     lib = replace_once(
         &lib,
-        "//! The answer key: one module per lab implementing that lab's contract from\n//! `framework::labs`, and [`pipeline`], the reference [`Pipeline`] every check and render\n//! starts from.\n",
+        "//! The answer key: one module per lab implementing that lab's contract from\n//! `framework::contracts`, and [`pipeline`], the reference [`Pipeline`] every check and render\n//! starts from.\n",
         "//! The solutions released so far, one module per lab, and [`pipeline`], the [`Pipeline`]\n//! every check and render starts from: a released lab's solution, and your own code (the\n//! `Student` of `labs/labNN`) for the labs whose solutions are not released yet.\n",
         place,
     )?;

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use clap::Args;
 use framework::Error;
 use framework::grading::{Exercise, LabContext, Visibility, run_exercise};
+use framework::pipeline::LabSlots;
 
 use crate::students::{LabCode, LabVisitor};
 
@@ -32,7 +33,7 @@ struct Judge;
 impl LabVisitor for Judge {
     type Output = Vec<(String, String, u32, State)>;
 
-    fn visit<S: ?Sized + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
+    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
         judge(code.number, &code.exercises, code.student)
     }
 }

@@ -1,14 +1,12 @@
 //! The code of each lab — the student's, and the answer key's where the tree holds it — with
 //! the lab's contract: the one place of the command line that names every lab's types. Each
-//! command that works on any lab is a [`LabVisitor`]; `--pipeline student` uses
-//! [`with_student_lab`].
+//! command that works on any lab is a [`LabVisitor`].
 
 use std::sync::Arc;
 
 use framework::Error;
 use framework::grading::Exercise;
-use framework::labs::{lab01, lab02, lab03, lab04, lab07};
-use framework::pipeline::Pipeline;
+use framework::pipeline::{LabSlots, Pipeline};
 
 /// One lab's code and contract, whatever the contract's trait `S`.
 pub struct LabCode<S: ?Sized> {
@@ -21,6 +19,8 @@ pub struct LabCode<S: ?Sized> {
     /// The answer key's code: in the instructor's tree only.
     #[cfg(feature = "instructor")]
     pub key: Arc<S>,
+    /// The figures of the lab's report (`raylab report`, `report/labNN.rs`).
+    pub figures: fn(&crate::report::ReportContext) -> Result<Vec<crate::report::Figure>, Error>,
     /// The lab's golden-data generator.
     #[cfg(feature = "instructor")]
     pub generate_golden:
@@ -32,20 +32,21 @@ pub trait LabVisitor {
     /// What the work gives.
     type Output;
     /// Does the work on lab `code`.
-    fn visit<S: ?Sized + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output;
+    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output;
 }
 
 /// [`LabCode`] of lab `$number` with contract `$contract`, student `$student` and key `$key`.
 macro_rules! lab_code {
     ($number:expr, $contract:ident, $student:expr, $key:expr, $module:ident) => {
-        LabCode::<dyn $module::$contract> {
+        LabCode::<dyn framework::contracts::$module::$contract> {
             number: $number,
-            exercises: $module::checks::exercises(),
+            exercises: framework::labs::$module::checks::exercises(),
             student: Arc::new($student),
+            figures: crate::report::$module::figures,
             #[cfg(feature = "instructor")]
             key: Arc::new($key),
             #[cfg(feature = "instructor")]
-            generate_golden: $module::generate_golden,
+            generate_golden: framework::labs::$module::generate_golden,
         }
     };
 }
@@ -118,34 +119,12 @@ pub fn check_lab(lab: u32) -> Result<(), Error> {
 
 /// `base` with the slots of lab `lab` replaced by the student's code of that lab.
 pub fn with_student_lab(base: Pipeline, lab: u32) -> Result<Pipeline, Error> {
-    Ok(match lab {
-        1 => Pipeline {
-            camera: Arc::new(::lab01::Student),
-            ..base
-        },
-        2 => Pipeline {
-            intersection: Some(Arc::new(::lab02::Student)),
-            shading: Arc::new(::lab02::Student),
-            ..base
-        },
-        3 => Pipeline {
-            shadows: Arc::new(::lab03::Student),
-            ..base
-        },
-        4 => Pipeline {
-            reflection: Arc::new(::lab04::Student),
-            ..base
-        },
-        7 => Pipeline {
-            antialiasing: Arc::new(::lab07::Student),
-            ..base
-        },
-        _ => {
-            check_lab(lab)?;
-            return Err(Error::Invalid {
-                what: format!("--pipeline student --lab {lab}"),
-                reason: "this lab has no student crate".into(),
-            });
+    struct Install(Pipeline);
+    impl LabVisitor for Install {
+        type Output = Pipeline;
+        fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Pipeline {
+            S::install(code.student, self.0)
         }
-    })
+    }
+    visit(lab, Install(base))
 }

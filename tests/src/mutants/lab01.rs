@@ -1,7 +1,7 @@
 //! Lab 01 variants.
 
+use framework::contracts::lab01::{CameraBasis, CameraRays};
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab01::{CameraBasis, CameraRays};
 use framework::math::Ray;
 use reference::lab01::Lab01 as Reference;
 

@@ -1,8 +1,8 @@
 //! Lab 03 variants.
 
+use framework::contracts::lab02::LightSample;
+use framework::contracts::lab03::Shadows;
 use framework::glam::{DVec3, Vec2, Vec3};
-use framework::labs::lab02::LightSample;
-use framework::labs::lab03::Shadows;
 use framework::math::{RAY_EPSILON, Ray};
 use framework::sampling::Rng;
 use reference::lab03::Lab03 as Reference;

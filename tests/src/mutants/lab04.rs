@@ -2,10 +2,11 @@
 
 use std::f32::consts::PI;
 
+use framework::contracts::lab02::LightSample;
+use framework::contracts::lab04::{Interface, Reflection};
 use framework::glam::{DVec3, Vec3};
-use framework::labs::lab02::LightSample;
-use framework::labs::lab04::{Interface, Reflection};
-use framework::math::{Hit, RAY_EPSILON, Ray};
+use framework::math::{RAY_EPSILON, Ray};
+use framework::scene::Hit;
 use reference::lab04::Lab04 as Reference;
 
 use super::Verdict;

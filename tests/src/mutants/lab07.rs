@@ -1,7 +1,7 @@
 //! Lab 07 variants.
 
+use framework::contracts::lab07::Antialiasing;
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::labs::lab07::Antialiasing;
 use framework::sampling::Rng;
 use reference::lab07::Lab07 as Reference;
 

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use glam::{UVec2, Vec2, Vec3};
 use proptest::prelude::*;
 
-use super::{CameraBasis, CameraRays};
+use crate::contracts::lab01::{CameraBasis, CameraRays};
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec2,
     compare_vec3, for_all,

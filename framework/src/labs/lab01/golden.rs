@@ -3,9 +3,9 @@ use std::sync::Arc;
 
 use proptest::prelude::*;
 
-use super::CameraRays;
 use super::checks::*;
 use crate::Error;
+use crate::contracts::lab01::CameraRays;
 use crate::grading::{GoldenFile, LabContext};
 use crate::labs::strategies::{raster_in, resolution, samples, unit_vector};
 

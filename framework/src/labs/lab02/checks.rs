@@ -5,9 +5,9 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 
-use super::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
+use super::builtin::BuiltinIntersection;
+use crate::contracts::lab02::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
 use crate::film::Film;
-use crate::geometry::BuiltinIntersection;
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
     for_all,

@@ -4,9 +4,9 @@ use std::sync::Arc;
 use glam::Vec3;
 use proptest::prelude::*;
 
-use super::Lab02;
 use super::checks::*;
 use crate::Error;
+use crate::contracts::lab02::Lab02;
 use crate::grading::{GoldenFile, LabContext};
 use crate::labs::strategies::{point, samples};
 use crate::math::Ray;

@@ -21,7 +21,8 @@ use std::sync::Arc;
 use glam::{DVec3, Vec2, Vec3};
 use proptest::prelude::*;
 
-use super::Shadows;
+use crate::contracts::lab02::LightSample;
+use crate::contracts::lab03::Shadows;
 use crate::film::{Film, ToneMap, write_png};
 use crate::grading::stats::{
     NoiseTolerance, RenderStatistics, chi_square_p_value, chi_square_uniform, compare_noisy,
@@ -31,13 +32,13 @@ use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
     check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
 };
-use crate::labs::lab02::LightSample;
 use crate::labs::lab02::checks::triangle_strategy;
 use crate::labs::strategies::{point, unit_vector};
-use crate::math::{Hit, Ray};
+use crate::math::Ray;
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
+use crate::scene::Hit;
 use crate::scene::{
     CameraSetup, DirectionalLight, Light, Material, MaterialId, Mesh, Plane, PointLight, Scene,
     SceneDescription, builtin_scene,

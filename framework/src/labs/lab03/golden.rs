@@ -1,9 +1,9 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::Shadows;
 use super::checks::*;
 use crate::Error;
+use crate::contracts::lab03::Shadows;
 use crate::grading::{GoldenFile, LabContext};
 use crate::labs::strategies::samples;
 

@@ -18,17 +18,18 @@ use std::sync::Arc;
 use glam::{DVec3, Vec2, Vec3};
 use proptest::prelude::*;
 
-use super::{Interface, Reflection};
+use crate::contracts::lab02::LightSample;
+use crate::contracts::lab04::{Interface, Reflection};
 use crate::film::Film;
 use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
     for_all,
 };
-use crate::labs::lab02::LightSample;
 use crate::labs::strategies::{point, unit_vector};
-use crate::math::{Hit, RAY_EPSILON, Ray};
+use crate::math::{RAY_EPSILON, Ray};
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
+use crate::scene::Hit;
 use crate::scene::{IllumModel, Light, MaterialId, Scene, builtin_scene, parse_scene_str};
 
 /// Golden file of Exercise 4.1.

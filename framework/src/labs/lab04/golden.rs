@@ -3,9 +3,9 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::Reflection;
 use super::checks::*;
 use crate::Error;
+use crate::contracts::lab04::Reflection;
 use crate::grading::{GoldenFile, LabContext};
 use crate::labs::strategies::{samples, unit_vector};
 

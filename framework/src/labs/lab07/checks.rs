@@ -36,7 +36,7 @@ use std::sync::Arc;
 use glam::{DVec2, UVec2, Vec2, Vec3};
 use proptest::prelude::*;
 
-use super::Antialiasing;
+use crate::contracts::lab07::Antialiasing;
 use crate::film::Film;
 use crate::grading::stats::{
     chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z,

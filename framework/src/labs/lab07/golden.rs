@@ -1,9 +1,9 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::Antialiasing;
 use super::checks::*;
 use crate::Error;
+use crate::contracts::lab07::Antialiasing;
 use crate::grading::{GoldenFile, LabContext};
 use crate::labs::strategies::samples;
 

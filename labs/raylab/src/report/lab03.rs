@@ -7,10 +7,10 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 
 use framework::Error;
+use framework::contracts::lab02::LightSample;
+use framework::contracts::lab03::Shadows;
 use framework::film::{Film, ToneMap};
 use framework::glam::{Vec2, Vec3};
-use framework::labs::lab02::LightSample;
-use framework::labs::lab03::Shadows;
 use framework::labs::lab03::checks::snapshot_scene;
 use framework::math::Ray;
 use framework::pipeline::Pipeline;

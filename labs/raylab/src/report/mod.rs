@@ -2,11 +2,11 @@
 //! the student's pipeline, written as PNG files with a `report.md` beside them that gives each
 //! figure's parameters and render time.
 
-mod lab01;
-mod lab02;
-mod lab03;
-mod lab04;
-mod lab07;
+pub mod lab01;
+pub mod lab02;
+pub mod lab03;
+pub mod lab04;
+pub mod lab07;
 
 use std::cell::RefCell;
 use std::fmt::Write as _;
@@ -17,11 +17,12 @@ use clap::Args;
 use framework::Error;
 use framework::film::{Film, ToneMap, write_png};
 use framework::glam::Vec3;
-use framework::pipeline::Pipeline;
+use framework::pipeline::{LabSlots, Pipeline};
 use framework::render::{PixelFailures, RenderSettings, render_partial};
 use framework::scene::Scene;
 
 use crate::render::PipelineChoice;
+use crate::students::{LabCode, LabVisitor};
 
 /// Options of `raylab report`.
 #[derive(Args, Debug)]
@@ -140,14 +141,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
     if let Some(note) = crate::render::student_code_note(args.pipeline, args.lab) {
         eprintln!("note: {note}");
     }
-    let figures = match args.lab {
-        1 => lab01::figures(&ctx)?,
-        2 => lab02::figures(&ctx)?,
-        3 => lab03::figures(&ctx)?,
-        4 => lab04::figures(&ctx)?,
-        7 => lab07::figures(&ctx)?,
-        _ => Vec::new(),
-    };
+    let figures = (crate::students::visit(args.lab, Figures(&ctx))?)?;
     let (failures, total) = &*ctx.failures.borrow();
     let unfinished = crate::render::failure_lines(failures, *total);
     for line in &unfinished {
@@ -159,6 +153,16 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
     }
     println!("{}", index.display());
     Ok(())
+}
+
+/// The work of `raylab report` on one lab: its figures.
+struct Figures<'a>(&'a ReportContext);
+
+impl LabVisitor for Figures<'_> {
+    type Output = Result<Vec<Figure>, Error>;
+    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
+        (code.figures)(self.0)
+    }
 }
 
 /// Writes `report.md` beside the figures: each figure with its caption, parameters and time.

@@ -1,6 +1,6 @@
 use glam::Vec3;
 
-use crate::labs::lab02::{Intersection, SurfaceHit, TriangleHit};
+use crate::contracts::lab02::{Intersection, SurfaceHit, TriangleHit};
 use crate::math::Ray;
 use crate::scene::{Plane, Sphere};
 
@@ -21,25 +21,29 @@ impl BuiltinIntersection {
 
 impl Intersection for BuiltinIntersection {
     fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {
-        super::intersect_plane(ray, plane.normal, plane.d).map(|distance| SurfaceHit {
+        crate::geometry::intersect_plane(ray, plane.normal, plane.d).map(|distance| SurfaceHit {
             distance,
             normal: plane.normal,
         })
     }
 
     fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit> {
-        super::intersect_triangle(ray, v0, v1, v2).map(|(distance, beta, gamma)| TriangleHit {
-            distance,
-            beta,
-            gamma,
-            normal: Self::triangle_normal(v0, v1, v2),
+        crate::geometry::intersect_triangle(ray, v0, v1, v2).map(|(distance, beta, gamma)| {
+            TriangleHit {
+                distance,
+                beta,
+                gamma,
+                normal: Self::triangle_normal(v0, v1, v2),
+            }
         })
     }
 
     fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit> {
-        super::intersect_sphere(ray, sphere.center, sphere.radius).map(|distance| SurfaceHit {
-            distance,
-            normal: (ray.at(distance) - sphere.center) / sphere.radius,
+        crate::geometry::intersect_sphere(ray, sphere.center, sphere.radius).map(|distance| {
+            SurfaceHit {
+                distance,
+                normal: (ray.at(distance) - sphere.center) / sphere.radius,
+            }
         })
     }
 }

@@ -1,6 +1,6 @@
 use glam::{Vec2, Vec3};
 
-use crate::scene::MaterialId;
+use super::MaterialId;
 
 /// Everything a shader needs to know about a ray–surface intersection (the DTU `HitInfo`).
 #[derive(Clone, Copy, Debug, PartialEq)]
