@@ -27,13 +27,6 @@ pub enum View {
     Normals,
 }
 
-/// Whether `ray` can be traced: finite origin and direction, and an interval that is not NaN.
-/// A NaN direction (a student's `normalize` of a zero vector, say) makes every slab test of the
-/// BVH pass, so tracing it would never end.
-pub fn traceable(ray: &Ray) -> bool {
-    ray.origin.is_finite() && ray.direction.is_finite() && ray.tmin <= ray.tmax
-}
-
 /// The components of a render, one slot per lab contract, and the integrator that calls them
 /// (the DTU `RayTracer` and shaders).
 #[derive(Clone)]
@@ -189,12 +182,9 @@ impl Pipeline {
         self.camera.camera_ray(camera.eye, dir)
     }
 
-    /// The closest hit along `ray`, through the lab 02 slot; none for a ray with a NaN or
-    /// infinite origin or direction, or a NaN interval (see [`traceable`]).
+    /// The closest hit along `ray`, through the lab 02 slot; none along a ray that is not
+    /// [traceable](Ray::is_traceable).
     pub fn trace_to_closest(&self, scene: &Scene, ray: &Ray) -> Option<Hit> {
-        if !traceable(ray) {
-            return None;
-        }
         match &self.intersection {
             Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_closest(ray),
@@ -202,11 +192,8 @@ impl Pipeline {
     }
 
     /// Whether anything blocks `ray`, through the lab 02 slot; nothing blocks a ray that is
-    /// not [`traceable`].
+    /// not [traceable](Ray::is_traceable).
     pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
-        if !traceable(ray) {
-            return false;
-        }
         match &self.intersection {
             Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_any(ray),
@@ -219,9 +206,9 @@ impl Pipeline {
     }
 
     /// Radiance along `ray` after `depth` bounces, travelling in a medium of index `ior`; NaN
-    /// along a ray that is not [`traceable`], so that the render marks the pixel.
+    /// along a ray that is not [traceable](Ray::is_traceable), so that the render marks the pixel.
     fn radiance_at(&self, scene: &Scene, ray: &Ray, depth: u32, ior: f32, rng: &mut Rng) -> Vec3 {
-        if !traceable(ray) {
+        if !ray.is_traceable() {
             return Vec3::NAN;
         }
         let Some(mut hit) = self.trace_to_closest(scene, ray) else {

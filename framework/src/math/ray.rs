@@ -38,6 +38,15 @@ impl Ray {
         self.origin + t * self.direction
     }
 
+    /// Whether the ray can be traced: finite origin and direction, and an interval that is not
+    /// NaN. A NaN direction (a student's `normalize` of a zero vector, say) passes every slab
+    /// test of a BVH, so a traversal would visit the whole tree and report nonsense; the
+    /// scene's queries find nothing along such a ray.
+    #[inline]
+    pub fn is_traceable(&self) -> bool {
+        self.origin.is_finite() && self.direction.is_finite() && self.tmin <= self.tmax
+    }
+
     /// Whether `t` lies in the ray's valid interval.
     #[inline]
     pub fn accepts(&self, t: f32) -> bool {

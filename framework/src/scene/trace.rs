@@ -79,7 +79,8 @@ enum Found {
 
 impl Scene {
     /// The closest surface along `ray` in `[tmin, tmax]` (DTU `RayTracer::trace_to_closest`),
-    /// using the framework's intersection kernels.
+    /// using the framework's intersection kernels; none along a ray that is not
+    /// [traceable](Ray::is_traceable).
     ///
     /// The same hit as the framework's kernels give one triangle at a time, bit for bit, found
     /// faster: the triangles are tested four at a time
@@ -128,6 +129,9 @@ impl Scene {
         tests: &T,
         triangles: impl FnOnce(&Ray) -> Option<(u32, f32, Vec2, Vec3)>,
     ) -> Option<Hit> {
+        if !ray.is_traceable() {
+            return None;
+        }
         let mut r = *ray;
         let mut found = None;
         for (i, plane) in self.planes.iter().enumerate() {
@@ -196,6 +200,9 @@ impl Scene {
         tests: &T,
         triangles: impl FnOnce(&Ray) -> bool,
     ) -> bool {
+        if !ray.is_traceable() {
+            return false;
+        }
         self.planes.iter().any(|p| tests.plane(ray, p).is_some())
             || self.sphere_bvh.any_hit(ray, |i, r| {
                 tests.sphere(r, &self.spheres[i as usize]).is_some()
@@ -234,6 +241,37 @@ mod tests {
     use super::*;
     use crate::scene::{BUILTIN_SCENES, builtin_scene};
     use crate::test_rng::Rng;
+
+    /// A ray with a NaN or infinite origin or direction, or a NaN interval, hits nothing in
+    /// every query (and the queries return: a NaN ray passes every slab test).
+    #[test]
+    fn untraceable_rays_hit_nothing() {
+        let scene = builtin_scene("cornell-spheres").unwrap();
+        let eye = scene.camera.eye;
+        let towards = (scene.camera.look_at - eye).normalize();
+        for ray in [
+            Ray::unbounded(eye, Vec3::NAN, 1e-4),
+            Ray::unbounded(eye, Vec3::new(f32::NAN, 0.0, 1.0), 1e-4),
+            Ray::unbounded(Vec3::splat(f32::NAN), towards, 1e-4),
+            Ray::unbounded(Vec3::splat(f32::INFINITY), towards, 1e-4),
+            Ray::new(eye, towards, f32::NAN, f32::INFINITY),
+            Ray::new(eye, towards, 1e-4, f32::NAN),
+        ] {
+            assert!(scene.trace_to_closest(&ray).is_none(), "{ray:?}");
+            assert!(!scene.trace_to_any(&ray), "{ray:?}");
+            assert!(
+                scene.trace_to_closest_with(&ray, &Kernels).is_none(),
+                "{ray:?}"
+            );
+            assert!(!scene.trace_to_any_with(&ray, &Kernels), "{ray:?}");
+        }
+        // The same ray with a finite direction hits the box.
+        assert!(
+            scene
+                .trace_to_closest(&Ray::unbounded(eye, towards, 1e-4))
+                .is_some()
+        );
+    }
 
     /// The fast queries (triangles four at a time) answer as the kernels do one triangle at a
     /// time, bit for bit, on every built-in scene: rays from the camera and from points inside.
