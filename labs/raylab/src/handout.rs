@@ -193,11 +193,10 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
 
     for &lab in crate::students::labs() {
         let name = format!("lab{lab:02}");
-        let dir = out.join("labs").join(&name);
-        copy_dir(&root.join("labs").join(&name), &dir)?;
-        if options.answer_key || !options.released.contains(&lab) {
-            drop_reference_feature(&dir, lab)?;
-        }
+        copy_dir(
+            &root.join("labs").join(&name),
+            &out.join("labs").join(&name),
+        )?;
     }
     if options.answer_key {
         copy_dir(&root.join("reference"), &out.join("reference"))
@@ -226,103 +225,33 @@ fn check_releasable(root: &Path, released: &BTreeSet<u32>) -> Result<(), Error> 
     Ok(())
 }
 
-/// Removes the `reference` feature of an unreleased lab from its manifest and its checks.
-fn drop_reference_feature(dir: &Path, lab: u32) -> Result<(), Error> {
-    let manifest = dir.join("Cargo.toml");
-    let text = replace_once(
-        &read(&manifest)?,
-        &format!(
-            "# Run this lab's checks on the reference solution instead of src/lib.rs:\n#   cargo test -p lab{lab:02} --features reference\nreference = []\n"
-        ),
-        "",
-        &manifest.display().to_string(),
-    )?;
-    write(&manifest, &text)?;
-
-    let checks = dir.join("tests/checks.rs");
-    let text = read(&checks)?;
-    let subject = format!(
-        "    #[cfg(feature = \"reference\")]\n    return Arc::new(reference::lab{lab:02}::Lab{lab:02});\n    #[cfg(not(feature = \"reference\"))]\n    return Arc::new(lab{lab:02}::Student);\n"
-    );
-    let place = checks.display().to_string();
-    let text = replace_once(
-        &text,
-        &subject,
-        &format!("    Arc::new(lab{lab:02}::Student)\n"),
-        &place,
-    )?;
-    let text = replace_once(
-        &text,
-        &format!(
-            "//! `cargo test -p lab{lab:02} --features reference` checks the reference solution instead.\n"
-        ),
-        "",
-        &place,
-    )?;
-    let text = replace_once(
-        &text,
-        "//! Each exercise is checked with the reference for everything else, so one unfinished\n//! exercise does not fail the others.\n",
-        "//! Each exercise runs in the pipeline of `reference::pipeline`: the released solutions, and\n//! your own code for the labs whose solutions are not released.\n",
-        &place,
-    )?;
-    write(&checks, &text)
-}
-
-/// Writes `reference/`: the released solutions, and `pipeline()` with the student's code in
-/// the slots of the labs not released.
+/// Writes `reference/`: the released solutions, and the manifest whose default features are
+/// their keys, so that `pipeline()` has the student's code in the slots of the labs not
+/// released (see `reference/src/lib.rs`).
 fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<(), Error> {
     let dir = out.join("reference");
     fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
-    let mut lib = read(&root.join("reference/src/lib.rs"))?;
-    let mut manifest = read(&root.join("reference/Cargo.toml"))?;
-    let place = "reference/src/lib.rs";
-    lib = replace_once(
-        &lib,
-        "//! The answer key: one module per lab implementing that lab's contract from\n//! `framework::contracts`, and [`pipeline`], the reference [`Pipeline`] every check and render\n//! starts from.\n",
-        "//! The solutions released so far, one module per lab, and [`pipeline`], the [`Pipeline`]\n//! every check and render starts from: a released lab's solution, and your own code (the\n//! `Student` of `labs/labNN`) for the labs whose solutions are not released yet.\n",
-        place,
-    )?;
-    manifest = replace_once(
-        &manifest,
-        "description = \"The answer key: raylab's reference implementation of every lab contract.\"",
-        "description = \"The released solutions, and the pipeline the checks run each exercise in.\"",
+    for file in ["build.rs", "src/lib.rs"] {
+        copy_file(&root.join("reference").join(file), &dir.join(file))?;
+    }
+    for &lab in released {
+        let file = format!("src/lab{lab:02}.rs");
+        copy_file(&root.join("reference").join(&file), &dir.join(&file))?;
+    }
+    let all: Vec<String> = crate::students::labs()
+        .iter()
+        .map(|l| format!("\"key-lab{l:02}\""))
+        .collect();
+    let keys: Vec<String> = released
+        .iter()
+        .map(|l| format!("\"key-lab{l:02}\""))
+        .collect();
+    let manifest = replace_once(
+        &read(&root.join("reference/Cargo.toml"))?,
+        &format!("default = [{}]\n", all.join(", ")),
+        &format!("default = [{}]\n", keys.join(", ")),
         "reference/Cargo.toml",
     )?;
-    for &lab in crate::students::labs() {
-        let module = format!("lab{lab:02}");
-        if released.contains(&lab) {
-            copy_file(
-                &root.join(format!("reference/src/{module}.rs")),
-                &dir.join(format!("src/{module}.rs")),
-            )?;
-        } else {
-            lib = replace_once(&lib, &format!("pub mod {module};\n"), "", place)?;
-            lib = replace_once(
-                &lib,
-                &format!("Arc::new({module}::Lab{lab:02})"),
-                &format!("Arc::new(::{module}::Student)"),
-                place,
-            )?;
-            manifest.push_str(&format!("{module} = {{ path = \"../labs/{module}\" }}\n"));
-        }
-    }
-    // The key is what the tree holds: checks of a lab not released judge by golden cases and
-    // properties, since its slot of `pipeline()` is the student's own code.
-    let keys = released
-        .iter()
-        .map(u32::to_string)
-        .collect::<Vec<_>>()
-        .join(", ");
-    lib = replace_once(
-        &lib,
-        "pub const KEYS: &[u32] = &framework::labs::NUMBERS;\n",
-        &format!("pub const KEYS: &[u32] = &[{keys}];\n"),
-        place,
-    )?;
-    while lib.contains("\n\n\n") {
-        lib = lib.replace("\n\n\n", "\n\n");
-    }
-    write(&dir.join("src/lib.rs"), &lib)?;
     write(&dir.join("Cargo.toml"), &manifest)
 }
 
