@@ -32,7 +32,7 @@ pub const COURSE: &[Lab] = &[
         number: 1,
         title: "Camera rays and the image loop",
         exercises: || infos(1, &lab01::checks::exercises()),
-        denied: &[],
+        denied: LAB01_DENIED,
     },
     Lab {
         number: 2,
@@ -50,13 +50,30 @@ pub const COURSE: &[Lab] = &[
         number: 4,
         title: "Reflection, refraction and Phong",
         exercises: || infos(4, &lab04::checks::exercises()),
-        denied: &[],
+        denied: LAB04_DENIED,
     },
     Lab {
         number: 7,
         title: "Anti-aliasing",
         exercises: || infos(7, &lab07::checks::exercises()),
         denied: &[],
+    },
+];
+
+/// glam's vectors reflect and refract about a normal; the names are also the contract's own
+/// methods, so only a call on another receiver or path counts.
+const LAB04_DENIED: &[DeniedItem] = &[
+    DeniedItem {
+        name: "reflect",
+        own: &["self", "Self", "Reflection"],
+        exercises: &["4.1"],
+        computes: "glam's reflection of a direction about a normal",
+    },
+    DeniedItem {
+        name: "refract",
+        own: &["self", "Self", "Reflection"],
+        exercises: &["4.4"],
+        computes: "glam's refraction of a direction through a surface",
     },
 ];
 
@@ -95,36 +112,64 @@ fn infos<S: ?Sized>(lab: u32, exercises: &[crate::grading::Exercise<S>]) -> Vec<
     exercises.iter().map(|e| e.info(lab)).collect()
 }
 
+/// glam's view matrices hold the camera's orthonormal basis.
+const LAB01_DENIED: &[DeniedItem] = &[
+    DeniedItem {
+        name: "look_at_rh",
+        own: &[],
+        exercises: &["1.2"],
+        computes: "glam's view matrix, whose rows are the camera basis",
+    },
+    DeniedItem {
+        name: "look_at_lh",
+        own: &[],
+        exercises: &["1.2"],
+        computes: "glam's view matrix, whose rows are the camera basis",
+    },
+    DeniedItem {
+        name: "look_to_rh",
+        own: &[],
+        exercises: &["1.2"],
+        computes: "glam's view matrix, whose rows are the camera basis",
+    },
+    DeniedItem {
+        name: "look_to_lh",
+        own: &[],
+        exercises: &["1.2"],
+        computes: "glam's view matrix, whose rows are the camera basis",
+    },
+];
+
 /// The scene's own ray queries answer the intersection exercises for a one-shape scene.
 const LAB02_DENIED: &[DeniedItem] = &[
     DeniedItem {
         name: "trace_to_closest",
+        own: &[],
         exercises: &["2.1", "2.2", "2.3"],
-        computes: "closest hit of a ray with a scene's planes, triangles and spheres",
+        computes: "the framework's closest hit of a ray with a scene's planes, triangles and spheres",
     },
     DeniedItem {
         name: "trace_to_any",
+        own: &[],
         exercises: &["2.1", "2.2", "2.3"],
-        computes: "test of whether a ray hits any of a scene's planes, triangles and spheres",
-    },
-    DeniedItem {
-        name: "BuiltinIntersection",
-        exercises: &["2.1", "2.2", "2.3"],
-        computes: "own ray-plane, ray-triangle and ray-sphere tests",
+        computes: "the framework's test of whether a ray hits any of a scene's planes, triangles and spheres",
     },
     DeniedItem {
         name: "closest_hit_watertight",
+        own: &[],
         exercises: &["2.2"],
-        computes: "closest hit of a ray among triangles, by its own watertight test",
+        computes: "the framework's closest hit of a ray among triangles, by its own watertight test",
     },
     DeniedItem {
         name: "any_hit_watertight",
+        own: &[],
         exercises: &["2.2"],
-        computes: "any hit of a ray among triangles, by its own watertight test",
+        computes: "the framework's any hit of a ray among triangles, by its own watertight test",
     },
     DeniedItem {
         name: "TriangleRay",
+        own: &[],
         exercises: &["2.2"],
-        computes: "own watertight ray-triangle test",
+        computes: "the framework's own watertight ray-triangle test",
     },
 ];

@@ -354,11 +354,28 @@ impl Scanner {
                 TokenTree::Ident(ident) => {
                     let name = ident.to_string();
                     let name = unraw(&name);
-                    if let Some(item) = self.denied_items.iter().find(|d| d.name == name) {
+                    let dot = i >= 1 && is_punct(tokens.get(i - 1), '.');
+                    let path = i >= 2
+                        && is_punct(tokens.get(i - 1), ':')
+                        && is_punct(tokens.get(i - 2), ':');
+                    let qualifier = match (dot, path) {
+                        (true, _) if i >= 2 => tokens.get(i - 2),
+                        (_, true) if i >= 3 => tokens.get(i - 3),
+                        _ => None,
+                    }
+                    .and_then(|t| match t {
+                        TokenTree::Ident(q) => Some(unraw(&q.to_string()).to_string()),
+                        _ => None,
+                    });
+                    if let Some(item) = self
+                        .denied_items
+                        .iter()
+                        .find(|d| d.name == name && d.counts(dot || path, qualifier.as_deref()))
+                    {
                         self.denied.push(DeniedUse {
                             exercises: item.exercises,
                             line: format!(
-                                "{}:{}: `{name}` (the framework's {}) answers Exercise {}",
+                                "{}:{}: `{name}` ({}) answers Exercise {}",
                                 self.file,
                                 ident.span().start().line,
                                 item.computes,
@@ -500,6 +517,11 @@ mod tests {
     impl Tree {
         /// A tree whose lab 2 holds `files` (path below `src/`, contents).
         fn with(files: &[(&str, &[u8])]) -> Tree {
+            Tree::with_lab(2, files)
+        }
+
+        /// A tree whose lab `lab` holds `files` (path below `src/`, contents).
+        fn with_lab(lab: u32, files: &[(&str, &[u8])]) -> Tree {
             static COUNT: AtomicUsize = AtomicUsize::new(0);
             let dir = std::env::temp_dir().join(format!(
                 "raylab-scan-{}-{}",
@@ -507,7 +529,7 @@ mod tests {
                 COUNT.fetch_add(1, Ordering::Relaxed)
             ));
             for (path, contents) in files {
-                let path = dir.join("labs/lab02/src").join(path);
+                let path = dir.join(format!("labs/lab{lab:02}/src")).join(path);
                 fs::create_dir_all(path.parent().unwrap()).unwrap();
                 fs::write(path, contents).unwrap();
             }
@@ -749,8 +771,9 @@ macro_rules! m {
     fn denied_items_are_found_in_code_not_in_comments_or_strings() {
         const ITEMS: &[DeniedItem] = &[DeniedItem {
             name: "trace_to_closest",
+            own: &[],
             exercises: &["2.1"],
-            computes: "the closest hit",
+            computes: "the framework's closest hit",
         }];
         let tree = Tree::with(&[(
             "lib.rs",
@@ -771,5 +794,34 @@ macro_rules! m {
         );
         assert_eq!(uses[0].exercises, &["2.1"]);
         assert!(scan_lab(&tree.0, 2, &[]).denied.is_empty());
+    }
+
+    /// glam's `reflect` and `refract` answer Exercises 4.1 and 4.4, but the names are also the
+    /// contract's own methods: only calls on another receiver or path count.
+    #[test]
+    fn a_denied_name_that_is_also_the_contracts_counts_only_on_another_receiver() {
+        let honest = b"impl Reflection for Student {\n    fn reflect(&self, d: Vec3, n: Vec3) -> Vec3 { d - 2.0 * d.dot(n) * n }\n    fn reflected_ray(&self, r: &Ray, h: &Hit) -> Ray { let a = self.reflect(r.direction, h.shading_normal); let b = Self::reflect(self, a, h.shading_normal); let c = Reflection::reflect(self, b, h.shading_normal); todo!() }\n    fn refract(&self, d: Vec3, n: Vec3, a: f32, b: f32) -> Option<Vec3> { None }\n}\nfn helper(d: Vec3) -> Vec3 { reflect_twice(d) }\n";
+        let tree = Tree::with_lab(4, &[("lib.rs", honest)]);
+        let denied = framework::labs::denied_items(4);
+        let scan = scan_lab(&tree.0, 4, denied);
+        assert!(
+            scan.denied.is_empty(),
+            "{:?}",
+            scan.denied.iter().map(|u| &u.line).collect::<Vec<_>>()
+        );
+
+        let delegating = b"fn a(d: Vec3, n: Vec3) -> Vec3 { d.reflect(n) }\nfn b(d: Vec3, n: Vec3) -> Vec3 { Vec3::reflect(d, n) }\nfn c(d: Vec3, n: Vec3) -> Vec3 { (d * 1.0).refract(n, 1.5) }\nfn e(d: Vec3, n: Vec3) -> Vec3 { framework::glam::Vec3::refract(d, n, 1.5) }\n";
+        let tree = Tree::with_lab(4, &[("lib.rs", delegating)]);
+        let lines: Vec<String> = scan_lab(&tree.0, 4, denied)
+            .denied
+            .into_iter()
+            .map(|u| u.line)
+            .collect();
+        assert_eq!(lines.len(), 4, "{lines:?}");
+        assert!(
+            lines[0].starts_with("labs/lab04/src/lib.rs:1: `reflect` (glam's reflection"),
+            "{lines:?}"
+        );
+        assert!(lines[3].contains("answers Exercise 4.4"), "{lines:?}");
     }
 }
