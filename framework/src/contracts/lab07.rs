@@ -13,7 +13,8 @@ use crate::sampling::Rng;
 pub trait Antialiasing: Send + Sync {
     /// Exercise 7.1 — `compute_jitters`: for a pixel divided into `s × s` subpixels, one
     /// uniformly random offset in each subpixel, in pixel units (`[0, 1)²`), drawing
-    /// `rng.next_vec2()` once per subpixel, subpixels in row-major order.
+    /// `rng.next_vec2()` once per subpixel, subpixels in row-major order. The numbers come from
+    /// `rng` itself, not a copy: the renderer goes on drawing from it (area-light samples).
     ///
     /// Subpixel `(i, j)` gets `((i + ξ.x)/s, (j + ξ.y)/s)`. The checks judge only where the
     /// jitters lie (one per subpixel, uniform within it, independent), so another order of the

@@ -68,6 +68,11 @@ impl CameraRays for Variant {
     }
 }
 
+/// `v / (|v| + 1e-6)`: the "safe" normalization of a shader, off by `10⁻⁶/|v|`.
+fn safe_normalize(v: Vec3) -> Vec3 {
+    v / (v.length() + 1e-6)
+}
+
 /// Every lab 01 variant.
 pub fn variants() -> Vec<Variant> {
     vec![
@@ -164,6 +169,71 @@ pub fn variants() -> Vec<Variant> {
             ray: Some(|e, d| Ray::new(e, d, 0.0, 1.0)),
             ..NONE
         },
+        // Mistakes the checks' usual cameras hid: positions from 10⁻³ to 10⁴ units, the raster
+        // conventions of other courses.
+        Variant {
+            name: "raster floored to the pixel's corner",
+            verdict: Verdict::Reject("1.1"),
+            coords: Some(|r, res| Reference.image_plane_coords(r.floor(), res)),
+            ..NONE
+        },
+        Variant {
+            name: "the image centre by integer division (W/2, H/2 in u32)",
+            verdict: Verdict::Reject("1.1"),
+            coords: Some(|r, res| {
+                let centre = (res / 2).as_vec2();
+                let h = res.y as f32;
+                Vec2::new((r.x - centre.x) / h, (centre.y - r.y) / h)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "width and height swapped",
+            verdict: Verdict::Reject("1.1"),
+            coords: Some(|r, res| Reference.image_plane_coords(r, UVec2::new(res.y, res.x))),
+            ..NONE
+        },
+        Variant {
+            name: "basis: up itself as ip_yaxis",
+            verdict: Verdict::Reject("1.2"),
+            basis: Some(|e, l, u| {
+                let n = (l - e).normalize();
+                CameraBasis {
+                    ip_xaxis: n.cross(u).normalize(),
+                    ip_yaxis: u.normalize(),
+                    ip_normal: n,
+                }
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "basis: normalization with an absolute epsilon, v / (|v| + 1e-6)",
+            verdict: Verdict::Reject("1.2"),
+            basis: Some(|e, l, u| {
+                let n = safe_normalize(l - e);
+                let x = safe_normalize(n.cross(u));
+                CameraBasis {
+                    ip_xaxis: x,
+                    ip_yaxis: x.cross(n),
+                    ip_normal: n,
+                }
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "ray direction: normalization with an absolute epsilon, v / (|v| + 1e-6)",
+            verdict: Verdict::Reject("1.4"),
+            direction: Some(|b, d, ip| {
+                safe_normalize(ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + d * b.ip_normal)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "camera ray with tmin = 1e-3 (a secondary ray's epsilon)",
+            verdict: Verdict::Reject("1.5"),
+            ray: Some(|e, d| Ray::new(e, d, 1e-3, f32::INFINITY)),
+            ..NONE
+        },
         // Correct alternatives.
         Variant {
             name: "image-plane coordinates from a pixel size and the lower-left corner (DTU style)",
@@ -192,12 +262,20 @@ pub fn variants() -> Vec<Variant> {
             ..NONE
         },
         Variant {
-            name: "camera ray with a small tmin and tmax = f32::MAX",
+            name: "camera ray with tmax = f32::MAX; direction divided by its length",
             verdict: Verdict::Accept,
-            ray: Some(|e, d| Ray::new(e, d, 1e-4, f32::MAX)),
+            ray: Some(|e, d| Ray::new(e, d, 0.0, f32::MAX)),
             direction: Some(|b, d, ip| {
                 let v = ip.x * b.ip_xaxis + ip.y * b.ip_yaxis + d * b.ip_normal;
                 v / v.length()
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "ray direction with the image-plane point divided by d (the plane at distance 1)",
+            verdict: Verdict::Accept,
+            direction: Some(|b, d, ip| {
+                (ip.x / d * b.ip_xaxis + ip.y / d * b.ip_yaxis + b.ip_normal).normalize()
             }),
             ..NONE
         },

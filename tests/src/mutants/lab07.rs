@@ -154,6 +154,36 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "jitters: a copy of rng per subpixel (rng.clone().next_vec2())",
+            verdict: Verdict::Reject("7.1"),
+            jitters: Some(|s, rng| {
+                per_subpixel(s, rng, |i, j, s, rng| {
+                    (Vec2::new(i as f32, j as f32) + rng.clone().next_vec2()) / s
+                })
+            }),
+            ..NONE
+        },
+        Variant {
+            // Every jitter is right, but the renderer goes on drawing from `rng` (area-light
+            // samples, lab 3) and gets the jitters' numbers again.
+            name: "jitters: drawn from a copy of rng (the caller's generator is not advanced)",
+            verdict: Verdict::Reject("7.1"),
+            jitters: Some(|s, rng| Reference.compute_jitters(s, &mut rng.clone())),
+            ..NONE
+        },
+        Variant {
+            // The caller's generator moves, but only by one number: what it gives next is the
+            // second number of the jitters again.
+            name: "jitters: drawn from a copy of rng, then rng moved on by one number",
+            verdict: Verdict::Reject("7.1"),
+            jitters: Some(|s, rng| {
+                let jitters = Reference.compute_jitters(s, &mut rng.clone());
+                rng.next_u32();
+                jitters
+            }),
+            ..NONE
+        },
         // ---- Exercise 7.2 mistakes
         Variant {
             name: "pixel: the sum, not the average",

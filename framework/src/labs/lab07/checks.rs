@@ -6,16 +6,18 @@
 //!
 //! - per call (300 property cases, `s` from 1 to 12): `s²` finite jitters in `[0, 1)²`, one in
 //!   each subpixel `[i/s, (i+1)/s) × [j/s, (j+1)/s)`; two different generators give different
-//!   jitters;
+//!   jitters, and the generator passed in has moved on after the call;
 //! - over [`STREAMS`] independent generators for each `s` from 1 to 4: the mean jitter is the
 //!   pixel centre `(½, ½)`; in every subpixel the jitter's position within the subpixel has mean
 //!   `½` and variance `1/12` per coordinate (a uniform point; the subpixel centre has variance
 //!   0); the pooled in-subpixel positions are uniform over the square (χ² on 4×4 bins, which
 //!   rejects `x = y`); and the subpixels of one pixel are jittered independently (the mean
-//!   in-subpixel offset of a pixel varies as `1/(12 s²)`, not more). Each statistic is a z-score
+//!   in-subpixel offset of a pixel varies as `1/(12 s²)`, not more); and the generator moves on
+//!   past the numbers of the jitters (what the caller draws from it next is uncorrelated with
+//!   every jitter: the renderer draws its area-light samples from it). Each statistic is a z-score
 //!   (the χ² through the Wilson–Hilferty transform) compared with the two-sided normal quantile
 //!   at the Šidák-corrected level of [`FAMILY_ALPHA`] over all [`STATISTICAL_TESTS`] tests
-//!   (|z| ≤ 4.96); the generators are fixed, so the outcome is deterministic;
+//!   (|z| ≤ 5.07); the generators are fixed, so the outcome is deterministic;
 //! - on a real scene: the default scene at 160×120 with the student's jitters (the reference
 //!   averages them) at `s` = 2 and 4, two seeds each; the RMS error against a converged image
 //!   (the reference at `s` = 16, `snapshots/default-converged.exr`) must be at most
@@ -83,8 +85,9 @@ pub const STATISTICS_SUBDIVISIONS: [u32; 4] = [1, 2, 3, 4];
 pub const FAMILY_ALPHA: f64 = 1e-4;
 /// Number of statistical tests in Exercise 7.1: the mean jitter (2 per `s`), mean and variance
 /// per subpixel and coordinate (4 × 30 subpixels), χ² uniformity (1 per `s`), independence
-/// (2 per `s > 1`).
-pub const STATISTICAL_TESTS: usize = 8 + 120 + 4 + 6;
+/// (2 per `s > 1`), the generator's next numbers against each jitter (4 pairs of coordinates ×
+/// 30 subpixels).
+pub const STATISTICAL_TESTS: usize = 8 + 120 + 4 + 6 + 120;
 
 /// The exercises of lab 07, in order.
 pub fn exercises() -> Vec<Exercise<dyn Antialiasing>> {
@@ -225,12 +228,17 @@ fn check_strata(s: u32, jitters: &[Vec2]) -> Result<(), String> {
 }
 
 /// The jitters of [`STREAMS`] pixels (one generator each) at subdivision `s`, each call
-/// checked with [`check_strata`].
-fn jitters_of_many_pixels(j: &Arc<dyn Antialiasing>, s: u32) -> Result<Vec<Vec<Vec2>>, String> {
+/// checked with [`check_strata`], and what each generator gives next (`next_vec2()` after the
+/// call, as the renderer's area-light sampling draws it).
+fn jitters_of_many_pixels(
+    j: &Arc<dyn Antialiasing>,
+    s: u32,
+) -> Result<(Vec<Vec<Vec2>>, Vec<Vec2>), String> {
     (0..STREAMS)
         .map(|k| {
-            let jitters = j.compute_jitters(s, &mut Rng::for_sample(77, k, s, 0));
-            check_strata(s, &jitters).map(|()| jitters)
+            let mut rng = Rng::for_sample(77, k, s, 0);
+            let jitters = j.compute_jitters(s, &mut rng);
+            check_strata(s, &jitters).map(|()| (jitters, rng.next_vec2()))
         })
         .collect()
 }
@@ -345,17 +353,63 @@ fn check_independence(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), St
     Ok(())
 }
 
+/// The generator moves on past the jitters' numbers: over many pixels, what it gives after the
+/// call (`next`) is uncorrelated with where each jitter lies in its subpixel. Each of the `4 s²`
+/// correlations is a z-score by Fisher's transformation, `atanh(r)·√(n − 3)`.
+fn check_generator_moves_on(
+    s: u32,
+    pixels: &[Vec<Vec2>],
+    next: &[Vec2],
+    z_max: f64,
+) -> Result<(), String> {
+    let n = pixels.len() as f64;
+    let correlation = |a: &[f64], b: &[f64]| {
+        let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+        let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+        let va: f64 = a.iter().map(|x| (x - ma) * (x - ma)).sum();
+        let vb: f64 = b.iter().map(|y| (y - mb) * (y - mb)).sum();
+        cov / (va * vb).sqrt().max(f64::MIN_POSITIVE)
+    };
+    let after = [
+        next.iter().map(|u| f64::from(u.x)).collect::<Vec<_>>(),
+        next.iter().map(|u| f64::from(u.y)).collect::<Vec<_>>(),
+    ];
+    for k in 0..(s * s) as usize {
+        let offsets: Vec<DVec2> = pixels
+            .iter()
+            .map(|js| offset_in_subpixel(js[k], s))
+            .collect();
+        let jitter = [
+            offsets.iter().map(|o| o.x).collect::<Vec<_>>(),
+            offsets.iter().map(|o| o.y).collect::<Vec<_>>(),
+        ];
+        for (a, axis) in jitter.iter().zip(["x", "y"]) {
+            for (b, next_axis) in after.iter().zip(["x", "y"]) {
+                let r = correlation(a, b).clamp(-1.0 + 1e-12, 1.0 - 1e-12);
+                let z = r.atanh() * (n - 3.0).sqrt();
+                if z.abs() > z_max {
+                    return Err(format!(
+                        "after compute_jitters(subdivisions = {s}, rng), the numbers rng gives next repeat the jitters' own: over {STREAMS} pixels, rng.next_vec2().{next_axis} after the call correlates with the in-subpixel {axis} offset of jitter {k} (correlation {r:.3}, z = {z:.1}, limit {z_max:.2}). The renderer goes on drawing from rng after the jitters (the area-light samples of lab 3), so draw every jitter from rng itself, not from a copy of it, and leave it where your last number left it"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The statistical checks of Exercise 7.1 (see the module documentation).
 pub fn check_jitter_statistics(j: &Arc<dyn Antialiasing>) -> Result<(), String> {
     let z_max = z_limit();
     for s in STATISTICS_SUBDIVISIONS {
-        let pixels = jitters_of_many_pixels(j, s)?;
+        let (pixels, next) = jitters_of_many_pixels(j, s)?;
         check_mean_jitter(s, &pixels, z_max)?;
         check_subpixels(s, &pixels, z_max)?;
         check_pooled_uniformity(s, &pixels, z_max)?;
         if s > 1 {
             check_independence(s, &pixels, z_max)?;
         }
+        check_generator_moves_on(s, &pixels, &next, z_max)?;
     }
     Ok(())
 }
@@ -394,7 +448,8 @@ pub fn check_image_error(j: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<
     Ok(())
 }
 
-/// The jitters come from `rng`: two generators give two different sets.
+/// The jitters come from `rng` and move it on: two generators give two different sets, and the
+/// generator passed in is not where it was after the call.
 fn check_uses_rng(j: &Arc<dyn Antialiasing>) -> Result<(), String> {
     for s in [1u32, 3] {
         let a = j.compute_jitters(s, &mut Rng::new(1, 2));
@@ -402,6 +457,16 @@ fn check_uses_rng(j: &Arc<dyn Antialiasing>) -> Result<(), String> {
         if a == b {
             return Err(format!(
                 "compute_jitters(subdivisions = {s}, rng) returned the same jitters {a:?} for two different generators: the jitter must come from rng (rng.next_vec2() once per subpixel), not be a fixed pattern such as the subpixel centres or corners"
+            ));
+        }
+    }
+    for s in [1u32, 3] {
+        let mut rng = Rng::new(5, 6);
+        let mut before = rng.clone();
+        j.compute_jitters(s, &mut rng);
+        if (0..4).all(|_| rng.next_u32() == before.next_u32()) {
+            return Err(format!(
+                "compute_jitters(subdivisions = {s}, rng) left rng where it was: it drew its numbers from a copy of rng (rng.clone()) or from another generator. The renderer goes on drawing from rng after the jitters (the area-light samples of lab 3) and would get the jitters' numbers again; draw rng.next_vec2() from rng itself"
             ));
         }
     }
@@ -712,6 +777,33 @@ mod tests {
             check_subpixels(s, &pixels, z).unwrap();
             check_pooled_uniformity(s, &pixels, z).unwrap();
             check_independence(s, &pixels, z).unwrap();
+        }
+        assert!(
+            (z - 5.07).abs() < 0.005,
+            "the module documents |z| ≤ 5.07, not {z:.3}"
+        );
+    }
+
+    #[test]
+    fn generator_check_accepts_a_moved_generator_and_rejects_a_copy() {
+        let z = z_limit();
+        let jitter = |s: u32, rng: &mut Rng| -> Vec<Vec2> {
+            (0..s * s)
+                .map(|q| (cell(q % s, q / s) + rng.next_vec2()) / s as f32)
+                .collect()
+        };
+        for s in STATISTICS_SUBDIVISIONS {
+            let (mut moved, mut next_moved) = (Vec::new(), Vec::new());
+            let (mut copied, mut next_copied) = (Vec::new(), Vec::new());
+            for k in 0..STREAMS {
+                let mut rng = Rng::for_sample(5, k, s, 0);
+                copied.push(jitter(s, &mut rng.clone()));
+                next_copied.push(rng.clone().next_vec2());
+                moved.push(jitter(s, &mut rng));
+                next_moved.push(rng.next_vec2());
+            }
+            check_generator_moves_on(s, &moved, &next_moved, z).unwrap();
+            assert!(check_generator_moves_on(s, &copied, &next_copied, z).is_err());
         }
     }
 
