@@ -30,9 +30,10 @@ pub trait Reflection: Send + Sync {
     /// valid on `[RAY_EPSILON, ∞)`.
     fn reflected_ray(&self, ray: &Ray, hit: &Hit) -> Ray;
 
-    /// Exercise 4.3 — entering or leaving: a ray with `direction·n < 0` enters the material
-    /// (from the medium of index `hit.ior` into `material_ior`); otherwise it leaves it (from
-    /// `material_ior` into air, index 1) and the normal is flipped to face it.
+    /// Exercise 4.3 — entering or leaving, with `n = hit.shading_normal`: a ray with
+    /// `direction·n < 0` enters the material (from the medium of index `hit.ior` into
+    /// `material_ior`); otherwise it leaves it (from `material_ior` into air, index 1) and the
+    /// normal is flipped to face it.
     fn interface(&self, direction: Vec3, hit: &Hit, material_ior: f32) -> Interface;
 
     /// Exercise 4.4 — Snell's law: the refracted unit direction of the unit `direction`
@@ -41,7 +42,8 @@ pub trait Reflection: Send + Sync {
     fn refract(&self, direction: Vec3, normal: Vec3, eta_i: f32, eta_t: f32) -> Option<Vec3>;
 
     /// Exercise 4.5 — the refracted ray of `ray` at `hit` (DTU `trace_refracted` without the
-    /// tracing): the ray from the hit point along the refracted direction, valid on
+    /// tracing): the ray from the hit point along the direction refracted about the shading
+    /// normal (through [`interface`](Reflection::interface)), valid on
     /// `[RAY_EPSILON, ∞)`, with the index of refraction of the medium it enters; `None` for
     /// total internal reflection.
     fn refracted_ray(&self, ray: &Ray, hit: &Hit, material_ior: f32) -> Option<(Ray, f32)>;

@@ -15,6 +15,17 @@ pub fn unit_vector() -> impl Strategy<Value = Vec3> + Clone {
         .prop_map(Vec3::normalize)
 }
 
+/// The scales, in scene units, at which checks run their configurations again: from a mesh's
+/// triangles or a lamp of 10⁻⁴ units to a terrain of 10³. Lengths scale with the
+/// configuration, so the answer is known; an absolute epsilon in the student's code shows up
+/// at one end or the other.
+pub const SCALES: [f32; 5] = [1e-4, 1e-2, 1.0, 1e2, 1e3];
+
+/// One of [`SCALES`].
+pub fn scale() -> impl Strategy<Value = f32> + Clone {
+    prop::sample::select(SCALES.to_vec())
+}
+
 /// An image resolution between 1×1 and 4096×4096.
 pub fn resolution() -> impl Strategy<Value = UVec2> + Clone {
     (1u32..4096, 1u32..4096).prop_map(|(w, h)| UVec2::new(w, h))

@@ -192,6 +192,15 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "stratified: draws from a copy of rng (the caller's generator never advances)",
+            verdict: Verdict::Reject("3.2"),
+            stratified: Some(|n, rng| {
+                let mut copy = rng.clone();
+                grid(n, |_, _| copy.next_vec2())
+            }),
+            ..NONE
+        },
         // Exercise 3.3.
         Variant {
             name: "triangle: u₁ without the square root (crowds towards v1, v2)",
@@ -276,6 +285,32 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("3.4"),
             area: Some(|p, q, n, le, pdf| {
                 area_with(p, q, n, le, pdf, |c, r, pdf| (-c).max(0.0) / (r * r * pdf))
+            }),
+            ..NONE
+        },
+        // Guards with absolute constants that hold in metre-sized scenes and bias a small
+        // light (a lamp of 1 cm or less) seen from close by.
+        Variant {
+            name: "area sample: r² clamped to at least 1e-4 against fireflies",
+            verdict: Verdict::Reject("3.4"),
+            area: Some(|p, q, n, le, pdf| {
+                area_with(p, q, n, le, pdf, |c, r, pdf| {
+                    c.max(0.0) / ((r * r).max(1e-4) * pdf)
+                })
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sample: no light from a sample closer than 1e-3 (a guard against dividing by zero)",
+            verdict: Verdict::Reject("3.4"),
+            area: Some(|p, q, n, le, pdf| {
+                area_with(p, q, n, le, pdf, |c, r, pdf| {
+                    if r < 1e-3 {
+                        0.0
+                    } else {
+                        c.max(0.0) / (r * r * pdf)
+                    }
+                })
             }),
             ..NONE
         },

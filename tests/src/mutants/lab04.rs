@@ -247,6 +247,18 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "interface: the geometric normal instead of the shading normal (faceted glass on smooth meshes)",
+            verdict: Verdict::Reject("4.3"),
+            interface: Some(|w, hit, ior| {
+                let faceted = Hit {
+                    shading_normal: hit.geometric_normal,
+                    ..*hit
+                };
+                Reference.interface(w, &faceted, ior)
+            }),
+            ..NONE
+        },
         // 4.4
         Variant {
             name: "refract: η inverted (η₂/η₁)",
@@ -323,6 +335,18 @@ pub fn variants() -> Vec<Variant> {
                 Reference
                     .refract(ray.direction, hit.shading_normal, 1.0, ior)
                     .map(|d| (Ray::unbounded(hit.position, d, RAY_EPSILON), ior))
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "refracted ray: refracts about the geometric normal (faceted glass on smooth meshes)",
+            verdict: Verdict::Reject("4.5"),
+            refracted_ray: Some(|ray, hit, ior| {
+                let faceted = Hit {
+                    shading_normal: hit.geometric_normal,
+                    ..*hit
+                };
+                Reference.refracted_ray(ray, &faceted, ior)
             }),
             ..NONE
         },

@@ -33,7 +33,7 @@ use crate::grading::{
     check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
 };
 use crate::labs::lab02::checks::triangle_strategy;
-use crate::labs::strategies::{point, unit_vector};
+use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::Ray;
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
@@ -848,10 +848,13 @@ pub fn area_sample_strategy() -> impl Strategy<Value = AreaSampleInput> {
         .prop_map(|(p, q, n, (r, g, b), pdf)| (p, q, n, Vec3::new(r, g, b), pdf))
 }
 
+/// Compares an area-light sample with the expected one; `unit` is the size of the
+/// configuration (the distance's absolute tolerance is `1e-5·unit`).
 fn compare_area_sample(
     input: &AreaSampleInput,
     got: LightSample,
     expected: LightSample,
+    unit: f32,
 ) -> Result<(), String> {
     let (p, q, n, le, pdf) = input;
     let call = format!(
@@ -868,7 +871,7 @@ fn compare_area_sample(
         &format!("the distance of {call}"),
         got.distance,
         expected.distance,
-        1e-5,
+        1e-5 * unit,
         1e-5,
     )?;
     let cos_light = -n.dot(expected.direction);
@@ -893,10 +896,11 @@ fn compare_area_sample(
 }
 
 /// The relations an area-light sample satisfies whatever its value: it points at the light
-/// point from `r` away; no light leaves the back of the light; and its radiance is linear in
-/// `L_e`, inversely proportional to `p_A` and to `r²` (the position moved back along the
+/// point from `r` away (to `1e-4·unit`, `unit` the size of the configuration); no light leaves
+/// the back of the light, and some leaves its front; and its radiance is linear in `L_e`,
+/// inversely proportional to `p_A` and to `r²` (the position moved back along the
 /// direction), and proportional to `cos θ' = −n'·ω` (the light's normal tilted).
-fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), String> {
+fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput, unit: f32) -> Result<(), String> {
     let &(p, q, n, le, pdf) = input;
     let call = format!(
         "area_light_sample(position = {p}, light_point = {q}, light_normal = {n}, emission = {le}, pdf_area = {pdf})"
@@ -913,7 +917,7 @@ fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), 
         &format!("position + distance·direction of {call} (the light point)"),
         p + got.distance * got.direction,
         q,
-        1e-4,
+        1e-4 * unit,
         1e-5,
     )
     .map_err(|e| format!("{e}: the sample points from the position to the light point"))?;
@@ -929,6 +933,13 @@ fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), 
             ));
         }
         return Ok(());
+    }
+    let cos = -n.dot(towards);
+    if cos > 1e-4 && (got.radiance.cmple(Vec3::ZERO) & le.cmpgt(Vec3::ZERO)).any() {
+        return Err(format!(
+            "the radiance of {call} is {}: the position is in front of the light (−n'·ω = {cos:.4} > 0) and the light emits {le}, so some of it must arrive, however close or small the light (no clamp or cut-off on r)",
+            got.radiance
+        ));
     }
     let related = [
         (
@@ -961,7 +972,6 @@ fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), 
         .map_err(|e| format!("{e}: {law}"))?;
     }
     // Tilt the light's normal towards the position: the radiance grows with cos θ'.
-    let cos = -n.dot(towards);
     if cos < 0.9 {
         let facing = -towards;
         if let Some(tilted) = (n + facing).try_normalize() {
@@ -981,8 +991,8 @@ fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput) -> Result<(), 
 
 fn exercise_3_4(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.shadows.clone());
-    for_all(300, area_sample_strategy(), |input| {
-        check_area_relations(s.as_ref(), &input)?;
+    let judge = |input: AreaSampleInput, unit: f32| {
+        check_area_relations(s.as_ref(), &input, unit)?;
         let Some(key) = &key else {
             return Ok(());
         };
@@ -991,8 +1001,19 @@ fn exercise_3_4(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
             &input,
             s.area_light_sample(p, q, n, le, pdf),
             key.area_light_sample(p, q, n, le, pdf),
+            unit,
         )
-    })?;
+    };
+    for_all(300, area_sample_strategy(), |input| judge(input, 1.0))?;
+    // The same configurations at every scale, from a lamp of 10⁻⁴ units seen from close by to
+    // one of 10³ seen from far away. The density per unit area of a light of k times the size
+    // is 1/k² of the original's, so the radiance stays what it is at scale 1: a clamp or
+    // cut-off on r tuned to metre-sized scenes shows at the small end.
+    for_all(
+        300,
+        (area_sample_strategy(), scale()),
+        |((p, q, n, le, pdf), k)| judge((k * p, k * q, n, le, pdf / (k * k)), k),
+    )?;
     let golden: GoldenFile<AreaSampleInput, LightSample> =
         GoldenFile::load(&ctx.golden_path(GOLDEN_AREA_SAMPLE)).map_err(|e| e.to_string())?;
     for case in &golden.cases {
@@ -1001,6 +1022,7 @@ fn exercise_3_4(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
             &case.input,
             s.area_light_sample(p, q, n, le, pdf),
             case.expected,
+            1.0,
         )?;
     }
     check_irradiance(Part::AreaSample, s, &ctx.base)?;

@@ -25,7 +25,7 @@ use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
     for_all,
 };
-use crate::labs::strategies::{point, unit_vector};
+use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::{RAY_EPSILON, Ray};
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
@@ -278,6 +278,24 @@ pub fn side_strategy() -> impl Strategy<Value = SideInput> + Clone {
                 return None;
             }
             Some((w, n, if c < 0.0 { outside } else { material }, material))
+        },
+    )
+}
+
+/// Inputs of Exercises 4.3 and 4.5 at hits whose shading normal (the input's `n`) is tilted
+/// away from the geometric normal, as on a smooth mesh, with the hit anywhere from the origin
+/// to thousands of units away: the input, the geometric normal and the hit's position. The
+/// direction is on the same side of both normals (at least 0.05 from tangent to either), so
+/// entering and leaving mean the same whichever normal decides.
+pub fn bent_side_strategy() -> impl Strategy<Value = (SideInput, Vec3, Vec3)> + Clone {
+    (side_strategy(), point(0.25), point(5.0), scale()).prop_filter_map(
+        "a tilted normal on the direction's side",
+        |((w, g, hit_ior, material_ior), bend, p, k)| {
+            let n = (g + bend).try_normalize()?;
+            let (cg, cn) = (w.dot(g), w.dot(n));
+            let clear = cg * cn > 0.0 && cg.abs() >= 0.05 && cn.abs() >= 0.05;
+            let tilted = (n - g).length() > 0.05;
+            (clear && tilted).then_some(((w, n, hit_ior, material_ior), g, k * p))
         },
     )
 }
@@ -866,6 +884,21 @@ fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             None => Ok(()),
         }
     })?;
+    // The shading normal decides and is the one flipped, not the geometric normal.
+    for_all(300, bent_side_strategy(), |(input, g, p)| {
+        let (w, n, hit_ior, material_ior) = input;
+        let hit = hit_at(p, g, n, hit_ior);
+        let call = format!(
+            "{} (at {p}, geometric normal {g})",
+            side_call("interface", input)
+        );
+        let got = s.interface(w, &hit, material_ior);
+        check_interface_relations(&call, input, got)?;
+        match &key {
+            Some(key) => check_interface(&call, got, key.interface(w, &hit, material_ior)),
+            None => Ok(()),
+        }
+    })?;
     let golden: GoldenFile<SideInput, Interface> = load(ctx, GOLDEN_INTERFACE)?;
     for case in &golden.cases {
         let (w, _, _, material_ior) = case.input;
@@ -950,7 +983,8 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
     Ok(())
 }
 
-/// Checks `refracted_ray` on `input` arriving from `distance` away. `expected` is the known
+/// Checks `refracted_ray` on `input` at `hit` (whose shading normal is the input's `n`)
+/// arriving from `distance` away. `expected` is the known
 /// answer, if any (the key's or a golden case's: the direction and the index of the medium
 /// entered, `None` for total internal reflection); whatever it is, a refracted ray must start
 /// at the hit, cross to the far side of the surface in the plane of incidence, and obey
@@ -958,11 +992,11 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
 fn check_refracted_ray(
     s: &dyn Reflection,
     input: SideInput,
+    hit: &Hit,
     distance: f32,
     expected: Option<Option<(Vec3, f32)>>,
 ) -> Result<(), String> {
     let (w, n, hit_ior, material_ior) = input;
-    let hit = side_hit(input);
     let ray = incoming_ray(hit.position, w, distance);
     let case = if w.dot(n) < 0.0 {
         "entering"
@@ -970,10 +1004,10 @@ fn check_refracted_ray(
         "leaving"
     };
     let call = format!(
-        "refracted_ray(ray along {w} over [{}, {}], hit at {} with shading normal {n} and hit.ior = {hit_ior}, material_ior = {material_ior}) ({case})",
-        ray.tmin, ray.tmax, hit.position
+        "refracted_ray(ray along {w} over [{}, {}], hit at {} with shading normal {n}, geometric normal {} and hit.ior = {hit_ior}, material_ior = {material_ior}) ({case})",
+        ray.tmin, ray.tmax, hit.position, hit.geometric_normal
     );
-    let got = s.refracted_ray(&ray, &hit, material_ior);
+    let got = s.refracted_ray(&ray, hit, material_ior);
     let hint = "refracted by Snell's law through the normal facing the ray, from η₁ into η₂";
     let (r, ior) = match (got, expected) {
         (None, None | Some(None)) => return Ok(()),
@@ -1049,18 +1083,33 @@ fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
         side_strategy().prop_filter("clear of the critical angle", side_is_clear),
         0.5f32..10.0,
     );
-    for_all(400, strategy, |(input, distance)| {
+    let judge = |input: SideInput, hit: Hit, distance: f32| {
         let expected = key.as_ref().map(|k| {
             let (w, _, _, material_ior) = input;
-            let hit = side_hit(input);
             k.refracted_ray(&incoming_ray(hit.position, w, distance), &hit, material_ior)
                 .map(|(r, ior)| (r.direction, ior))
         });
-        check_refracted_ray(s.as_ref(), input, distance, expected)
+        check_refracted_ray(s.as_ref(), input, &hit, distance, expected)
+    };
+    for_all(400, strategy, |(input, distance)| {
+        judge(input, side_hit(input), distance)
+    })?;
+    // Refracted about the shading normal where it is tilted from the geometric normal, at hits
+    // from the origin to thousands of units away.
+    let bent = (
+        bent_side_strategy().prop_filter("clear of the critical angle", |(input, ..)| {
+            side_is_clear(input)
+        }),
+        0.5f32..10.0,
+    );
+    for_all(300, bent, |((input, g, p), distance)| {
+        let (_, n, hit_ior, _) = input;
+        judge(input, hit_at(p, g, n, hit_ior), distance)
     })?;
     let golden: GoldenFile<SideInput, Option<(Vec3, f32)>> = load(ctx, GOLDEN_REFRACTED_RAY)?;
     for case in &golden.cases {
-        check_refracted_ray(s.as_ref(), case.input, 2.0, Some(case.expected))?;
+        let hit = side_hit(case.input);
+        check_refracted_ray(s.as_ref(), case.input, &hit, 2.0, Some(case.expected))?;
     }
     check_part_snapshots(Part::RefractedRay, s, ctx)
 }
