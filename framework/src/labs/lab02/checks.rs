@@ -12,7 +12,7 @@ use crate::grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
     for_all,
 };
-use crate::labs::strategies::{point, unit_vector};
+use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::Ray;
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
@@ -190,11 +190,8 @@ pub fn ray_towards(target: Vec3, spread: f32) -> impl Strategy<Value = RayInput>
 /// 100 times as far (a far-away camera). Lengths scale with the configuration, so the answer
 /// is known; an absolute epsilon in the student's code shows up at one end or the other.
 fn scale_strategy() -> impl Strategy<Value = (f32, f32)> + Clone {
-    (0..SCALES.len(), any::<bool>()).prop_map(|(i, far)| (SCALES[i], if far { 100.0 } else { 1.0 }))
+    (scale(), any::<bool>()).prop_map(|(s, far)| (s, if far { 100.0 } else { 1.0 }))
 }
-
-/// See [`scale_strategy`].
-const SCALES: [f32; 5] = [1e-4, 1e-2, 1.0, 1e2, 1e3];
 
 /// The ray of a scaled configuration: it ends at `target` (a point of the scaled shape, in
 /// double precision) and starts where `origin` was relative to `target_unscaled`, scaled by
