@@ -12,6 +12,39 @@ use framework::grading::{Exercise, LabContext, run_exercise};
 
 use mutants::Verdict;
 
+/// Calls `$each!(number, module, Contract, Key)` for every lab of the course: the tests' one
+/// list of the labs' types (the contract `framework::contracts::module::Contract`, the key
+/// `reference::module::Key`, the stubs `::module::Student`, the corpus `mutants::module`).
+/// `tests/tests/course.rs` checks it against `framework::labs::COURSE`.
+#[macro_export]
+macro_rules! for_each_lab {
+    ($each:ident) => {
+        $each!(1, lab01, CameraRays, Lab01);
+        $each!(2, lab02, Lab02, Lab02);
+        $each!(3, lab03, Shadows, Lab03);
+        $each!(4, lab04, Reflection, Lab04);
+        $each!(7, lab07, Antialiasing, Lab07);
+    };
+}
+
+/// The mutant corpus of one lab as `judge` takes it: name, verdict and the implementation.
+#[macro_export]
+macro_rules! corpus {
+    ($module:ident, $contract:ident) => {
+        $crate::mutants::$module::variants()
+            .into_iter()
+            .map(|v| {
+                (
+                    v.name,
+                    v.verdict,
+                    std::sync::Arc::new(v)
+                        as std::sync::Arc<dyn framework::contracts::$module::$contract>,
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+}
+
 /// The directory of lab `lab`'s crate.
 pub fn lab_dir(lab: u32) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

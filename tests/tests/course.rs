@@ -1,6 +1,7 @@
 //! The course's one list of labs (`framework::labs::COURSE`) and what is derived from it agree:
 //! every lab has its crate, its docs page, a row in the README's table and its key in the
-//! reference; every lab crate is on the list; exercise numbers belong to their lab.
+//! reference; every lab crate is on the list; exercise numbers belong to their lab; the tests'
+//! list of the labs' types (`for_each_lab!`) is the course.
 
 use std::fs;
 
@@ -54,4 +55,21 @@ fn every_lab_crate_is_on_the_course_list() {
             "labs/{name} is not in framework::labs::COURSE"
         );
     }
+}
+
+#[test]
+fn the_tests_list_of_lab_types_is_the_course() {
+    let mut listed = Vec::new();
+    macro_rules! list {
+        ($number:expr, $module:ident, $contract:ident, $key:ident) => {
+            assert_eq!(stringify!($module), format!("lab{:02}", $number));
+            listed.push($number);
+        };
+    }
+    raylab_tests::for_each_lab!(list);
+    assert_eq!(
+        listed,
+        framework::labs::NUMBERS,
+        "raylab_tests::for_each_lab lists other labs than framework::labs::COURSE"
+    );
 }

@@ -4,8 +4,7 @@
 use std::sync::Arc;
 
 use framework::contracts;
-use framework::labs::{lab01, lab02, lab03, lab04, lab07};
-use raylab_tests::{context, run_all};
+use raylab_tests::{context, for_each_lab, run_all};
 
 fn assert_all_pass(results: Vec<(&str, Result<(), String>)>) {
     for (id, r) in results {
@@ -28,67 +27,30 @@ fn assert_all_fail_cleanly<S: ?Sized>(
     }
 }
 
-#[test]
-fn reference_passes_lab01() {
-    let subject: Arc<dyn contracts::lab01::CameraRays> = Arc::new(reference::lab01::Lab01);
-    assert_all_pass(run_all(&lab01::checks::exercises(), &subject, &context(1)));
+macro_rules! reference_and_stubs_tests {
+    ($number:expr, $module:ident, $contract:ident, $key:ident) => {
+        mod $module {
+            use super::*;
+
+            #[test]
+            fn reference_passes() {
+                let exercises = framework::labs::$module::checks::exercises();
+                let subject: Arc<dyn contracts::$module::$contract> =
+                    Arc::new(reference::$module::$key);
+                assert_all_pass(run_all(&exercises, &subject, &context($number)));
+            }
+
+            #[test]
+            fn stubs_fail_one_exercise_at_a_time() {
+                let exercises = framework::labs::$module::checks::exercises();
+                let subject: Arc<dyn contracts::$module::$contract> = Arc::new(::$module::Student);
+                assert_all_fail_cleanly(
+                    &exercises,
+                    run_all(&exercises, &subject, &context($number)),
+                );
+            }
+        }
+    };
 }
 
-#[test]
-fn reference_passes_lab02() {
-    let subject: Arc<dyn contracts::lab02::Lab02> = Arc::new(reference::lab02::Lab02);
-    assert_all_pass(run_all(&lab02::checks::exercises(), &subject, &context(2)));
-}
-
-#[test]
-fn reference_passes_lab03() {
-    let subject: Arc<dyn contracts::lab03::Shadows> = Arc::new(reference::lab03::Lab03);
-    assert_all_pass(run_all(&lab03::checks::exercises(), &subject, &context(3)));
-}
-
-#[test]
-fn stubs_fail_lab03_one_exercise_at_a_time() {
-    let exercises = lab03::checks::exercises();
-    let subject: Arc<dyn contracts::lab03::Shadows> = Arc::new(::lab03::Student);
-    assert_all_fail_cleanly(&exercises, run_all(&exercises, &subject, &context(3)));
-}
-
-#[test]
-fn reference_passes_lab04() {
-    let subject: Arc<dyn contracts::lab04::Reflection> = Arc::new(reference::lab04::Lab04);
-    assert_all_pass(run_all(&lab04::checks::exercises(), &subject, &context(4)));
-}
-
-#[test]
-fn stubs_fail_lab04_one_exercise_at_a_time() {
-    let exercises = lab04::checks::exercises();
-    let subject: Arc<dyn contracts::lab04::Reflection> = Arc::new(::lab04::Student);
-    assert_all_fail_cleanly(&exercises, run_all(&exercises, &subject, &context(4)));
-}
-
-#[test]
-fn reference_passes_lab07() {
-    let subject: Arc<dyn contracts::lab07::Antialiasing> = Arc::new(reference::lab07::Lab07);
-    assert_all_pass(run_all(&lab07::checks::exercises(), &subject, &context(7)));
-}
-
-#[test]
-fn stubs_fail_lab07_one_exercise_at_a_time() {
-    let exercises = lab07::checks::exercises();
-    let subject: Arc<dyn contracts::lab07::Antialiasing> = Arc::new(::lab07::Student);
-    assert_all_fail_cleanly(&exercises, run_all(&exercises, &subject, &context(7)));
-}
-
-#[test]
-fn stubs_fail_lab01_one_exercise_at_a_time() {
-    let exercises = lab01::checks::exercises();
-    let subject: Arc<dyn contracts::lab01::CameraRays> = Arc::new(::lab01::Student);
-    assert_all_fail_cleanly(&exercises, run_all(&exercises, &subject, &context(1)));
-}
-
-#[test]
-fn stubs_fail_lab02_one_exercise_at_a_time() {
-    let exercises = lab02::checks::exercises();
-    let subject: Arc<dyn contracts::lab02::Lab02> = Arc::new(::lab02::Student);
-    assert_all_fail_cleanly(&exercises, run_all(&exercises, &subject, &context(2)));
-}
+for_each_lab!(reference_and_stubs_tests);
