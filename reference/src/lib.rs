@@ -14,6 +14,8 @@ pub mod lab02;
 pub mod lab03;
 #[cfg(feature = "key-lab04")]
 pub mod lab04;
+#[cfg(feature = "key-lab05")]
+pub mod lab05;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
 
@@ -34,6 +36,8 @@ mod slots {
     pub use super::lab03::Lab03;
     #[cfg(feature = "key-lab04")]
     pub use super::lab04::Lab04;
+    #[cfg(feature = "key-lab05")]
+    pub use super::lab05::Lab05;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
     #[cfg(not(feature = "key-lab01"))]
@@ -44,6 +48,8 @@ mod slots {
     pub use ::lab03::Student as Lab03;
     #[cfg(not(feature = "key-lab04"))]
     pub use ::lab04::Student as Lab04;
+    #[cfg(not(feature = "key-lab05"))]
+    pub use ::lab05::Student as Lab05;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
 }
@@ -56,6 +62,7 @@ pub fn pipeline(lab: u32) -> Pipeline {
         shading: Arc::new(slots::Lab02),
         shadows: Arc::new(slots::Lab03),
         reflection: Arc::new(slots::Lab04),
+        radiometry: Arc::new(slots::Lab05),
         antialiasing: Arc::new(slots::Lab07),
         lab,
         view: View::Shaded,

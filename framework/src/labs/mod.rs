@@ -6,6 +6,7 @@ pub mod lab01;
 pub mod lab02;
 pub mod lab03;
 pub mod lab04;
+pub mod lab05;
 pub mod lab07;
 pub mod strategies;
 
@@ -53,6 +54,12 @@ pub const COURSE: &[Lab] = &[
         denied: LAB04_DENIED,
     },
     Lab {
+        number: 5,
+        title: "Radiometry",
+        exercises: || infos(5, &lab05::checks::exercises()),
+        denied: LAB05_DENIED,
+    },
+    Lab {
         number: 7,
         title: "Anti-aliasing",
         exercises: || infos(7, &lab07::checks::exercises()),
@@ -74,6 +81,29 @@ const LAB04_DENIED: &[DeniedItem] = &[
         own: &["self", "Self", "Reflection"],
         exercises: &["4.4"],
         computes: "glam's refraction of a direction through a surface",
+    },
+];
+
+/// Lab 03's closed forms of the irradiance from a polygonal light answer the Monte Carlo
+/// exercises without sampling.
+const LAB05_DENIED: &[DeniedItem] = &[
+    DeniedItem {
+        name: "irradiance_polygon",
+        own: &[],
+        exercises: &["5.8", "5.9"],
+        computes: "the framework's exact irradiance from a Lambertian polygon (Lambert's formula)",
+    },
+    DeniedItem {
+        name: "irradiance_parallel_rectangle",
+        own: &[],
+        exercises: &["5.8", "5.9"],
+        computes: "the framework's exact irradiance from a rectangle parallel to the receiver",
+    },
+    DeniedItem {
+        name: "form_factor_parallel_corner",
+        own: &[],
+        exercises: &["5.8", "5.9"],
+        computes: "the framework's point-to-rectangle form factor",
     },
 ];
 

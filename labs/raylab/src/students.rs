@@ -82,6 +82,13 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             reference::lab04::Lab04,
             lab04
         )),
+        5 => visitor.visit(lab_code!(
+            5,
+            Radiometry,
+            ::lab05::Student,
+            reference::lab05::Lab05,
+            lab05
+        )),
         7 => visitor.visit(lab_code!(
             7,
             Antialiasing,

@@ -6,7 +6,9 @@ pub mod lab01;
 pub mod lab02;
 pub mod lab03;
 pub mod lab04;
+pub mod lab05;
 pub mod lab07;
+pub mod plot;
 
 use std::cell::RefCell;
 use std::fmt::Write as _;

@@ -1,0 +1,32 @@
+//! Lab 05's checks: one test per exercise of the table in `framework::labs::lab05::checks`.
+//!
+//! `cargo test -p lab05` checks your code in `src/lib.rs`, `cargo test -p lab05 exercise_5_8`
+//! just Exercise 5.8.
+//! `cargo test -p lab05 --features reference` checks the reference solution instead, where
+//! the tree holds it. No check of one exercise calls your code for another, so you can do them
+//! in any order.
+
+use std::sync::Arc;
+
+use framework::contracts::lab05::Radiometry;
+use framework::grading::harness::{self, LabChecks};
+use framework::labs::lab05::checks;
+
+fn subject() -> Arc<dyn Radiometry> {
+    #[cfg(feature = "reference")]
+    return Arc::new(reference::lab05::Lab05);
+    #[cfg(not(feature = "reference"))]
+    return Arc::new(lab05::Student);
+}
+
+fn main() {
+    harness::run(LabChecks {
+        lab: 5,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(5),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
+}

@@ -1,0 +1,471 @@
+//! Lab 05 variants: the mistakes of the worksheet's hand-in (the seed's 0.42 W/sr, the bulb as
+//! a unit sphere, 685 lm/W with V = 0.1, the polar angle over [0, π]) and the other usual
+//! ones, and correct alternatives.
+
+use std::f64::consts::PI;
+
+use framework::contracts::lab05::{
+    DiffuseEmitter, Observation, PEAK_LUMINOUS_EFFICACY_LM_PER_W, PLANCK_J_S, Radiometry, Receiver,
+    RectangleLight, SPEED_OF_LIGHT_M_PER_S, SphericalBulb,
+};
+use framework::glam::DVec3;
+use framework::math::Onb;
+use framework::sampling::Rng;
+use reference::lab05::Lab05 as Reference;
+
+use super::Verdict;
+
+type PhotonsFn = fn(f64, f64, f64) -> f64;
+type BulbFn = fn(f64, f64, f64, f64) -> SphericalBulb;
+type ObserveFn = fn(f64, f64, f64) -> Observation;
+type IlluminanceFn = fn(f64, f64) -> f64;
+type EquivalentFn = fn(f64, f64, f64) -> f64;
+type EmitterFn = fn(f64, f64) -> DiffuseEmitter;
+type RadiosityFn = fn(&dyn Fn(f64, f64) -> f64, u32) -> f64;
+type EstimatorFn = fn(&RectangleLight, &Receiver, u32, &mut Rng) -> f64;
+
+/// A lab 05 variant: the reference with some functions replaced.
+#[derive(Clone, Copy)]
+pub struct Variant {
+    /// What the variant does.
+    pub name: &'static str,
+    /// Mistake or alternative.
+    pub verdict: Verdict,
+    photons: Option<PhotonsFn>,
+    bulb: Option<BulbFn>,
+    observe: Option<ObserveFn>,
+    illuminance: Option<IlluminanceFn>,
+    equivalent: Option<EquivalentFn>,
+    emitter: Option<EmitterFn>,
+    radiosity: Option<RadiosityFn>,
+    area: Option<EstimatorFn>,
+    cosine: Option<EstimatorFn>,
+}
+
+const NONE: Variant = Variant {
+    name: "",
+    verdict: Verdict::Accept,
+    photons: None,
+    bulb: None,
+    observe: None,
+    illuminance: None,
+    equivalent: None,
+    emitter: None,
+    radiosity: None,
+    area: None,
+    cosine: None,
+};
+
+impl Radiometry for Variant {
+    fn photons_per_second(&self, p: f64, eta: f64, l: f64) -> f64 {
+        self.photons
+            .map_or_else(|| Reference.photons_per_second(p, eta, l), |f| f(p, eta, l))
+    }
+    fn spherical_bulb(&self, u: f64, i: f64, d: f64, t: f64) -> SphericalBulb {
+        self.bulb
+            .map_or_else(|| Reference.spherical_bulb(u, i, d, t), |f| f(u, i, d, t))
+    }
+    fn observe_point_source(&self, phi: f64, r: f64, d: f64) -> Observation {
+        self.observe.map_or_else(
+            || Reference.observe_point_source(phi, r, d),
+            |f| f(phi, r, d),
+        )
+    }
+    fn illuminance_lux(&self, e: f64, l: f64) -> f64 {
+        self.illuminance
+            .map_or_else(|| Reference.illuminance_lux(e, l), |f| f(e, l))
+    }
+    fn equivalent_intensity_cd(&self, i: f64, rk: f64, ru: f64) -> f64 {
+        self.equivalent.map_or_else(
+            || Reference.equivalent_intensity_cd(i, rk, ru),
+            |f| f(i, rk, ru),
+        )
+    }
+    fn diffuse_emitter(&self, l: f64, a: f64) -> DiffuseEmitter {
+        self.emitter
+            .map_or_else(|| Reference.diffuse_emitter(l, a), |f| f(l, a))
+    }
+    fn radiosity_from_radiance(&self, radiance: &dyn Fn(f64, f64) -> f64, steps: u32) -> f64 {
+        match self.radiosity {
+            Some(f) => f(radiance, steps),
+            None => Reference.radiosity_from_radiance(radiance, steps),
+        }
+    }
+    fn irradiance_area_sampling(
+        &self,
+        light: &RectangleLight,
+        receiver: &Receiver,
+        samples: u32,
+        rng: &mut Rng,
+    ) -> f64 {
+        match self.area {
+            Some(f) => f(light, receiver, samples, rng),
+            None => Reference.irradiance_area_sampling(light, receiver, samples, rng),
+        }
+    }
+    fn irradiance_cosine_sampling(
+        &self,
+        light: &RectangleLight,
+        receiver: &Receiver,
+        samples: u32,
+        rng: &mut Rng,
+    ) -> f64 {
+        match self.cosine {
+            Some(f) => f(light, receiver, samples, rng),
+            None => Reference.irradiance_cosine_sampling(light, receiver, samples, rng),
+        }
+    }
+}
+
+/// The bulb with intensity `i(Φ)` and exitance `m(Φ, d)`.
+fn bulb(
+    u: f64,
+    c: f64,
+    d: f64,
+    t: f64,
+    i: fn(f64) -> f64,
+    m: fn(f64, f64) -> f64,
+) -> SphericalBulb {
+    let flux = u * c;
+    SphericalBulb {
+        radiant_flux_w: flux,
+        radiant_intensity_w_per_sr: i(flux),
+        radiant_exitance_w_per_m2: m(flux, d),
+        emitted_energy_j: flux * t,
+    }
+}
+
+/// The average of `f(u)` over `n` draws `u = rng.next_vec2()`.
+fn average(n: u32, rng: &mut Rng, mut f: impl FnMut(f64, f64) -> f64) -> f64 {
+    let mut sum = 0.0;
+    for _ in 0..n {
+        let u = rng.next_vec2().as_dvec2();
+        sum += f(u.x, u.y);
+    }
+    sum / n as f64
+}
+
+/// The area-form integrand over the pdf at the light's point `(s, t)`, with the light's
+/// cosine `cos_l` given by the caller's rule.
+fn area_term(
+    light: &RectangleLight,
+    rx: &Receiver,
+    s: f64,
+    t: f64,
+    light_cosine: bool,
+    pdf_times_area: bool,
+) -> f64 {
+    let d = light.point(s, t) - rx.position;
+    let r2 = d.length_squared();
+    let w = d / r2.sqrt();
+    let cos_r = rx.normal.dot(w).max(0.0);
+    let cos_l = if light_cosine {
+        (-light.normal().dot(w)).max(0.0)
+    } else {
+        1.0
+    };
+    let weight = if pdf_times_area {
+        light.area_m2()
+    } else {
+        1.0 / light.area_m2()
+    };
+    light.radiance_w_per_m2_sr * cos_r * cos_l / r2 * weight
+}
+
+/// A direction about `n` from the local `(x, y, z)`, through the framework's basis.
+fn around(n: DVec3, local: DVec3) -> DVec3 {
+    Onb::from_w(n.as_vec3())
+        .to_world(local.as_vec3())
+        .as_dvec3()
+        .normalize()
+}
+
+/// Every lab 05 variant.
+pub fn variants() -> Vec<Variant> {
+    vec![
+        // ---- Exercise 5.1 mistakes
+        Variant {
+            name: "photons: the hand-in's rounded constants (c = 3·10⁸ m/s, h = 6.626·10⁻³⁴ J s)",
+            verdict: Verdict::Reject("5.1"),
+            photons: Some(|p, eta, l| p * eta / (6.626e-34 * 3e8 / (l * 1e-9))),
+            ..NONE
+        },
+        Variant {
+            name: "photons: the wavelength left in nanometres",
+            verdict: Verdict::Reject("5.1"),
+            photons: Some(|p, eta, l| p * eta / (PLANCK_J_S * SPEED_OF_LIGHT_M_PER_S / l)),
+            ..NONE
+        },
+        Variant {
+            name: "photons: the efficiency forgotten (all the electrical power as light)",
+            verdict: Verdict::Reject("5.1"),
+            photons: Some(|p, _, l| p / (PLANCK_J_S * SPEED_OF_LIGHT_M_PER_S / (l * 1e-9))),
+            ..NONE
+        },
+        // ---- Exercise 5.2 mistakes
+        Variant {
+            name: "bulb: the hand-in's numbers (I = Φ/4 = 0.42 W/sr, and M = I as for a unit sphere)",
+            verdict: Verdict::Reject("5.2"),
+            bulb: Some(|u, c, d, t| bulb(u, c, d, t, |f| f / 4.0, |f, _| f / 4.0)),
+            ..NONE
+        },
+        Variant {
+            name: "bulb: exitance over a unit sphere's area 4π m², not the bulb's",
+            verdict: Verdict::Reject("5.2"),
+            bulb: Some(|u, c, d, t| bulb(u, c, d, t, |f| f / (4.0 * PI), |f, _| f / (4.0 * PI))),
+            ..NONE
+        },
+        Variant {
+            name: "bulb: the diameter taken for the radius in the sphere's area",
+            verdict: Verdict::Reject("5.2"),
+            bulb: Some(|u, c, d, t| {
+                bulb(
+                    u,
+                    c,
+                    d,
+                    t,
+                    |f| f / (4.0 * PI),
+                    |f, d| f / (4.0 * PI * d * d),
+                )
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "bulb: intensity over the hemisphere, Φ/2π",
+            verdict: Verdict::Reject("5.2"),
+            bulb: Some(|u, c, d, t| bulb(u, c, d, t, |f| f / (2.0 * PI), |f, d| f / (PI * d * d))),
+            ..NONE
+        },
+        // ---- Exercise 5.3 mistakes
+        Variant {
+            name: "observe: E = Φ/r², the 4π forgotten",
+            verdict: Verdict::Reject("5.3"),
+            observe: Some(|phi, r, d| {
+                let e = phi / (r * r);
+                Observation {
+                    irradiance_w_per_m2: e,
+                    pupil_power_w: e * PI * 0.25 * d * d,
+                }
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "observe: the pupil's diameter taken for its radius",
+            verdict: Verdict::Reject("5.3"),
+            observe: Some(|phi, r, d| {
+                let e = phi / (4.0 * PI * r * r);
+                Observation {
+                    irradiance_w_per_m2: e,
+                    pupil_power_w: e * PI * d * d,
+                }
+            }),
+            ..NONE
+        },
+        // ---- Exercise 5.4 mistakes
+        Variant {
+            name: "illuminance: the hand-in's 685 lm/W and V(650 nm) = 0.1 at every wavelength",
+            verdict: Verdict::Reject("5.4"),
+            illuminance: Some(|e, _| 685.0 * 0.1 * e),
+            ..NONE
+        },
+        Variant {
+            name: "illuminance: 683 lm/W without V(λ)",
+            verdict: Verdict::Reject("5.4"),
+            illuminance: Some(|e, _| PEAK_LUMINOUS_EFFICACY_LM_PER_W * e),
+            ..NONE
+        },
+        // ---- Exercise 5.5 mistakes
+        Variant {
+            name: "equivalent: the distances' ratio not squared",
+            verdict: Verdict::Reject("5.5"),
+            equivalent: Some(|i, rk, ru| i * ru / rk),
+            ..NONE
+        },
+        Variant {
+            name: "equivalent: the ratio upside down",
+            verdict: Verdict::Reject("5.5"),
+            equivalent: Some(|i, rk, ru| i * (rk / ru).powi(2)),
+            ..NONE
+        },
+        // ---- Exercise 5.6 mistakes
+        Variant {
+            name: "emitter: π forgotten (Φ = L·A, B = L)",
+            verdict: Verdict::Reject("5.6"),
+            emitter: Some(|l, a| DiffuseEmitter {
+                radiant_flux_w: l * a,
+                radiosity_w_per_m2: l,
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "emitter: the hemisphere's 2π sr instead of its projected solid angle π",
+            verdict: Verdict::Reject("5.6"),
+            emitter: Some(|l, a| DiffuseEmitter {
+                radiant_flux_w: 2.0 * PI * l * a,
+                radiosity_w_per_m2: 2.0 * PI * l,
+            }),
+            ..NONE
+        },
+        // ---- Exercise 5.7 mistakes
+        Variant {
+            name: "radiosity: the hand-in's limits, θ over [0, π] (the whole sphere)",
+            verdict: Verdict::Reject("5.7"),
+            radiosity: Some(|l, n| midpoint(l, n, PI, |t| t.cos() * t.sin())),
+            ..NONE
+        },
+        Variant {
+            name: "radiosity: dω = dθ dφ, the sin θ forgotten",
+            verdict: Verdict::Reject("5.7"),
+            radiosity: Some(|l, n| midpoint(l, n, 0.5 * PI, f64::cos)),
+            ..NONE
+        },
+        Variant {
+            name: "radiosity: the cos θ forgotten (radiance integrated over solid angle)",
+            verdict: Verdict::Reject("5.7"),
+            radiosity: Some(|l, n| midpoint(l, n, 0.5 * PI, f64::sin)),
+            ..NONE
+        },
+        // ---- Exercise 5.8 mistakes
+        Variant {
+            name: "area sampling: the light's cosine forgotten",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| average(n, rng, |s, t| area_term(l, rx, s, t, false, true))),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: divided by the area instead of by the pdf 1/A",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| average(n, rng, |s, t| area_term(l, rx, s, t, true, false))),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: a generator of its own, seeded afresh on every call",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, _| {
+                let mut own = Rng::new(0, 0);
+                average(n, &mut own, |s, t| area_term(l, rx, s, t, true, true))
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: one point drawn per call and used for every sample",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, _, rng| {
+                let u = rng.next_vec2().as_dvec2();
+                area_term(l, rx, u.x, u.y, true, true)
+            }),
+            ..NONE
+        },
+        // ---- Exercise 5.9 mistakes
+        Variant {
+            name: "cosine sampling: weighted 2π·L (the uniform hemisphere's 1/pdf)",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| {
+                average(n, rng, |a, b| {
+                    let (r, phi) = (a.sqrt(), 2.0 * PI * b);
+                    let w = around(
+                        rx.normal,
+                        DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - a).sqrt()),
+                    );
+                    2.0 * PI * l.radiance_along(rx.position, w)
+                })
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: uniform directions on the hemisphere (z = u) weighted as cosine-distributed",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| {
+                average(n, rng, |a, b| {
+                    let (z, phi) = (a, 2.0 * PI * b);
+                    let r = (1.0 - z * z).max(0.0).sqrt();
+                    let w = around(rx.normal, DVec3::new(r * phi.cos(), r * phi.sin(), z));
+                    PI * l.radiance_along(rx.position, w)
+                })
+            }),
+            ..NONE
+        },
+        // ---- Correct alternatives
+        Variant {
+            name: "photons: through the frequency, f = c/λ and q = h·f (the hand-in's route)",
+            verdict: Verdict::Accept,
+            photons: Some(|p, eta, l| {
+                let f = SPEED_OF_LIGHT_M_PER_S / (l * 1e-9);
+                eta * p / (PLANCK_J_S * f)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "radiosity: the midpoint rule in μ = cos θ (dω = dμ dφ)",
+            verdict: Verdict::Accept,
+            radiosity: Some(|l, n| {
+                let (m, k) = (n as usize, 4 * n as usize);
+                let (dmu, dphi) = (1.0 / m as f64, 2.0 * PI / k as f64);
+                let mut sum = 0.0;
+                for i in 0..m {
+                    let mu = (i as f64 + 0.5) * dmu;
+                    for j in 0..k {
+                        sum += l(mu.acos(), (j as f64 + 0.5) * dphi) * mu * dmu * dphi;
+                    }
+                }
+                sum
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: jittered (stratified) points on the light",
+            verdict: Verdict::Accept,
+            area: Some(|l, rx, n, rng| {
+                let k = (n as f64).sqrt() as u32;
+                if k * k != n {
+                    return average(n, rng, |s, t| area_term(l, rx, s, t, true, true));
+                }
+                let mut sum = 0.0;
+                for j in 0..k {
+                    for i in 0..k {
+                        let u = rng.next_vec2().as_dvec2();
+                        let (s, t) = ((i as f64 + u.x) / k as f64, (j as f64 + u.y) / k as f64);
+                        sum += area_term(l, rx, s, t, true, true);
+                    }
+                }
+                sum / n as f64
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: Shirley–Chiu's concentric disc, lifted, in the framework's Onb",
+            verdict: Verdict::Accept,
+            cosine: Some(|l, rx, n, rng| {
+                average(n, rng, |a, b| {
+                    let (x, y) = (2.0 * a - 1.0, 2.0 * b - 1.0);
+                    let (r, phi) = if x == 0.0 && y == 0.0 {
+                        (0.0, 0.0)
+                    } else if x.abs() > y.abs() {
+                        (x, 0.25 * PI * (y / x))
+                    } else {
+                        (y, 0.5 * PI - 0.25 * PI * (x / y))
+                    };
+                    let (dx, dy) = (r * phi.cos(), r * phi.sin());
+                    let z = (1.0 - dx * dx - dy * dy).max(0.0).sqrt();
+                    PI * l.radiance_along(rx.position, around(rx.normal, DVec3::new(dx, dy, z)))
+                })
+            }),
+            ..NONE
+        },
+    ]
+}
+
+/// The midpoint rule over θ ∈ [0, θ_max] (`n` steps) and φ ∈ [0, 2π) (`4n`) of
+/// `L(θ, φ)·weight(θ)`.
+fn midpoint(l: &dyn Fn(f64, f64) -> f64, n: u32, theta_max: f64, weight: fn(f64) -> f64) -> f64 {
+    let (m, k) = (n as usize, 4 * n as usize);
+    let (dt, dp) = (theta_max / m as f64, 2.0 * PI / k as f64);
+    let mut sum = 0.0;
+    for i in 0..m {
+        let t = (i as f64 + 0.5) * dt;
+        for j in 0..k {
+            sum += l(t, (j as f64 + 0.5) * dp) * weight(t) * dt * dp;
+        }
+    }
+    sum
+}
