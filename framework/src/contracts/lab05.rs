@@ -157,7 +157,9 @@ impl RectangleLight {
             return 0.0;
         }
         let t = (self.corner - origin).dot(n) / facing;
-        if !(t > 0.0) {
+        // NaN (the ray in the light's plane) misses too.
+        let ahead = t > 0.0;
+        if !ahead {
             return 0.0;
         }
         // Parallelogram coordinates of the hit by the dual basis of the edges.

@@ -707,7 +707,8 @@ fn exercise_5_7(s: &Arc<dyn Radiometry>, ctx: &LabContext) -> Result<(), String>
     })?;
     // Positive radiance: the integral over the hemisphere, not the sphere.
     let uniform = radiosity_of(s, &WORKSHEET_RADIOSITY);
-    if !(uniform > 0.0) {
+    let positive = uniform > 0.0;
+    if !positive {
         return Err(format!(
             "radiosity_from_radiance(L = 6000, steps = 256) = {uniform:e} for a positive radiance: θ runs over the hemisphere, [0, π/2], where cos θ ≥ 0"
         ));
@@ -946,7 +947,8 @@ fn check_means(s: &dyn Radiometry, estimator: Estimator) -> Result<(), String> {
             let x = estimates(s, estimator, &scaled, MC_SAMPLES, MC_ESTIMATES, 1);
             let (mean, var) = mean_and_variance(&x);
             let se = (var / x.len() as f64).sqrt();
-            if !((mean - exact).abs() <= z * se + 1e-9 * exact) {
+            let within = (mean - exact).abs() <= z * se + 1e-9 * exact;
+            if !within {
                 return Err(format!(
                     "the irradiance from {} (radiance {:e} W/(m² sr), lengths × {scale:e}; exact E = {exact:e} W/m² by Lambert's polygon formula) estimated with {MC_SAMPLES} samples is {mean:e} ± {se:.3e} (mean ± standard error of {MC_ESTIMATES} estimates): {:.4}× the exact value, {:.1} standard errors off (at most {z:.1} allowed)",
                     case.what,
@@ -985,16 +987,15 @@ fn check_variances(
             Estimator::Area => (case.expected.area, "uniform area sampling"),
             Estimator::Cosine => (case.expected.cosine, "cosine-weighted sampling"),
         };
-        if !(var <= VARIANCE_SLACK * reference) {
+        let bounded = var <= VARIANCE_SLACK * reference;
+        if !bounded {
             return Err(format!(
                 "for {}, the variance of one estimate with {MC_SAMPLES} samples is {var:.3e}; {name} with {MC_SAMPLES} independent samples has {reference:.3e} (at most {VARIANCE_SLACK}× that allowed): use all the samples asked for, each with its own rng.next_vec2(), weighted by 1/pdf",
                 light.what
             ));
         }
-        if estimator == Estimator::Cosine
-            && case.input as usize == BIG_LIGHT
-            && !(var < case.expected.area)
-        {
+        let below_area = var < case.expected.area;
+        if estimator == Estimator::Cosine && case.input as usize == BIG_LIGHT && !below_area {
             return Err(format!(
                 "for {}, the variance of one estimate with {MC_SAMPLES} samples is {var:.3e}, not below uniform area sampling's {:.3e}: drawn in proportion to cos θ, the directions follow the integrand, and each one that hits the light contributes the same π·L",
                 light.what, case.expected.area

@@ -28,6 +28,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     ])
 }
 
+/// `(samples, RMS relative error)` at each sample count and the seconds they took, or the
+/// message of the panic that stopped them.
+type Convergence = Result<(Vec<(f64, f64)>, f64), String>;
+
 /// RMS relative error of [`ESTIMATES`] estimates at each sample count, and the time they took;
 /// or the panic of an unfinished exercise.
 fn errors(
@@ -36,7 +40,7 @@ fn errors(
     case: &LightCase,
     exact: f64,
     quick: bool,
-) -> Result<(Vec<(f64, f64)>, f64), String> {
+) -> Convergence {
     let counts = if quick {
         &SAMPLE_COUNTS[..4]
     } else {
@@ -93,7 +97,7 @@ fn convergence(ctx: &ReportContext, case: &LightCase, file: &str) -> Result<Figu
     let mut table = String::from(
         "| samples N | RMS relative error, area sampling | RMS relative error, cosine sampling |\n| --- | --- | --- |\n",
     );
-    let column = |r: &Result<(Vec<(f64, f64)>, f64), String>, k: usize| match r {
+    let column = |r: &Convergence, k: usize| match r {
         Ok((p, _)) => format!("{:.3e}", p[k].1),
         Err(_) => "unfinished".into(),
     };
