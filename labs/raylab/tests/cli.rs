@@ -261,9 +261,9 @@ fn handout_and_grade_refuse_bad_input_clearly() {
                 "--out",
                 o,
                 "--release-solutions",
-                "5",
+                "99",
             ],
-            "invalid lab 5",
+            "invalid lab 99",
         ),
         (
             &["grade", "no-such-submission", "--out", o],

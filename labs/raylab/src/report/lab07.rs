@@ -1,7 +1,7 @@
 //! Lab 07's figures: the default scene at pixel subdivisions 1 to 4 side by side (a magnified
 //! cut-out, so the staircases show) with the render times, and the image error against a
-//! converged render as a function of the number of rays per pixel, as a log–log plot drawn
-//! here and as a table (the Week 7 questions: how render time and aliasing error depend on the
+//! converged render as a function of the number of rays per pixel, as a log–log plot
+//! ([`super::plot`]) and as a table (the Week 7 questions: how render time and aliasing error depend on the
 //! subdivision level).
 
 use std::fmt::Write as _;
