@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::contracts::{lab01, lab02, lab03, lab04, lab07};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab06, lab07};
 use crate::math::Ray;
 use crate::sampling::Rng;
 use crate::scene::Hit;
@@ -42,6 +42,9 @@ pub struct Pipeline {
     pub shadows: Arc<dyn lab03::Shadows>,
     /// Lab 04, reflection, refraction and Phong shading.
     pub reflection: Arc<dyn lab04::Reflection>,
+    /// Lab 06, radiosity: not called by the ray tracer; the radiosity solver
+    /// ([`crate::radiosity::solver`]) and lab 06's checks take it from here.
+    pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
@@ -95,6 +98,15 @@ impl LabSlots for dyn lab04::Reflection {
     fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
         Pipeline {
             reflection: code,
+            ..base
+        }
+    }
+}
+
+impl LabSlots for dyn lab06::Radiosity {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            radiosity: code,
             ..base
         }
     }

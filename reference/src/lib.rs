@@ -14,6 +14,8 @@ pub mod lab02;
 pub mod lab03;
 #[cfg(feature = "key-lab04")]
 pub mod lab04;
+#[cfg(feature = "key-lab06")]
+pub mod lab06;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
 
@@ -34,6 +36,8 @@ mod slots {
     pub use super::lab03::Lab03;
     #[cfg(feature = "key-lab04")]
     pub use super::lab04::Lab04;
+    #[cfg(feature = "key-lab06")]
+    pub use super::lab06::Lab06;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
     #[cfg(not(feature = "key-lab01"))]
@@ -44,6 +48,8 @@ mod slots {
     pub use ::lab03::Student as Lab03;
     #[cfg(not(feature = "key-lab04"))]
     pub use ::lab04::Student as Lab04;
+    #[cfg(not(feature = "key-lab06"))]
+    pub use ::lab06::Student as Lab06;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
 }
@@ -56,6 +62,7 @@ pub fn pipeline(lab: u32) -> Pipeline {
         shading: Arc::new(slots::Lab02),
         shadows: Arc::new(slots::Lab03),
         reflection: Arc::new(slots::Lab04),
+        radiosity: Arc::new(slots::Lab06),
         antialiasing: Arc::new(slots::Lab07),
         lab,
         view: View::Shaded,

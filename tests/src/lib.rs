@@ -23,6 +23,7 @@ macro_rules! for_each_lab {
         $each!(2, lab02, Lab02, Lab02);
         $each!(3, lab03, Shadows, Lab03);
         $each!(4, lab04, Reflection, Lab04);
+        $each!(6, lab06, Radiosity, Lab06);
         $each!(7, lab07, Antialiasing, Lab07);
     };
 }

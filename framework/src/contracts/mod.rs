@@ -9,4 +9,5 @@ pub mod lab01;
 pub mod lab02;
 pub mod lab03;
 pub mod lab04;
+pub mod lab06;
 pub mod lab07;

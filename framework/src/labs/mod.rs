@@ -6,6 +6,7 @@ pub mod lab01;
 pub mod lab02;
 pub mod lab03;
 pub mod lab04;
+pub mod lab06;
 pub mod lab07;
 pub mod strategies;
 
@@ -51,6 +52,12 @@ pub const COURSE: &[Lab] = &[
         title: "Reflection, refraction and Phong",
         exercises: || infos(4, &lab04::checks::exercises()),
         denied: LAB04_DENIED,
+    },
+    Lab {
+        number: 6,
+        title: "Radiosity with the hemicube",
+        exercises: || infos(6, &lab06::checks::exercises()),
+        denied: &[],
     },
     Lab {
         number: 7,
