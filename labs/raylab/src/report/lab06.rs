@@ -15,9 +15,9 @@ use framework::scene::{Scene, builtin_scene};
 
 use super::{Figure, ReportContext, montage, settings};
 
-/// Meshing of the report's Cornell box: 2.5 cm patches, 2.5 cm on the light.
+/// Meshing of the report's Cornell box: 5 cm patches, 2.5 cm on the light.
 pub const MESHING: MeshingOptions = MeshingOptions {
-    max_size: 0.025,
+    max_size: 0.05,
     max_light_size: 0.025,
 };
 
