@@ -231,7 +231,10 @@ impl Builder {
         let m = cuts((p[3] - p[0]).length(), (p[2] - p[1]).length());
         let at = |i: usize, j: usize| {
             let (u, v) = (i as f32 / n as f32, j as f32 / m as f32);
-            (1.0 - u) * (1.0 - v) * p[0] + u * (1.0 - v) * p[1] + u * v * p[2] + (1.0 - u) * v * p[3]
+            (1.0 - u) * (1.0 - v) * p[0]
+                + u * (1.0 - v) * p[1]
+                + u * v * p[2]
+                + (1.0 - u) * v * p[3]
         };
         for j in 0..m {
             for i in 0..n {
@@ -244,7 +247,9 @@ impl Builder {
     fn triangle(&mut self, [a, b, c]: [Vec3; 3], size: f32, s: &Surface) {
         let longest = (b - a).length().max((c - b).length()).max((a - c).length());
         let n = ((longest / size).ceil() as usize).max(1);
-        let at = |i: usize, j: usize| a + (b - a) * (i as f32 / n as f32) + (c - a) * (j as f32 / n as f32);
+        let at = |i: usize, j: usize| {
+            a + (b - a) * (i as f32 / n as f32) + (c - a) * (j as f32 / n as f32)
+        };
         for j in 0..n {
             for i in 0..n - j {
                 self.patch(&[at(i, j), at(i + 1, j), at(i, j + 1)], s);
@@ -293,8 +298,16 @@ mod tests {
         for p in &mesh.patches {
             for w in p.vertices.windows(2) {
                 let edge = mesh.vertices[w[1] as usize] - mesh.vertices[w[0] as usize];
-                let limit = if p.emission.max_element() > 0.0 { 0.05 } else { 0.1 };
-                assert!(edge.length() <= limit * 1.001, "edge {} > {limit}", edge.length());
+                let limit = if p.emission.max_element() > 0.0 {
+                    0.05
+                } else {
+                    0.1
+                };
+                assert!(
+                    edge.length() <= limit * 1.001,
+                    "edge {} > {limit}",
+                    edge.length()
+                );
             }
         }
         assert!(mesh.patches.iter().any(|p| p.emission.max_element() > 0.0));
@@ -305,6 +318,7 @@ mod tests {
                 uses[v as usize] += 1;
             }
         }
-        assert!(uses.iter().any(|&u| u == 4));
+        assert!(uses.contains(&4));
+        assert!(mesh.patches.iter().any(|p| p.vertices.len() == 4));
     }
 }

@@ -126,7 +126,13 @@ pub fn solve(radiosity: &dyn Radiosity, mesh: &PatchMesh, settings: &SolveSettin
         };
         shoot_time += start.elapsed();
         let start = Instant::now();
-        let f = form_factors(radiosity, mesh, shooter, settings.form_factors, delta.as_ref());
+        let f = form_factors(
+            radiosity,
+            mesh,
+            shooter,
+            settings.form_factors,
+            delta.as_ref(),
+        );
         ff_time += start.elapsed();
         let start = Instant::now();
         radiosity.shoot(&mesh.patches, &f, shooter, &mut b, &mut unshot);

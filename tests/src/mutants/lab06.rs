@@ -112,7 +112,8 @@ fn point_with(x: Vec3, n_x: Vec3, y: Vec3, n_y: Vec3, a: f32, clamp: bool, r_pow
 }
 
 /// A shot with the received radiosity `received(ρ_j, ΔB_i, F_ij, A_i, A_j)`, optionally
-/// leaving the shooter's unshot radiosity or updating only one of the two sums.
+/// leaving the shooter's unshot radiosity (`zero_shooter` false) or updating only the
+/// radiosity (`add_unshot` false).
 fn shoot_with(
     p: &[Patch],
     f: &[f32],
@@ -120,8 +121,7 @@ fn shoot_with(
     b: &mut [Vec3],
     u: &mut [Vec3],
     received: fn(Vec3, Vec3, f32, f32, f32) -> Vec3,
-    zero_shooter: bool,
-    add_unshot: bool,
+    (zero_shooter, add_unshot): (bool, bool),
 ) {
     let shot = u[i];
     for j in 0..p.len() {
@@ -281,7 +281,15 @@ pub fn variants() -> Vec<Variant> {
             name: "shoot: A_j/A_i instead of A_i/A_j",
             verdict: Verdict::Reject("6.6"),
             shoot: Some(|p, f, i, b, u| {
-                shoot_with(p, f, i, b, u, |rho, s, f, ai, aj| rho * s * (f * aj / ai), true, true)
+                shoot_with(
+                    p,
+                    f,
+                    i,
+                    b,
+                    u,
+                    |rho, s, f, ai, aj| rho * s * (f * aj / ai),
+                    (true, true),
+                )
             }),
             ..NONE
         },
@@ -289,7 +297,7 @@ pub fn variants() -> Vec<Variant> {
             name: "shoot: without the area ratio (the worksheet's formula half copied)",
             verdict: Verdict::Reject("6.6"),
             shoot: Some(|p, f, i, b, u| {
-                shoot_with(p, f, i, b, u, |rho, s, f, _, _| rho * s * f, true, true)
+                shoot_with(p, f, i, b, u, |rho, s, f, _, _| rho * s * f, (true, true))
             }),
             ..NONE
         },
@@ -297,7 +305,15 @@ pub fn variants() -> Vec<Variant> {
             name: "shoot: reflectance forgotten",
             verdict: Verdict::Reject("6.6"),
             shoot: Some(|p, f, i, b, u| {
-                shoot_with(p, f, i, b, u, |_, s, f, ai, aj| s * (f * ai / aj), true, true)
+                shoot_with(
+                    p,
+                    f,
+                    i,
+                    b,
+                    u,
+                    |_, s, f, ai, aj| s * (f * ai / aj),
+                    (true, true),
+                )
             }),
             ..NONE
         },
@@ -305,7 +321,15 @@ pub fn variants() -> Vec<Variant> {
             name: "shoot: the shooter's unshot radiosity not reset",
             verdict: Verdict::Reject("6.6"),
             shoot: Some(|p, f, i, b, u| {
-                shoot_with(p, f, i, b, u, |rho, s, f, ai, aj| rho * s * (f * ai / aj), false, true)
+                shoot_with(
+                    p,
+                    f,
+                    i,
+                    b,
+                    u,
+                    |rho, s, f, ai, aj| rho * s * (f * ai / aj),
+                    (false, true),
+                )
             }),
             ..NONE
         },
@@ -313,7 +337,15 @@ pub fn variants() -> Vec<Variant> {
             name: "shoot: received radiosity not added to the unshot radiosity (one bounce only)",
             verdict: Verdict::Reject("6.6"),
             shoot: Some(|p, f, i, b, u| {
-                shoot_with(p, f, i, b, u, |rho, s, f, ai, aj| rho * s * (f * ai / aj), true, false)
+                shoot_with(
+                    p,
+                    f,
+                    i,
+                    b,
+                    u,
+                    |rho, s, f, ai, aj| rho * s * (f * ai / aj),
+                    (true, false),
+                )
             }),
             ..NONE
         },

@@ -208,7 +208,8 @@ impl Radiosity for PartSlot<Part, dyn Radiosity> {
         self.pick(Part::Top).delta_form_factor_top(x, y, pixel_area)
     }
     fn delta_form_factor_side(&self, u: f32, z: f32, pixel_area: f32) -> f32 {
-        self.pick(Part::Side).delta_form_factor_side(u, z, pixel_area)
+        self.pick(Part::Side)
+            .delta_form_factor_side(u, z, pixel_area)
     }
     fn accumulate_form_factors(
         &self,
@@ -273,7 +274,12 @@ pub fn grid(origin: Vec3, a: Vec3, b: Vec3, k: u32, reflectance: Vec3) -> (Vec<V
     for j in 0..k {
         for i in 0..k {
             let c = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
-            patches.push(quad_patch(c, vertices.len() as u32, reflectance, Vec3::ZERO));
+            patches.push(quad_patch(
+                c,
+                vertices.len() as u32,
+                reflectance,
+                Vec3::ZERO,
+            ));
             vertices.extend(c);
         }
     }
@@ -302,12 +308,12 @@ pub fn closed_box(size: f32, k: u32, rho: f32) -> PatchMesh {
     let (x, y, z) = (Vec3::X * s, Vec3::Y * s, Vec3::Z * s);
     let r = Vec3::splat(rho);
     let faces = vec![
-        grid(Vec3::ZERO, z, x, k, r),    // floor, normal +y
-        grid(y, x, z, k, r),             // ceiling, normal −y
-        grid(Vec3::ZERO, x, y, k, r),    // back, normal +z
-        grid(z, y, x, k, r),             // front, normal −z
-        grid(Vec3::ZERO, y, z, k, r),    // left, normal +x
-        grid(x, z, y, k, r),             // right, normal −x
+        grid(Vec3::ZERO, z, x, k, r), // floor, normal +y
+        grid(y, x, z, k, r),          // ceiling, normal −y
+        grid(Vec3::ZERO, x, y, k, r), // back, normal +z
+        grid(z, y, x, k, r),          // front, normal −z
+        grid(Vec3::ZERO, y, z, k, r), // left, normal +x
+        grid(x, z, y, k, r),          // right, normal −x
     ];
     let (mut mesh, _) = join(faces);
     mesh.patches[0].emission = Vec3::ONE;
@@ -323,7 +329,11 @@ pub fn snapshot_mesh() -> Result<(crate::scene::Scene, PatchMesh), crate::Error>
 
 /// The snapshot of the Cornell box solved, coloured and drawn by `r`: flat patches, or
 /// smoothed by nodal averaging.
-pub fn cornell_image(r: &dyn Radiosity, pipeline: &Pipeline, smooth: bool) -> Result<Film, crate::Error> {
+pub fn cornell_image(
+    r: &dyn Radiosity,
+    pipeline: &Pipeline,
+    smooth: bool,
+) -> Result<Film, crate::Error> {
     let (scene, mesh) = snapshot_mesh()?;
     let solution = solve(r, &mesh, &SNAPSHOT_SOLVE);
     let colours = r.patch_colours(&solution.radiosity);
@@ -379,7 +389,14 @@ pub type PointInput = (Vec3, Vec3, Vec3, Vec3, f32);
 /// Two points at least a tenth of the scale apart, unit normals, and an area, at one of the
 /// shared scales.
 pub fn point_input() -> impl Strategy<Value = PointInput> {
-    (point(1.0), unit_vector(), point(1.0), unit_vector(), 0.001f32..0.1, scale())
+    (
+        point(1.0),
+        unit_vector(),
+        point(1.0),
+        unit_vector(),
+        0.001f32..0.1,
+        scale(),
+    )
         .prop_filter("points apart", |(x, _, y, _, _, _)| x.distance(*y) > 0.1)
         .prop_map(|(x, nx, y, ny, a, s)| (x * s, nx, y * s, ny, a * s * s))
 }
@@ -388,12 +405,18 @@ fn point_call((x, nx, y, ny, a): PointInput) -> String {
     format!("point_form_factor(x = {x}, n_x = {nx}, y = {y}, n_y = {ny}, area_y = {a:e})")
 }
 
-fn check_point(r: &dyn Radiosity, key: Option<&dyn Radiosity>, input: PointInput) -> Result<(), String> {
+fn check_point(
+    r: &dyn Radiosity,
+    key: Option<&dyn Radiosity>,
+    input: PointInput,
+) -> Result<(), String> {
     let (x, nx, y, ny, a) = input;
     let call = point_call(input);
     let f = r.point_form_factor(x, nx, y, ny, a);
     if !f.is_finite() || f < 0.0 {
-        return Err(format!("{call} = {f}: a form factor is a fraction, finite and at least 0"));
+        return Err(format!(
+            "{call} = {f}: a form factor is a fraction, finite and at least 0"
+        ));
     }
     // Reciprocity with an area for x of its own.
     let ax = a * 0.37;
@@ -407,7 +430,9 @@ fn check_point(r: &dyn Radiosity, key: Option<&dyn Radiosity>, input: PointInput
     }
     let twice = r.point_form_factor(x, nx, y, ny, 2.0 * a);
     if !close(twice as f64, 2.0 * f as f64, 1e-30, 1e-4) {
-        return Err(format!("{call} = {f:e}, but with twice the area it is {twice:e}: the form factor of a small patch is proportional to its area"));
+        return Err(format!(
+            "{call} = {f:e}, but with twice the area it is {twice:e}: the form factor of a small patch is proportional to its area"
+        ));
     }
     for s in SCALES {
         let scaled = r.point_form_factor(x * s, nx, y * s, ny, a * s * s);
@@ -442,7 +467,8 @@ fn check_far_disc(r: &dyn Radiosity) -> Result<(), String> {
     for (radius, h) in [(0.01f64, 1.0f64), (0.1, 2.0), (1e-3, 0.05), (50.0, 1e3)] {
         let exact = radius * radius / (h * h + radius * radius);
         let area = (std::f64::consts::PI * radius * radius) as f32;
-        let got = r.point_form_factor(Vec3::ZERO, Vec3::Z, Vec3::Z * h as f32, -Vec3::Z, area) as f64;
+        let got =
+            r.point_form_factor(Vec3::ZERO, Vec3::Z, Vec3::Z * h as f32, -Vec3::Z, area) as f64;
         let bound = (radius / h).powi(2);
         if !close(got, exact, 0.0, bound + 1e-4) {
             return Err(format!(
@@ -455,14 +481,20 @@ fn check_far_disc(r: &dyn Radiosity) -> Result<(), String> {
 
 fn exercise_6_1(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.radiosity.clone());
-    for_all(300, point_input(), |input| check_point(p.as_ref(), key.as_deref(), input))?;
+    for_all(300, point_input(), |input| {
+        check_point(p.as_ref(), key.as_deref(), input)
+    })?;
     check_far_disc(p.as_ref())?;
     let golden: GoldenFile<PointInput, f32> = load(ctx, GOLDEN_POINT)?;
     for case in &golden.cases {
         let (x, nx, y, ny, a) = case.input;
         let got = p.point_form_factor(x, nx, y, ny, a);
         if !close(got as f64, case.expected as f64, 1e-30, 1e-4) {
-            return Err(format!("{} = {got:e}, expected {:e}", point_call(case.input), case.expected));
+            return Err(format!(
+                "{} = {got:e}, expected {:e}",
+                point_call(case.input),
+                case.expected
+            ));
         }
     }
     Ok(())
@@ -494,26 +526,43 @@ fn check_delta(
     let call = |a: f32, b: f32, area: f32| format!("{name}({a}, {b}, pixel_area = {area:e})");
     let d = f(a, b, area);
     if !d.is_finite() || d < 0.0 {
-        return Err(format!("{} = {d}: a delta form factor is finite and at least 0", call(a, b, area)));
+        return Err(format!(
+            "{} = {d}: a delta form factor is finite and at least 0",
+            call(a, b, area)
+        ));
     }
     let mirrored = f(-a, b, area);
     if !close(mirrored as f64, d as f64, 1e-30, 1e-5) {
-        return Err(format!("{} = {d:e} but {} = {mirrored:e}: the hemicube is symmetric about its axis", call(a, b, area), call(-a, b, area)));
+        return Err(format!(
+            "{} = {d:e} but {} = {mirrored:e}: the hemicube is symmetric about its axis",
+            call(a, b, area),
+            call(-a, b, area)
+        ));
     }
     if symmetric_swap {
         let swapped = f(b, a, area);
         if !close(swapped as f64, d as f64, 1e-30, 1e-5) {
-            return Err(format!("{} = {d:e} but {} = {swapped:e}: the top face is symmetric in x and y", call(a, b, area), call(b, a, area)));
+            return Err(format!(
+                "{} = {d:e} but {} = {swapped:e}: the top face is symmetric in x and y",
+                call(a, b, area),
+                call(b, a, area)
+            ));
         }
     }
     let double = f(a, b, 2.0 * area);
     if !close(double as f64, 2.0 * d as f64, 1e-30, 1e-5) {
-        return Err(format!("{} = {d:e} but with twice the pixel area it is {double:e}: a delta form factor is proportional to the pixel's area", call(a, b, area)));
+        return Err(format!(
+            "{} = {d:e} but with twice the pixel area it is {double:e}: a delta form factor is proportional to the pixel's area",
+            call(a, b, area)
+        ));
     }
     if let Some(key) = key {
         let expected = key(a, b, area);
         if !close(d as f64, expected as f64, 1e-30, 1e-4) {
-            return Err(format!("{} = {d:e}, expected {expected:e}", call(a, b, area)));
+            return Err(format!(
+                "{} = {d:e}, expected {expected:e}",
+                call(a, b, area)
+            ));
         }
     }
     Ok(())
@@ -544,7 +593,10 @@ fn check_edge(r: &dyn Radiosity) -> Result<(), String> {
     for k in 0..=8 {
         let t = -1.0 + k as f32 / 4.0;
         let area = 1e-3;
-        let (top, side) = (r.delta_form_factor_top(1.0, t, area), r.delta_form_factor_side(t, 1.0, area));
+        let (top, side) = (
+            r.delta_form_factor_top(1.0, t, area),
+            r.delta_form_factor_side(t, 1.0, area),
+        );
         if !close(top as f64, side as f64, 1e-30, 1e-4) {
             return Err(format!(
                 "on the edge where the top face meets a side face the two formulas must agree (the same point (1, {t}, 1) of the cube), but delta_form_factor_top(1, {t}, {area}) = {top:e} and delta_form_factor_side({t}, 1, {area}) = {side:e}"
@@ -556,7 +608,10 @@ fn check_edge(r: &dyn Radiosity) -> Result<(), String> {
 
 /// A unit square's outline seen from an element, as a one-patch mesh.
 fn square_mesh(corners: [Vec3; 4]) -> PatchMesh {
-    PatchMesh::from_patches(corners.to_vec(), vec![quad_patch(corners, 0, Vec3::ONE, Vec3::ZERO)])
+    PatchMesh::from_patches(
+        corners.to_vec(),
+        vec![quad_patch(corners, 0, Vec3::ONE, Vec3::ZERO)],
+    )
 }
 
 /// Element-to-square form factors by the hemicube of `r` against Howell B-3 and B-2.
@@ -572,7 +627,13 @@ fn check_element_closed_forms(r: &dyn Radiosity) -> Result<(), String> {
             Vec3::new(h, -h, c),
         ]);
         let exact = 4.0 * closed_forms::element_to_parallel_rectangle(h as f64, h as f64, c as f64);
-        (mesh, exact, format!("a {s}×{s} square centred on the normal at distance {c}, facing the element (Howell B-3)"))
+        (
+            mesh,
+            exact,
+            format!(
+                "a {s}×{s} square centred on the normal at distance {c}, facing the element (Howell B-3)"
+            ),
+        )
     };
     let perpendicular = |d: f32| {
         let mesh = square_mesh([
@@ -582,9 +643,20 @@ fn check_element_closed_forms(r: &dyn Radiosity) -> Result<(), String> {
             Vec3::new(0.5, d, 0.0),
         ]);
         let exact = 2.0 * closed_forms::element_to_perpendicular_rectangle(0.5, 1.0, d as f64);
-        (mesh, exact, format!("a unit square standing at right angles on the element's plane at distance {d}, facing it (Howell B-2)"))
+        (
+            mesh,
+            exact,
+            format!(
+                "a unit square standing at right angles on the element's plane at distance {d}, facing it (Howell B-2)"
+            ),
+        )
     };
-    for (mesh, exact, what) in [parallel(1.0, 1.0), parallel(4.0, 1.0), perpendicular(0.5), perpendicular(0.2)] {
+    for (mesh, exact, what) in [
+        parallel(1.0, 1.0),
+        parallel(4.0, 1.0),
+        perpendicular(0.5),
+        perpendicular(0.2),
+    ] {
         for n in CLOSED_FORM_RESOLUTIONS {
             let items = ItemBuffer::render_at(&mesh, Vec3::ZERO, Vec3::Z, n);
             let delta = DeltaFormFactors::tabulate(r, n);
@@ -603,7 +675,11 @@ fn check_element_closed_forms(r: &dyn Radiosity) -> Result<(), String> {
 fn exercise_delta(p: &Arc<dyn Radiosity>, ctx: &LabContext, part: Part) -> Result<(), String> {
     let (name, exercise, golden_name) = match part {
         Part::Top => ("delta_form_factor_top", "delta_form_factor_top", GOLDEN_TOP),
-        _ => ("delta_form_factor_side", "delta_form_factor_side", GOLDEN_SIDE),
+        _ => (
+            "delta_form_factor_side",
+            "delta_form_factor_side",
+            GOLDEN_SIDE,
+        ),
     };
     let r = part_slot(part, p, &ctx.base);
     let key = ctx.key().map(|k| k.radiosity.clone());
@@ -620,14 +696,20 @@ fn exercise_delta(p: &Arc<dyn Radiosity>, ctx: &LabContext, part: Part) -> Resul
     });
     let keyed_ref: Option<&dyn Fn(f32, f32, f32) -> f32> = keyed.as_ref().map(|k| k as _);
     match part {
-        Part::Top => for_all(300, top_input(), |i| check_delta(name, &student, keyed_ref, i, true))?,
-        _ => for_all(300, side_input(), |i| check_delta(name, &student, keyed_ref, i, false))?,
+        Part::Top => for_all(300, top_input(), |i| {
+            check_delta(name, &student, keyed_ref, i, true)
+        })?,
+        _ => for_all(300, side_input(), |i| {
+            check_delta(name, &student, keyed_ref, i, false)
+        })?,
     }
     if part == Part::Side {
         for u in [-1.0, -0.3, 0.0, 0.8] {
             let d = p.delta_form_factor_side(u, 0.0, 1e-2);
             if d != 0.0 {
-                return Err(format!("delta_form_factor_side({u}, 0, 0.01) = {d:e}: a pixel in the patch's own plane (z = 0) is seen at grazing angle, cos φ = 0, so its delta form factor is 0"));
+                return Err(format!(
+                    "delta_form_factor_side({u}, 0, 0.01) = {d:e}: a pixel in the patch's own plane (z = 0) is seen at grazing angle, cos φ = 0, so its delta form factor is 0"
+                ));
             }
         }
     }
@@ -639,7 +721,10 @@ fn exercise_delta(p: &Arc<dyn Radiosity>, ctx: &LabContext, part: Part) -> Resul
         let (a, b, area) = case.input;
         let got = student(a, b, area);
         if !close(got as f64, case.expected as f64, 1e-30, 1e-4) {
-            return Err(format!("{name}({a}, {b}, pixel_area = {area:e}) = {got:e}, expected {:e}", case.expected));
+            return Err(format!(
+                "{name}({a}, {b}, pixel_area = {area:e}) = {got:e}, expected {:e}",
+                case.expected
+            ));
         }
     }
     Ok(())
@@ -675,8 +760,15 @@ pub fn accumulate_input() -> impl Strategy<Value = AccumulateInput> {
             .prop_map(move |(top, sides, wt, ws)| {
                 let [a, b, c, d]: [Vec<Option<u32>>; 4] = sides.try_into().expect("four sides");
                 (
-                    ItemBuffer { resolution: n, faces: [top, a, b, c, d] },
-                    DeltaFormFactors { resolution: n, top: wt, side: ws },
+                    ItemBuffer {
+                        resolution: n,
+                        faces: [top, a, b, c, d],
+                    },
+                    DeltaFormFactors {
+                        resolution: n,
+                        top: wt,
+                        side: ws,
+                    },
                     count,
                 )
             })
@@ -688,10 +780,16 @@ fn check_accumulate(
     key: Option<&dyn Radiosity>,
     (items, delta, count): &AccumulateInput,
 ) -> Result<(), String> {
-    let call = format!("accumulate_form_factors(items of resolution {}, delta, patch_count = {count})", items.resolution);
+    let call = format!(
+        "accumulate_form_factors(items of resolution {}, delta, patch_count = {count})",
+        items.resolution
+    );
     let f = r.accumulate_form_factors(items, delta, *count);
     if f.len() != *count {
-        return Err(format!("{call} returned {} form factors, expected one per patch ({count})", f.len()));
+        return Err(format!(
+            "{call} returned {} form factors, expected one per patch ({count})",
+            f.len()
+        ));
     }
     let mut seen_weight = 0.0f64;
     let mut seen = vec![false; *count];
@@ -710,25 +808,45 @@ fn check_accumulate(
         ));
     }
     if let Some(j) = (0..*count).find(|&j| !seen[j] && f[j] != 0.0) {
-        return Err(format!("{call}: patch {j} appears in no pixel but has form factor {:e}", f[j]));
+        return Err(format!(
+            "{call}: patch {j} appears in no pixel but has form factor {:e}",
+            f[j]
+        ));
     }
     // Renaming the patches renames the form factors.
     let rename = |j: u32| (*count as u32 - 1) - j;
     let renamed = ItemBuffer {
         resolution: items.resolution,
-        faces: items.faces.clone().map(|face| face.into_iter().map(|id| id.map(rename)).collect()),
+        faces: items
+            .faces
+            .clone()
+            .map(|face| face.into_iter().map(|id| id.map(rename)).collect()),
     };
     let g = r.accumulate_form_factors(&renamed, delta, *count);
     for j in 0..*count {
-        if g.get(rename(j as u32) as usize).copied() != Some(f[j]) && !close(g[rename(j as u32) as usize] as f64, f[j] as f64, 1e-12, 1e-5) {
-            return Err(format!("{call}: patch {j}'s form factor is {:e}, but with the patches numbered in reverse it is {:e}: each pixel's delta form factor goes to the patch it sees", f[j], g[rename(j as u32) as usize]));
+        if g.get(rename(j as u32) as usize).copied() != Some(f[j])
+            && !close(
+                g[rename(j as u32) as usize] as f64,
+                f[j] as f64,
+                1e-12,
+                1e-5,
+            )
+        {
+            return Err(format!(
+                "{call}: patch {j}'s form factor is {:e}, but with the patches numbered in reverse it is {:e}: each pixel's delta form factor goes to the patch it sees",
+                f[j],
+                g[rename(j as u32) as usize]
+            ));
         }
     }
     if let Some(key) = key {
         let expected = key.accumulate_form_factors(items, delta, *count);
         for j in 0..*count {
             if !close(f[j] as f64, expected[j] as f64, 1e-12, 1e-4) {
-                return Err(format!("{call}: patch {j}'s form factor is {:e}, expected {:e}", f[j], expected[j]));
+                return Err(format!(
+                    "{call}: patch {j}'s form factor is {:e}, expected {:e}",
+                    f[j], expected[j]
+                ));
             }
         }
     }
@@ -749,8 +867,16 @@ fn check_area_closed_forms(r: &dyn Radiosity) -> Result<(), String> {
         grid(Vec3::ZERO, Vec3::Z, Vec3::X, k, Vec3::ONE),
     ]);
     let configs = [
-        (parallel, closed_forms::parallel_rectangles(1.0, 1.0, 1.0), "two directly opposed parallel unit squares at unit distance (Howell C-11)"),
-        (perpendicular, closed_forms::perpendicular_rectangles(1.0, 1.0, 1.0), "two unit squares at right angles along a common edge (Howell C-14)"),
+        (
+            parallel,
+            closed_forms::parallel_rectangles(1.0, 1.0, 1.0),
+            "two directly opposed parallel unit squares at unit distance (Howell C-11)",
+        ),
+        (
+            perpendicular,
+            closed_forms::perpendicular_rectangles(1.0, 1.0, 1.0),
+            "two unit squares at right angles along a common edge (Howell C-14)",
+        ),
     ];
     for ((mesh, starts), exact, what) in &configs {
         let (a, b) = (starts[0]..starts[1], starts[1]..mesh.patches.len());
@@ -770,10 +896,14 @@ fn check_area_closed_forms(r: &dyn Radiosity) -> Result<(), String> {
             let (f_ab, f_ba) = (from(&a, &b), from(&b, &a));
             let bound = area_bound(n);
             if !f_ab.is_finite() || (f_ab - f_ba).abs() > bound {
-                return Err(format!("for {what}, the hemicube form factors (resolution {n}, {k}×{k} patches a square) are F_12 = {f_ab:.5} and F_21 = {f_ba:.5}: with equal areas reciprocity A_1 F_12 = A_2 F_21 makes them equal (within {bound:.4})"));
+                return Err(format!(
+                    "for {what}, the hemicube form factors (resolution {n}, {k}×{k} patches a square) are F_12 = {f_ab:.5} and F_21 = {f_ba:.5}: with equal areas reciprocity A_1 F_12 = A_2 F_21 makes them equal (within {bound:.4})"
+                ));
             }
             if (f_ab - exact).abs() > bound {
-                return Err(format!("for {what}, the hemicube form factor (resolution {n}, {k}×{k} patches a square) is {f_ab:.5}; the closed form is {exact:.5}, and it must come within {bound:.4}"));
+                return Err(format!(
+                    "for {what}, the hemicube form factor (resolution {n}, {k}×{k} patches a square) is {f_ab:.5}; the closed form is {exact:.5}, and it must come within {bound:.4}"
+                ));
             }
         }
     }
@@ -791,10 +921,16 @@ fn check_closed_box_sums(r: &dyn Radiosity) -> Result<(), String> {
         let f = r.accumulate_form_factors(&items, &delta, mesh.patches.len());
         let sum: f64 = f.iter().map(|&x| x as f64).sum();
         if !close(sum, delta.total(), 1e-9, 1e-4) {
-            return Err(format!("in a closed box (6 faces of 3×3 patches) the form factors from patch {i} by a hemicube of resolution {n} sum to {sum:.6}; every pixel sees some patch, so they must sum to the hemicube's total delta form factor {:.6} (1 up to the discretisation)", delta.total()));
+            return Err(format!(
+                "in a closed box (6 faces of 3×3 patches) the form factors from patch {i} by a hemicube of resolution {n} sum to {sum:.6}; every pixel sees some patch, so they must sum to the hemicube's total delta form factor {:.6} (1 up to the discretisation)",
+                delta.total()
+            ));
         }
         if f[i] != 0.0 {
-            return Err(format!("in a closed box the form factor from patch {i} to itself is {:e}; a planar patch cannot see itself", f[i]));
+            return Err(format!(
+                "in a closed box the form factor from patch {i} to itself is {:e}; a planar patch cannot see itself",
+                f[i]
+            ));
         }
     }
     Ok(())
@@ -802,7 +938,9 @@ fn check_closed_box_sums(r: &dyn Radiosity) -> Result<(), String> {
 
 fn exercise_6_4(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.radiosity.clone());
-    for_all(200, accumulate_input(), |input| check_accumulate(p.as_ref(), key.as_deref(), &input))?;
+    for_all(200, accumulate_input(), |input| {
+        check_accumulate(p.as_ref(), key.as_deref(), &input)
+    })?;
     let r = part_slot(Part::Accumulate, p, &ctx.base);
     check_closed_box_sums(r.as_ref())?;
     check_area_closed_forms(r.as_ref())?;
@@ -811,9 +949,15 @@ fn exercise_6_4(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> 
         let (items, delta, count) = &case.input;
         let got = p.accumulate_form_factors(items, delta, *count);
         let ok = got.len() == case.expected.len()
-            && got.iter().zip(&case.expected).all(|(a, b)| close(*a as f64, *b as f64, 1e-12, 1e-4));
+            && got
+                .iter()
+                .zip(&case.expected)
+                .all(|(a, b)| close(*a as f64, *b as f64, 1e-12, 1e-4));
         if !ok {
-            return Err(format!("accumulate_form_factors(items of resolution {}, delta, patch_count = {count}) = {got:?}, expected {:?}", items.resolution, case.expected));
+            return Err(format!(
+                "accumulate_form_factors(items of resolution {}, delta, patch_count = {count}) = {got:?}, expected {:?}",
+                items.resolution, case.expected
+            ));
         }
     }
     Ok(())
@@ -848,8 +992,14 @@ pub type ShooterInput = (Vec<Patch>, Vec<Vec3>);
 pub fn shooter_input() -> impl Strategy<Value = ShooterInput> {
     (1usize..30, prop::bool::weighted(0.1)).prop_flat_map(|(n, empty)| {
         (
-            prop::collection::vec((-8.0f32..6.0).prop_map(|e| bare_patch(10f32.powf(e), Vec3::splat(0.5))), n),
-            prop::collection::vec(radiosity().prop_map(move |u| if empty { Vec3::ZERO } else { u }), n),
+            prop::collection::vec(
+                (-8.0f32..6.0).prop_map(|e| bare_patch(10f32.powf(e), Vec3::splat(0.5))),
+                n,
+            ),
+            prop::collection::vec(
+                radiosity().prop_map(move |u| if empty { Vec3::ZERO } else { u }),
+                n,
+            ),
         )
     })
 }
@@ -858,9 +1008,17 @@ fn power(p: &Patch, u: Vec3) -> f64 {
     p.area as f64 * (u.x as f64 + u.y as f64 + u.z as f64)
 }
 
-fn check_shooter(r: &dyn Radiosity, key: Option<&dyn Radiosity>, (patches, unshot): &ShooterInput) -> Result<(), String> {
+fn check_shooter(
+    r: &dyn Radiosity,
+    key: Option<&dyn Radiosity>,
+    (patches, unshot): &ShooterInput,
+) -> Result<(), String> {
     let got = r.select_shooter(patches, unshot);
-    let powers: Vec<f64> = patches.iter().zip(unshot).map(|(p, u)| power(p, *u)).collect();
+    let powers: Vec<f64> = patches
+        .iter()
+        .zip(unshot)
+        .map(|(p, u)| power(p, *u))
+        .collect();
     let most = powers.iter().cloned().fold(0.0, f64::max);
     let call = format!(
         "select_shooter(patches with areas {:?}, unshot {:?})",
@@ -868,16 +1026,28 @@ fn check_shooter(r: &dyn Radiosity, key: Option<&dyn Radiosity>, (patches, unsho
         unshot
     );
     match got {
-        None if most > 0.0 => Err(format!("{call} = None, but patches still have unshot power (most: {most:e})")),
+        None if most > 0.0 => Err(format!(
+            "{call} = None, but patches still have unshot power (most: {most:e})"
+        )),
         None => Ok(()),
-        Some(i) if i >= patches.len() => Err(format!("{call} = Some({i}): there are only {} patches", patches.len())),
-        Some(_) if most == 0.0 => Err(format!("{call} = {got:?}, but no patch has unshot power left: return None, so that refinement stops")),
+        Some(i) if i >= patches.len() => Err(format!(
+            "{call} = Some({i}): there are only {} patches",
+            patches.len()
+        )),
+        Some(_) if most == 0.0 => Err(format!(
+            "{call} = {got:?}, but no patch has unshot power left: return None, so that refinement stops"
+        )),
         Some(i) if powers[i] < most * (1.0 - 1e-5) => {
             let j = powers.iter().position(|&p| p == most).unwrap_or(0);
-            Err(format!("{call} = Some({i}), whose unshot power A·(ΔB.r + ΔB.g + ΔB.b) is {:e}; patch {j} has {most:e}: pick the most unshot power (radiosity times area), not the most unshot radiosity", powers[i]))
+            Err(format!(
+                "{call} = Some({i}), whose unshot power A·(ΔB.r + ΔB.g + ΔB.b) is {:e}; patch {j} has {most:e}: pick the most unshot power (radiosity times area), not the most unshot radiosity",
+                powers[i]
+            ))
         }
         Some(i) => match key.and_then(|k| k.select_shooter(patches, unshot)) {
-            Some(k) if (powers[k] - powers[i]).abs() > 1e-5 * most => Err(format!("{call} = Some({i}), expected Some({k})")),
+            Some(k) if (powers[k] - powers[i]).abs() > 1e-5 * most => {
+                Err(format!("{call} = Some({i}), expected Some({k})"))
+            }
             _ => Ok(()),
         },
     }
@@ -885,17 +1055,27 @@ fn check_shooter(r: &dyn Radiosity, key: Option<&dyn Radiosity>, (patches, unsho
 
 fn exercise_6_5(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.radiosity.clone());
-    for_all(300, shooter_input(), |input| check_shooter(p.as_ref(), key.as_deref(), &input))?;
+    for_all(300, shooter_input(), |input| {
+        check_shooter(p.as_ref(), key.as_deref(), &input)
+    })?;
     let golden: GoldenFile<ShooterInput, Option<usize>> = load(ctx, GOLDEN_SHOOTER)?;
     for case in &golden.cases {
         let (patches, unshot) = &case.input;
         let got = p.select_shooter(patches, unshot);
         let same = match (got, case.expected) {
-            (Some(a), Some(b)) => a < patches.len() && (power(&patches[a], unshot[a]) - power(&patches[b], unshot[b])).abs() <= 1e-5 * power(&patches[b], unshot[b]),
+            (Some(a), Some(b)) => {
+                a < patches.len()
+                    && (power(&patches[a], unshot[a]) - power(&patches[b], unshot[b])).abs()
+                        <= 1e-5 * power(&patches[b], unshot[b])
+            }
             (a, b) => a == b,
         };
         if !same {
-            return Err(format!("select_shooter on a recorded case of {} patches = {got:?}, expected {:?}", patches.len(), case.expected));
+            return Err(format!(
+                "select_shooter on a recorded case of {} patches = {got:?}, expected {:?}",
+                patches.len(),
+                case.expected
+            ));
         }
     }
     Ok(())
@@ -934,17 +1114,27 @@ pub fn shoot_input() -> impl Strategy<Value = ShootInput> {
     })
 }
 
-fn check_shoot(r: &dyn Radiosity, key: Option<&dyn Radiosity>, input: &ShootInput) -> Result<(), String> {
+fn check_shoot(
+    r: &dyn Radiosity,
+    key: Option<&dyn Radiosity>,
+    input: &ShootInput,
+) -> Result<(), String> {
     let (patches, f, i, b0, u0) = input;
     let i = *i;
     let (mut b, mut u) = (b0.clone(), u0.clone());
     r.shoot(patches, f, i, &mut b, &mut u);
     let call = format!("shoot(… {} patches, shooter = {i}, …)", patches.len());
     if u[i] != Vec3::ZERO {
-        return Err(format!("{call}: afterwards the shooter's unshot radiosity is {}; it has shot everything it had, so it must be 0", u[i]));
+        return Err(format!(
+            "{call}: afterwards the shooter's unshot radiosity is {}; it has shot everything it had, so it must be 0",
+            u[i]
+        ));
     }
     if !vec3_close(b[i], b0[i], 0.0, 1e-6) {
-        return Err(format!("{call}: the shooter's radiosity went from {} to {}; shooting passes on its unshot radiosity but keeps its radiosity (it still sends that light out)", b0[i], b[i]));
+        return Err(format!(
+            "{call}: the shooter's radiosity went from {} to {}; shooting passes on its unshot radiosity but keeps its radiosity (it still sends that light out)",
+            b0[i], b[i]
+        ));
     }
     for j in 0..patches.len() {
         if j == i {
@@ -952,17 +1142,26 @@ fn check_shoot(r: &dyn Radiosity, key: Option<&dyn Radiosity>, input: &ShootInpu
         }
         let (db, du) = (b[j] - b0[j], u[j] - u0[j]);
         if !vec3_close(db, du, 1e-30, 1e-3) && !vec3_close(b[j], b0[j] + du, 1e-30, 1e-5) {
-            return Err(format!("{call}: patch {j}'s radiosity grew by {db} but its unshot radiosity by {du}: what a patch receives is added to both"));
+            return Err(format!(
+                "{call}: patch {j}'s radiosity grew by {db} but its unshot radiosity by {du}: what a patch receives is added to both"
+            ));
         }
         if (du.cmplt(Vec3::ZERO)).any() || !du.is_finite() {
-            return Err(format!("{call}: patch {j} received {du}: received radiosity is finite and at least 0"));
+            return Err(format!(
+                "{call}: patch {j} received {du}: received radiosity is finite and at least 0"
+            ));
         }
         if f[j] == 0.0 && du != Vec3::ZERO {
-            return Err(format!("{call}: patch {j} has form factor 0 from the shooter but received {du}"));
+            return Err(format!(
+                "{call}: patch {j} has form factor 0 from the shooter but received {du}"
+            ));
         }
         for c in 0..3 {
             if patches[j].reflectance[c] == 0.0 && du[c] != 0.0 {
-                return Err(format!("{call}: patch {j} has reflectance {} but received {du}: a patch reflects what it receives times its reflectance ρ_j, so a channel with ρ = 0 receives nothing", patches[j].reflectance));
+                return Err(format!(
+                    "{call}: patch {j} has reflectance {} but received {du}: a patch reflects what it receives times its reflectance ρ_j, so a channel with ρ = 0 receives nothing",
+                    patches[j].reflectance
+                ));
             }
         }
     }
@@ -988,7 +1187,12 @@ fn check_shoot(r: &dyn Radiosity, key: Option<&dyn Radiosity>, input: &ShootInpu
         }
     }
     for c in 0..3 {
-        if !close(arriving[c], expected[c], rounding[c] + 1e-12 * shot_power[c], 1e-3) {
+        if !close(
+            arriving[c],
+            expected[c],
+            rounding[c] + 1e-12 * shot_power[c],
+            1e-3,
+        ) {
             return Err(format!(
                 "{call}: in channel {c} the shooter sends power A_i ΔB_i = {:e}, of which Σ_j F_ij = {:.4} should arrive at the other patches (power {:e}); your radiosities make A_j ΔB_j / ρ_j add up to {:e}. Radiosity is power per area: what patch j receives is ρ_j ΔB_i F_ij A_i / A_j",
                 shot_power[c],
@@ -1003,7 +1207,10 @@ fn check_shoot(r: &dyn Radiosity, key: Option<&dyn Radiosity>, input: &ShootInpu
         key.shoot(patches, f, i, &mut kb, &mut ku);
         for j in 0..patches.len() {
             if !vec3_close(b[j], kb[j], 1e-30, 1e-4) || !vec3_close(u[j], ku[j], 1e-30, 1e-4) {
-                return Err(format!("{call}: patch {j} has radiosity {} and unshot {} afterwards, expected {} and {}", b[j], u[j], kb[j], ku[j]));
+                return Err(format!(
+                    "{call}: patch {j} has radiosity {} and unshot {} afterwards, expected {} and {}",
+                    b[j], u[j], kb[j], ku[j]
+                ));
             }
         }
     }
@@ -1028,7 +1235,10 @@ fn check_closed_box_energy(r: &dyn Radiosity) -> Result<(), String> {
         let bound = 1.0 / (1.0 - rho as f64);
         let slack = 1e-3 + 2.0 * sum_bound(n);
         let unshot = mesh.power(&solution.unshot) / emitted;
-        if !total.is_finite() || total > bound * (1.0 + slack) || total < bound * (1.0 - slack) - unshot / (1.0 - rho as f64) {
+        if !total.is_finite()
+            || total > bound * (1.0 + slack)
+            || total < bound * (1.0 - slack) - unshot / (1.0 - rho as f64)
+        {
             return Err(format!(
                 "in a closed box of side {size:e} with reflectance ρ = {rho} everywhere and one emitting patch, the converged solution ({} shots, hemicube {n}) has total power Σ A_j B_j = {total:.5} times the emitted power; every bounce keeps the fraction ρ of the light, so it must reach the geometric series 1/(1 − ρ) = {bound:.5} without exceeding it (within {slack:.1e})",
                 solution.shots()
@@ -1040,7 +1250,9 @@ fn check_closed_box_energy(r: &dyn Radiosity) -> Result<(), String> {
 
 fn exercise_6_6(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.radiosity.clone());
-    for_all(300, shoot_input(), |input| check_shoot(p.as_ref(), key.as_deref(), &input))?;
+    for_all(300, shoot_input(), |input| {
+        check_shoot(p.as_ref(), key.as_deref(), &input)
+    })?;
     let golden: GoldenFile<ShootInput, (Vec<Vec3>, Vec<Vec3>)> = load(ctx, GOLDEN_SHOOT)?;
     for case in &golden.cases {
         let (patches, f, i, b0, u0) = &case.input;
@@ -1049,7 +1261,14 @@ fn exercise_6_6(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> 
         let (eb, eu) = &case.expected;
         for j in 0..patches.len() {
             if !vec3_close(b[j], eb[j], 1e-30, 1e-4) || !vec3_close(u[j], eu[j], 1e-30, 1e-4) {
-                return Err(format!("shoot on a recorded case ({} patches, shooter {i}): patch {j} has radiosity {} and unshot {} afterwards, expected {} and {}", patches.len(), b[j], u[j], eb[j], eu[j]));
+                return Err(format!(
+                    "shoot on a recorded case ({} patches, shooter {i}): patch {j} has radiosity {} and unshot {} afterwards, expected {} and {}",
+                    patches.len(),
+                    b[j],
+                    u[j],
+                    eb[j],
+                    eu[j]
+                ));
             }
         }
     }
@@ -1064,7 +1283,10 @@ fn exercise_6_6(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> 
 /// Radiosities from 10⁻⁴ to 10⁴, 1 to 40 patches.
 pub fn colours_input() -> impl Strategy<Value = Vec<Vec3>> {
     let c = (-4.0f32..4.0).prop_map(|e| 10f32.powf(e));
-    prop::collection::vec((c.clone(), c.clone(), c).prop_map(|(r, g, b)| Vec3::new(r, g, b)), 1..40)
+    prop::collection::vec(
+        (c.clone(), c.clone(), c).prop_map(|(r, g, b)| Vec3::new(r, g, b)),
+        1..40,
+    )
 }
 
 fn exercise_6_7(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
@@ -1072,22 +1294,35 @@ fn exercise_6_7(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> 
     for_all(200, colours_input(), |b| {
         let l = p.patch_colours(&b);
         if l.len() != b.len() {
-            return Err(format!("patch_colours of {} radiosities returned {} colours", b.len(), l.len()));
+            return Err(format!(
+                "patch_colours of {} radiosities returned {} colours",
+                b.len(),
+                l.len()
+            ));
         }
         let doubled: Vec<Vec3> = b.iter().map(|x| *x * 2.0).collect();
         let l2 = p.patch_colours(&doubled);
         for (k, (a, c)) in l.iter().zip(&l2).enumerate() {
             if !vec3_close(*c, *a * 2.0, 1e-30, 1e-5) {
-                return Err(format!("patch_colours: radiosity {} gives {a}, but twice it gives {c}: radiance is proportional to radiosity", b[k]));
+                return Err(format!(
+                    "patch_colours: radiosity {} gives {a}, but twice it gives {c}: radiance is proportional to radiosity",
+                    b[k]
+                ));
             }
             if !a.is_finite() || a.cmpgt(b[k]).any() {
-                return Err(format!("patch_colours: radiosity {} gives {a}; a Lambertian patch's radiance is smaller than its radiosity (B = ∫ L cos θ dω = π L)", b[k]));
+                return Err(format!(
+                    "patch_colours: radiosity {} gives {a}; a Lambertian patch's radiance is smaller than its radiosity (B = ∫ L cos θ dω = π L)",
+                    b[k]
+                ));
             }
         }
         if let Some(key) = &key {
             for (k, (a, e)) in l.iter().zip(key.patch_colours(&b)).enumerate() {
                 if !vec3_close(*a, e, 1e-30, 1e-5) {
-                    return Err(format!("patch_colours: radiosity {} gives {a}, expected {e}", b[k]));
+                    return Err(format!(
+                        "patch_colours: radiosity {} gives {a}, expected {e}",
+                        b[k]
+                    ));
                 }
             }
         }
@@ -1098,7 +1333,11 @@ fn exercise_6_7(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> 
         let got = p.patch_colours(&case.input);
         for (k, e) in case.expected.iter().enumerate() {
             if got.get(k).is_none_or(|a| !vec3_close(*a, *e, 1e-30, 1e-5)) {
-                return Err(format!("patch_colours: radiosity {} gives {:?}, expected {e}", case.input[k], got.get(k)));
+                return Err(format!(
+                    "patch_colours: radiosity {} gives {:?}, expected {e}",
+                    case.input[k],
+                    got.get(k)
+                ));
             }
         }
     }
@@ -1113,44 +1352,86 @@ pub type VerticesInput = (Vec<Patch>, usize, Vec<Vec3>);
 /// 1 to 30 patches over 3 to 40 vertices (some vertices of no patch), colours from 10⁻³ to 10³.
 pub fn vertices_input() -> impl Strategy<Value = VerticesInput> {
     (4usize..40, 1usize..30).prop_flat_map(|(vertices, n)| {
-        let corners = (3usize..=4).prop_flat_map(move |k| prop::sample::subsequence((0..vertices as u32).collect::<Vec<_>>(), k).prop_shuffle());
+        let corners = (3usize..=4).prop_flat_map(move |k| {
+            prop::sample::subsequence((0..vertices as u32).collect::<Vec<_>>(), k).prop_shuffle()
+        });
         let c = (-3.0f32..3.0).prop_map(|e| 10f32.powf(e));
         (
-            prop::collection::vec(corners.prop_map(|v| Patch { vertices: v, ..bare_patch(1.0, Vec3::ONE) }), n),
+            prop::collection::vec(
+                corners.prop_map(|v| Patch {
+                    vertices: v,
+                    ..bare_patch(1.0, Vec3::ONE)
+                }),
+                n,
+            ),
             Just(vertices),
-            prop::collection::vec((c.clone(), c.clone(), c).prop_map(|(r, g, b)| Vec3::new(r, g, b)), n),
+            prop::collection::vec(
+                (c.clone(), c.clone(), c).prop_map(|(r, g, b)| Vec3::new(r, g, b)),
+                n,
+            ),
         )
     })
 }
 
-fn check_vertices(r: &dyn Radiosity, key: Option<&dyn Radiosity>, (patches, count, colours): &VerticesInput) -> Result<(), String> {
+fn check_vertices(
+    r: &dyn Radiosity,
+    key: Option<&dyn Radiosity>,
+    (patches, count, colours): &VerticesInput,
+) -> Result<(), String> {
     let got = r.vertex_colours(patches, *count, colours);
-    let call = format!("vertex_colours({} patches, vertex_count = {count}, …)", patches.len());
+    let call = format!(
+        "vertex_colours({} patches, vertex_count = {count}, …)",
+        patches.len()
+    );
     if got.len() != *count {
-        return Err(format!("{call} returned {} colours, expected one per vertex ({count})", got.len()));
+        return Err(format!(
+            "{call} returned {} colours, expected one per vertex ({count})",
+            got.len()
+        ));
     }
-    for v in 0..*count {
-        let around: Vec<(usize, Vec3)> = patches.iter().enumerate().filter(|(_, p)| p.vertices.contains(&(v as u32))).map(|(k, _)| (k, colours[k])).collect();
-        let c = got[v];
+    for (v, &c) in got.iter().enumerate() {
+        let around: Vec<(usize, Vec3)> = patches
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.vertices.contains(&(v as u32)))
+            .map(|(k, _)| (k, colours[k]))
+            .collect();
         if around.is_empty() {
             if c != Vec3::ZERO {
-                return Err(format!("{call}: vertex {v} is a corner of no patch but has colour {c}; it must be black (and not NaN)"));
+                return Err(format!(
+                    "{call}: vertex {v} is a corner of no patch but has colour {c}; it must be black (and not NaN)"
+                ));
             }
             continue;
         }
-        let lo = around.iter().fold(Vec3::splat(f32::INFINITY), |m, (_, c)| m.min(*c));
+        let lo = around
+            .iter()
+            .fold(Vec3::splat(f32::INFINITY), |m, (_, c)| m.min(*c));
         let hi = around.iter().fold(Vec3::ZERO, |m, (_, c)| m.max(*c));
         if !c.is_finite() || c.cmplt(lo * (1.0 - 1e-5)).any() || c.cmpgt(hi * (1.0 + 1e-5)).any() {
-            return Err(format!("{call}: vertex {v} is a corner of patches {:?} with colours from {lo} to {hi}, but its colour is {c}: the mean of its patches' colours lies between them", around.iter().map(|(k, _)| *k).collect::<Vec<_>>()));
+            return Err(format!(
+                "{call}: vertex {v} is a corner of patches {:?} with colours from {lo} to {hi}, but its colour is {c}: the mean of its patches' colours lies between them",
+                around.iter().map(|(k, _)| *k).collect::<Vec<_>>()
+            ));
         }
         if around.len() == 1 && !vec3_close(c, around[0].1, 1e-30, 1e-5) {
-            return Err(format!("{call}: vertex {v} is a corner of patch {} only (colour {}), but its colour is {c}", around[0].0, around[0].1));
+            return Err(format!(
+                "{call}: vertex {v} is a corner of patch {} only (colour {}), but its colour is {c}",
+                around[0].0, around[0].1
+            ));
         }
     }
     if let Some(key) = key {
-        for (v, e) in key.vertex_colours(patches, *count, colours).iter().enumerate() {
+        for (v, e) in key
+            .vertex_colours(patches, *count, colours)
+            .iter()
+            .enumerate()
+        {
             if !vec3_close(got[v], *e, 1e-30, 1e-5) {
-                return Err(format!("{call}: vertex {v} has colour {}, expected {e} (the mean over the patches it is a corner of)", got[v]));
+                return Err(format!(
+                    "{call}: vertex {v} has colour {}, expected {e} (the mean over the patches it is a corner of)",
+                    got[v]
+                ));
             }
         }
     }
@@ -1159,14 +1440,20 @@ fn check_vertices(r: &dyn Radiosity, key: Option<&dyn Radiosity>, (patches, coun
 
 fn exercise_6_8(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.radiosity.clone());
-    for_all(200, vertices_input(), |input| check_vertices(p.as_ref(), key.as_deref(), &input))?;
+    for_all(200, vertices_input(), |input| {
+        check_vertices(p.as_ref(), key.as_deref(), &input)
+    })?;
     let golden: GoldenFile<VerticesInput, Vec<Vec3>> = load(ctx, GOLDEN_VERTICES)?;
     for case in &golden.cases {
         let (patches, count, colours) = &case.input;
         let got = p.vertex_colours(patches, *count, colours);
         for (v, e) in case.expected.iter().enumerate() {
             if got.get(v).is_none_or(|a| !vec3_close(*a, *e, 1e-30, 1e-5)) {
-                return Err(format!("vertex_colours on a recorded case ({} patches, {count} vertices): vertex {v} has colour {:?}, expected {e}", patches.len(), got.get(v)));
+                return Err(format!(
+                    "vertex_colours on a recorded case ({} patches, {count} vertices): vertex {v} has colour {:?}, expected {e}",
+                    patches.len(),
+                    got.get(v)
+                ));
             }
         }
     }
@@ -1196,7 +1483,12 @@ mod tests {
             let s = u * u + z * z + 1.0;
             z * a / (std::f32::consts::PI * s * s)
         }
-        fn accumulate_form_factors(&self, items: &ItemBuffer, delta: &DeltaFormFactors, n: usize) -> Vec<f32> {
+        fn accumulate_form_factors(
+            &self,
+            items: &ItemBuffer,
+            delta: &DeltaFormFactors,
+            n: usize,
+        ) -> Vec<f32> {
             let mut f = vec![0.0; n];
             for face in HemicubeFace::ALL {
                 for (id, d) in items.face(face).iter().zip(delta.face(face)) {

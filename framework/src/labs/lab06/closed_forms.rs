@@ -28,7 +28,8 @@ pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
     let (x2, y2) = (x * x, y * y);
     let (sx, sy) = ((1.0 + x2).sqrt(), (1.0 + y2).sqrt());
     2.0 / (PI * x * y)
-        * ((((1.0 + x2) * (1.0 + y2)) / (1.0 + x2 + y2)).sqrt().ln() + x * sy * (x / sy).atan()
+        * ((((1.0 + x2) * (1.0 + y2)) / (1.0 + x2 + y2)).sqrt().ln()
+            + x * sy * (x / sy).atan()
             + y * sx * (y / sx).atan()
             - x * x.atan()
             - y * y.atan())
@@ -57,7 +58,10 @@ mod tests {
         let mut sum = 0.0;
         for i in 0..n {
             for j in 0..n {
-                sum += f(a * (i as f64 + 0.5) / n as f64, b * (j as f64 + 0.5) / n as f64);
+                sum += f(
+                    a * (i as f64 + 0.5) / n as f64,
+                    b * (j as f64 + 0.5) / n as f64,
+                );
             }
         }
         sum * a * b / (n * n) as f64
@@ -66,7 +70,9 @@ mod tests {
     #[test]
     fn element_formulas_match_the_integral_of_the_kernel() {
         let (a, b, c) = (1.0, 2.0, 1.5);
-        let num = integrate(a, b, 800, |x, y| c * c / (PI * (x * x + y * y + c * c).powi(2)));
+        let num = integrate(a, b, 800, |x, y| {
+            c * c / (PI * (x * x + y * y + c * c).powi(2))
+        });
         assert!((element_to_parallel_rectangle(a, b, c) - num).abs() < 1e-6);
         let (a, h, d) = (1.0, 2.0, 0.7);
         let num = integrate(a, h, 800, |x, z| {

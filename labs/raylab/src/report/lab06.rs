@@ -9,7 +9,9 @@ use framework::Error;
 use framework::contracts::lab06::Radiosity;
 use framework::film::{Film, ToneMap};
 use framework::glam::Vec3;
-use framework::radiosity::solver::{FormFactors, Shading, Solution, SolveSettings, render_solution, solve};
+use framework::radiosity::solver::{
+    FormFactors, Shading, Solution, SolveSettings, render_solution, solve,
+};
 use framework::radiosity::{MeshingOptions, PatchMesh};
 use framework::scene::{Scene, builtin_scene};
 
@@ -37,7 +39,12 @@ struct Solved {
     seconds: f64,
 }
 
-fn solved(r: &dyn Radiosity, scene: &Scene, meshing: MeshingOptions, solve_settings: &SolveSettings) -> Solved {
+fn solved(
+    r: &dyn Radiosity,
+    scene: &Scene,
+    meshing: MeshingOptions,
+    solve_settings: &SolveSettings,
+) -> Solved {
     let start = Instant::now();
     let mesh = PatchMesh::from_scene(scene, meshing);
     let solution = solve(r, &mesh, solve_settings);
@@ -74,13 +81,20 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let scene = builtin_scene("cornell")?;
     let (w, h) = ctx.size(512, 512);
     let meshing = if ctx.quick {
-        MeshingOptions { max_size: 0.1, max_light_size: 0.05 }
+        MeshingOptions {
+            max_size: 0.1,
+            max_light_size: 0.05,
+        }
     } else {
         MeshingOptions { ..MESHING }
     };
     let tone = ToneMap::default();
     let draw = |s: &Solved, smooth: bool| {
-        let shading = if smooth { Shading::Smooth(&s.smooth) } else { Shading::Flat(&s.flat) };
+        let shading = if smooth {
+            Shading::Smooth(&s.smooth)
+        } else {
+            Shading::Flat(&s.flat)
+        };
         render_solution(&ctx.pipeline, &scene, &s.mesh, shading, w, h)
     };
     let mut figures = Vec::new();
@@ -89,11 +103,24 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let main = solved(r, &scene, meshing, &SOLVE);
     let params = describe(&main, &SOLVE);
     for (file, smooth, caption) in [
-        ("cornell-flat.png", false, "The Cornell box by progressive refinement with the hemicube, flat patches"),
-        ("cornell-smooth.png", true, "The same solution smoothed by nodal averaging (Gouraud-interpolated vertex colours)"),
+        (
+            "cornell-flat.png",
+            false,
+            "The Cornell box by progressive refinement with the hemicube, flat patches",
+        ),
+        (
+            "cornell-smooth.png",
+            true,
+            "The same solution smoothed by nodal averaging (Gouraud-interpolated vertex colours)",
+        ),
     ] {
         ctx.save(&draw(&main, smooth), file, tone)?;
-        figures.push(Figure { file: file.into(), caption: caption.into(), parameters: format!("{w}×{h} pixels; {params}"), seconds: Some(main.seconds) });
+        figures.push(Figure {
+            file: file.into(),
+            caption: caption.into(),
+            parameters: format!("{w}×{h} pixels; {params}"),
+            seconds: Some(main.seconds),
+        });
     }
 
     // Unshot power against shots.
@@ -107,8 +134,14 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     });
 
     // Without occlusion: the analytic form factor of Exercise 6.1.
-    let analytic = SolveSettings { form_factors: FormFactors::Analytic, ..SOLVE };
-    let coarse = MeshingOptions { max_size: meshing.max_size.max(0.05), max_light_size: meshing.max_light_size.max(0.05) };
+    let analytic = SolveSettings {
+        form_factors: FormFactors::Analytic,
+        ..SOLVE
+    };
+    let coarse = MeshingOptions {
+        max_size: meshing.max_size.max(0.05),
+        max_light_size: meshing.max_light_size.max(0.05),
+    };
     let a = solved(r, &scene, coarse, &analytic);
     ctx.save(&draw(&a, true), "cornell-analytic.png", tone)?;
     figures.push(Figure {
@@ -123,16 +156,24 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut lines = Vec::new();
     let mut seconds = 0.0;
     for light in [1.0, 0.1, 0.025] {
-        let m = MeshingOptions { max_size: meshing.max_size.max(0.05), max_light_size: light };
+        let m = MeshingOptions {
+            max_size: meshing.max_size.max(0.05),
+            max_light_size: light,
+        };
         let s = solved(r, &scene, m, &SOLVE);
         seconds += s.seconds;
-        lines.push(format!("light patches ≤ {light} m: {}", describe(&s, &SOLVE)));
+        lines.push(format!(
+            "light patches ≤ {light} m: {}",
+            describe(&s, &SOLVE)
+        ));
         panels.push(draw(&s, true));
     }
     ctx.save(&montage(&panels, 4), "light-subdivision.png", tone)?;
     figures.push(Figure {
         file: "light-subdivision.png".into(),
-        caption: "The light source as 1 patch, as patches of 10 cm and of 2.5 cm (walls 5 cm, smoothed)".into(),
+        caption:
+            "The light source as 1 patch, as patches of 10 cm and of 2.5 cm (walls 5 cm, smoothed)"
+                .into(),
         parameters: lines.join("; "),
         seconds: Some(seconds),
     });
@@ -140,7 +181,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     // The hemicube's resolution.
     let (mut panels, mut lines, mut seconds) = (Vec::new(), Vec::new(), 0.0);
     for n in [4, 8, 16, 64] {
-        let settings = SolveSettings { form_factors: FormFactors::Hemicube(n), ..SOLVE };
+        let settings = SolveSettings {
+            form_factors: FormFactors::Hemicube(n),
+            ..SOLVE
+        };
         let s = solved(r, &scene, meshing, &settings);
         seconds += s.seconds;
         lines.push(describe(&s, &settings));
@@ -156,9 +200,17 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
 
     // Radiosity against ray tracing: the same box by lab 3's area-light ray tracer.
     let spp = if ctx.quick { 1 } else { 4 };
-    let traced_pipeline = framework::pipeline::Pipeline { lab: 4, area_light_samples: 4, ..ctx.pipeline.clone() };
+    let traced_pipeline = framework::pipeline::Pipeline {
+        lab: 4,
+        area_light_samples: 4,
+        ..ctx.pipeline.clone()
+    };
     let (traced, t) = ctx.render_timed(&scene, &traced_pipeline, &settings(w, h, spp))?;
-    ctx.save(&montage(&[draw(&main, true), traced], 4), "radiosity-vs-ray-tracing.png", tone)?;
+    ctx.save(
+        &montage(&[draw(&main, true), traced], 4),
+        "radiosity-vs-ray-tracing.png",
+        tone,
+    )?;
     figures.push(Figure {
         file: "radiosity-vs-ray-tracing.png".into(),
         caption: "Radiosity (left: every diffuse interreflection, colour bleeding) against the ray tracer of labs 3–4 (right: direct light with soft shadows only)".into(),
