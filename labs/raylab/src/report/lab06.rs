@@ -221,7 +221,7 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     )?;
     figures.push(Figure {
         file: "radiosity-vs-ray-tracing.png".into(),
-        caption: "Radiosity (left: every diffuse interreflection, colour bleeding) against the ray tracer of labs 3–4 (right: direct light with soft shadows only)".into(),
+        caption: "Radiosity (left: every diffuse interreflection, colour bleeding) against the ray tracer of labs 3–4 (right: direct light only, from the scene's point light and its area light: a black ceiling, no colour bleeding, hard shadows from the point light)".into(),
         parameters: format!("{w}×{h} pixels; right: {spp} sample(s) per pixel, 4×4 area-light samples"),
         seconds: Some(t),
     });
