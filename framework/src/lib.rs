@@ -18,6 +18,7 @@ pub mod labs;
 pub mod math;
 mod panic;
 pub mod pipeline;
+pub mod radiosity;
 pub mod render;
 pub mod sampling;
 pub mod scene;

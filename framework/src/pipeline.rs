@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab07};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07};
 use crate::math::Ray;
 use crate::sampling::Rng;
 use crate::scene::Hit;
@@ -45,6 +45,9 @@ pub struct Pipeline {
     /// Lab 05, radiometry: the integrator does not call it; it is the answer key of lab 05's
     /// checks (`LabContext::key`) and the code of its report.
     pub radiometry: Arc<dyn lab05::Radiometry>,
+    /// Lab 06, radiosity: not called by the ray tracer; the radiosity solver
+    /// ([`crate::radiosity::solver`]) and lab 06's checks take it from here.
+    pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
@@ -107,6 +110,15 @@ impl LabSlots for dyn lab05::Radiometry {
     fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
         Pipeline {
             radiometry: code,
+            ..base
+        }
+    }
+}
+
+impl LabSlots for dyn lab06::Radiosity {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            radiosity: code,
             ..base
         }
     }

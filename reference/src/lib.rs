@@ -16,6 +16,8 @@ pub mod lab03;
 pub mod lab04;
 #[cfg(feature = "key-lab05")]
 pub mod lab05;
+#[cfg(feature = "key-lab06")]
+pub mod lab06;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
 
@@ -38,6 +40,8 @@ mod slots {
     pub use super::lab04::Lab04;
     #[cfg(feature = "key-lab05")]
     pub use super::lab05::Lab05;
+    #[cfg(feature = "key-lab06")]
+    pub use super::lab06::Lab06;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
     #[cfg(not(feature = "key-lab01"))]
@@ -50,6 +54,8 @@ mod slots {
     pub use ::lab04::Student as Lab04;
     #[cfg(not(feature = "key-lab05"))]
     pub use ::lab05::Student as Lab05;
+    #[cfg(not(feature = "key-lab06"))]
+    pub use ::lab06::Student as Lab06;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
 }
@@ -63,6 +69,7 @@ pub fn pipeline(lab: u32) -> Pipeline {
         shadows: Arc::new(slots::Lab03),
         reflection: Arc::new(slots::Lab04),
         radiometry: Arc::new(slots::Lab05),
+        radiosity: Arc::new(slots::Lab06),
         antialiasing: Arc::new(slots::Lab07),
         lab,
         view: View::Shaded,

@@ -24,6 +24,7 @@ macro_rules! for_each_lab {
         $each!(3, lab03, Shadows, Lab03);
         $each!(4, lab04, Reflection, Lab04);
         $each!(5, lab05, Radiometry, Lab05);
+        $each!(6, lab06, Radiosity, Lab06);
         $each!(7, lab07, Antialiasing, Lab07);
     };
 }

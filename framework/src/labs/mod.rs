@@ -7,6 +7,7 @@ pub mod lab02;
 pub mod lab03;
 pub mod lab04;
 pub mod lab05;
+pub mod lab06;
 pub mod lab07;
 pub mod strategies;
 
@@ -58,6 +59,12 @@ pub const COURSE: &[Lab] = &[
         title: "Radiometry",
         exercises: || infos(5, &lab05::checks::exercises()),
         denied: LAB05_DENIED,
+    },
+    Lab {
+        number: 6,
+        title: "Radiosity with the hemicube",
+        exercises: || infos(6, &lab06::checks::exercises()),
+        denied: &[],
     },
     Lab {
         number: 7,

@@ -89,6 +89,13 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             reference::lab05::Lab05,
             lab05
         )),
+        6 => visitor.visit(lab_code!(
+            6,
+            Radiosity,
+            ::lab06::Student,
+            reference::lab06::Lab06,
+            lab06
+        )),
         7 => visitor.visit(lab_code!(
             7,
             Antialiasing,

@@ -1,0 +1,34 @@
+//! Lab 06's checks: one test per exercise of the table in `framework::labs::lab06::checks`.
+//!
+//! `cargo test -p lab06` checks your code in `src/lib.rs`, `cargo test -p lab06 exercise_6_6`
+//! just Exercise 6.6.
+//! `cargo test -p lab06 --features reference` checks the reference solution instead, where
+//! the tree holds it. Each exercise runs with `reference::pipeline` for everything else: the
+//! answer key where the tree holds it (so one unfinished exercise does not fail the others),
+//! and in a handout your own code for the labs whose solutions are not released yet — a check
+//! that needs one of those names the exercise it is waiting for.
+
+use std::sync::Arc;
+
+use framework::contracts::lab06::Radiosity;
+use framework::grading::harness::{self, LabChecks};
+use framework::labs::lab06::checks;
+
+fn subject() -> Arc<dyn Radiosity> {
+    #[cfg(feature = "reference")]
+    return Arc::new(reference::lab06::Lab06);
+    #[cfg(not(feature = "reference"))]
+    return Arc::new(lab06::Student);
+}
+
+fn main() {
+    harness::run(LabChecks {
+        lab: 6,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(6),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
+}
