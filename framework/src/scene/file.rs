@@ -22,7 +22,7 @@ use std::sync::Arc;
 use glam::{Quat, Vec3};
 use serde::Deserialize;
 
-use super::obj::{ReadText, accepted_illums, load_obj_with, name_list};
+use super::obj::{ReadText, accepted_illums, load_obj_with, name_list, read_text};
 use super::{
     CameraSetup, DirectionalLight, IllumModel, Light, Material, MaterialId, Mesh, Plane,
     PointLight, Scene, SceneDescription, Sphere, Texture,
@@ -32,19 +32,15 @@ use crate::Error;
 /// Loads a TOML scene file; OBJ meshes and textures it names are found relative to its
 /// directory. See `docs/scene-format.md` for the format.
 pub fn load_scene_file(path: &Path) -> Result<Scene, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = read_text(path).map_err(|e| Error::io(path, e))?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    parse_scene_with(path, &text, base_dir, &|p: &Path| {
-        std::fs::read_to_string(p)
-    })
+    parse_scene_with(path, &text, base_dir, &read_text)
 }
 
 /// Parses scene-file text. `name` stands for the file in error messages (and its stem is the
 /// scene's name unless the text sets one); files it names are found relative to `base_dir`.
 pub fn parse_scene_str(name: &str, text: &str, base_dir: &Path) -> Result<Scene, Error> {
-    parse_scene_with(Path::new(name), text, base_dir, &|p: &Path| {
-        std::fs::read_to_string(p)
-    })
+    parse_scene_with(Path::new(name), text, base_dir, &read_text)
 }
 
 /// Parses scene-file text that stands for the file `path`, reading the OBJ and MTL files it

@@ -14,6 +14,7 @@ use glam::{Vec2, Vec3};
 
 use super::{IllumModel, Material, MaterialId, Mesh, Texture};
 use crate::Error;
+use crate::film::{LoadBudget, read_text_bounded};
 
 /// A loaded OBJ file: all of its objects merged into one triangle mesh, and its materials.
 #[derive(Clone, Debug, Default)]
@@ -28,11 +29,17 @@ pub struct ObjData {
 /// Reads the text of a file that another file refers to (an MTL library, an OBJ mesh).
 pub(crate) type ReadText<'a> = &'a dyn Fn(&Path) -> io::Result<String>;
 
+/// Reads a text file from disk under the [`LoadBudget::current`] budget: a regular file, not
+/// too large, UTF-8.
+pub(crate) fn read_text(path: &Path) -> io::Result<String> {
+    read_text_bounded(path, &LoadBudget::current())
+}
+
 /// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's directory); diffuse
 /// textures (`map_Kd`) are loaded relative to their MTL file's directory.
 pub fn load_obj(path: &Path) -> Result<ObjData, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    load_obj_with(path, &text, &|p: &Path| std::fs::read_to_string(p))
+    let text = read_text(path).map_err(|e| Error::io(path, e))?;
+    load_obj_with(path, &text, &|p: &Path| read_text(p))
 }
 
 /// Loads OBJ text held in memory, with the text of its material library (every `mtllib`
@@ -60,7 +67,9 @@ pub(crate) fn load_obj_with(path: &Path, text: &str, read: ReadText<'_>) -> Resu
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, tobj_materials) =
+    // The text tobj reads has been checked line by line; a panic of tobj on it would still be
+    // a bug of ours, reported as an error about the file rather than a crash.
+    let parsed = crate::panic::catch_panic(|| {
         tobj::load_obj_buf(&mut checked.text.as_bytes(), &options, |p: &Path| {
             let key = p.to_string_lossy();
             match libs.get(key.as_ref()) {
@@ -68,11 +77,20 @@ pub(crate) fn load_obj_with(path: &Path, text: &str, read: ReadText<'_>) -> Resu
                 None => Err(tobj::LoadError::OpenFileFailed),
             }
         })
-        .map_err(|e| Error::Parse {
-            path: path.to_path_buf(),
-            line: 0,
-            reason: format!("the OBJ reader rejected the file: {e}"),
-        })?;
+    })
+    .map_err(|caught| Error::Parse {
+        path: path.to_path_buf(),
+        line: 0,
+        reason: format!(
+            "the OBJ reader failed on the file (it panicked: {})",
+            caught.message
+        ),
+    })?;
+    let (models, tobj_materials) = parsed.map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        line: 0,
+        reason: format!("the OBJ reader rejected the file: {e}"),
+    })?;
     let tobj_materials = tobj_materials.map_err(|e| Error::Parse {
         path: path.to_path_buf(),
         line: 0,
