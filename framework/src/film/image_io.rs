@@ -146,6 +146,16 @@ fn file_kind(kind: &std::fs::FileType) -> &'static str {
     }
 }
 
+/// A message on one line: its lines joined with "; ".
+pub(crate) fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 /// An image decoded under the budget, as linear-or-encoded RGB floats.
 pub(crate) struct DecodedImage {
     /// The pixels, row by row from the top, as the file stores them (no transfer function
@@ -164,6 +174,13 @@ const FLOAT_COPIES_BYTES_PER_PIXEL: u64 = 2 * 12;
 /// format, an image over the pixel or memory budget (refused from its header, before any
 /// decoding), a decoder's error, or a decoder's panic.
 pub(crate) fn decode_image(path: &Path, budget: &LoadBudget) -> Result<DecodedImage, String> {
+    decode_image_unchecked_message(path, budget).map_err(|reason| one_line(&reason))
+}
+
+fn decode_image_unchecked_message(
+    path: &Path,
+    budget: &LoadBudget,
+) -> Result<DecodedImage, String> {
     let bytes = read_bounded(path, budget).map_err(|e| e.to_string())?;
     let reader = image::ImageReader::new(Cursor::new(bytes.as_slice()))
         .with_guessed_format()

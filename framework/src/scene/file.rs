@@ -28,6 +28,7 @@ use super::{
     PointLight, Scene, SceneDescription, Sphere, Texture,
 };
 use crate::Error;
+use crate::film::one_line;
 
 /// Loads a TOML scene file; OBJ meshes and textures it names are found relative to its
 /// directory. See `docs/scene-format.md` for the format.
@@ -53,7 +54,10 @@ pub(crate) fn parse_scene_with(
 ) -> Result<Scene, Error> {
     let file: SceneToml = toml::from_str(text).map_err(|e| Error::SceneFile {
         path: path.to_path_buf(),
-        reason: e.to_string().trim_end().to_string(),
+        reason: match e.span() {
+            Some(span) => format!("{}: {}", position(text, span.start), one_line(e.message())),
+            None => one_line(e.message()),
+        },
     })?;
     Builder {
         path,
@@ -61,6 +65,16 @@ pub(crate) fn parse_scene_with(
         read,
     }
     .build(file)
+}
+
+/// "line L, column C" of the byte offset `at` of `text` (both 1-based; columns count
+/// characters).
+fn position(text: &str, at: usize) -> String {
+    let at = at.min(text.len());
+    let before = text.get(..at).unwrap_or(text);
+    let line = 1 + before.matches('\n').count();
+    let column = 1 + before.rsplit('\n').next().map_or(0, |l| l.chars().count());
+    format!("line {line}, column {column}")
 }
 
 #[derive(Debug, Deserialize)]
