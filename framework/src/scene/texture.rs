@@ -48,6 +48,18 @@ impl Texture {
         })
     }
 
+    /// [`Texture::load`] for the statement `named_by` (e.g. "map_Kd of material 'a' at
+    /// m.mtl:3"), which an error names after the decoder's reason.
+    pub(crate) fn load_for(path: &Path, named_by: &str) -> Result<Self, Error> {
+        Self::load(path).map_err(|e| match e {
+            Error::Texture { path, reason } => Error::Texture {
+                path,
+                reason: format!("{reason} (the texture of {named_by})"),
+            },
+            other => other,
+        })
+    }
+
     /// Nearest-texel lookup with wrapping; `uv = (0,0)` is the bottom-left corner as in OBJ.
     pub fn lookup_nearest(&self, uv: Vec2) -> Vec3 {
         let u = uv.x - uv.x.floor();
