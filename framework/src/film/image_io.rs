@@ -174,13 +174,10 @@ const FLOAT_COPIES_BYTES_PER_PIXEL: u64 = 2 * 12;
 /// format, an image over the pixel or memory budget (refused from its header, before any
 /// decoding), a decoder's error, or a decoder's panic.
 pub(crate) fn decode_image(path: &Path, budget: &LoadBudget) -> Result<DecodedImage, String> {
-    decode_image_unchecked_message(path, budget).map_err(|reason| one_line(&reason))
+    decode_image_reason(path, budget).map_err(|reason| one_line(&reason))
 }
 
-fn decode_image_unchecked_message(
-    path: &Path,
-    budget: &LoadBudget,
-) -> Result<DecodedImage, String> {
+fn decode_image_reason(path: &Path, budget: &LoadBudget) -> Result<DecodedImage, String> {
     let bytes = read_bounded(path, budget).map_err(|e| e.to_string())?;
     let reader = image::ImageReader::new(Cursor::new(bytes.as_slice()))
         .with_guessed_format()

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the hostile files of this directory (see README.md); run it from here."""
+"""Writes the hostile files of this directory, which ../hostile_files.rs loads; run it from here."""
 import struct
 import zlib
 
@@ -49,8 +49,9 @@ write("palette-plte-not-multiple-of-3.png", png(8, 1, 4, 3, [
 write("png-30000x30000.png", png(30000, 30000, 16, 2, [
     png_chunk(b"IDAT", zlib.compress(b"\x00" * 64)),
 ]))
-# OpenEXR files of a few hundred bytes whose decoders allocate before checking: DWAA (8),
-# PIZ (4), B44 (6), PXR24 (5), and ZIP (3) with a window of 200000 x 200000 pixels.
+# OpenEXR files with garbage chunks in the compressions raylab refuses from the header, whose
+# decoders in exr 1.74 can allocate from unchecked chunk sizes: DWAA (8), PIZ (4), B44 (6),
+# PXR24 (5); and ZIP (3) with a window of 200000 x 200000 pixels (4·10^10).
 garbage = bytes(range(256)) * 4
 write("exr-dwaa.exr", exr(8, 63, 63, garbage))
 write("exr-piz.exr", exr(4, 63, 63, b"\xff\xff\xff\x7f" * 64))
