@@ -160,3 +160,23 @@ fn file_over_the_size_budget_is_refused_before_reading() {
     assert!(e.to_string().contains("at most 16 bytes"), "{e}");
     assert!(framework::film::read_bounded(&path, &framework::film::LoadBudget::DEFAULT).is_ok());
 }
+
+/// Found by the fuzz targets: errors whose decoder's or parser's text ran over several lines.
+#[test]
+fn fuzz_findings_are_one_line_errors() {
+    let path = hostile("fuzz-jpeg-truncated.jpg");
+    let message = refused(|| Texture::load(&path));
+    assert_mentions(
+        &message,
+        &["fuzz-jpeg-truncated.jpg", "cannot decode texture"],
+    );
+    let path = hostile("fuzz-toml-syntax.toml");
+    let message = refused(|| load_scene_file(&path));
+    assert_mentions(
+        &message,
+        &[
+            "fuzz-toml-syntax.toml: line 6, column 24: ",
+            "missing comma",
+        ],
+    );
+}
