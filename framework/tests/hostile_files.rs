@@ -179,4 +179,10 @@ fn fuzz_findings_are_one_line_errors() {
             "missing comma",
         ],
     );
+    let path = hostile("fuzz-material-name-with-newline.toml");
+    let message = refused(|| load_scene_file(&path));
+    assert_mentions(
+        &message,
+        &["line 40, column 1: spheres[1]: unknown material 'glass\\n'"],
+    );
 }

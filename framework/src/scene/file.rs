@@ -246,11 +246,13 @@ impl Builder<'_> {
             ids.get(name).copied().ok_or_else(|| {
                 self.fail(if names.is_empty() {
                     format!(
-                        "{what}: unknown material '{name}'; no materials are defined (add a [materials.{name}] table)"
+                        "{what}: unknown material '{}'; no materials are defined (add a [materials.{0}] table)",
+                        name.escape_debug()
                     )
                 } else {
                     format!(
-                        "{what}: unknown material '{name}'; expected one of {}",
+                        "{what}: unknown material '{}'; expected one of {}",
+                        name.escape_debug(),
                         name_list(&names)
                     )
                 })
@@ -349,7 +351,7 @@ impl Builder<'_> {
             let text = (self.read)(&obj_path).map_err(|e| {
                 self.fail(format!(
                     "{what}: cannot read the OBJ file '{}': {e}",
-                    obj_path.display()
+                    obj_path.display().to_string().escape_debug()
                 ))
             })?;
             let obj = load_obj_with(&obj_path, &text, self.read)?;
@@ -397,7 +399,7 @@ impl Builder<'_> {
         m: &MaterialToml,
         textures: &mut HashMap<PathBuf, Arc<Texture>>,
     ) -> Result<Material, Error> {
-        let what = format!("materials.{key}");
+        let what = format!("materials.{}", key.escape_debug());
         let illum = u8::try_from(m.illum)
             .ok()
             .and_then(IllumModel::from_illum)

@@ -194,7 +194,7 @@ pub(crate) fn name_list<S: AsRef<str>>(names: &[S]) -> String {
     let mut list = names
         .iter()
         .take(SHOWN)
-        .map(|s| format!("'{}'", s.as_ref()))
+        .map(|s| format!("'{}'", s.as_ref().escape_debug()))
         .collect::<Vec<_>>()
         .join(", ");
     if names.len() > SHOWN {
