@@ -15,36 +15,35 @@
 //! material = "red"
 //! ```
 
+use std::cell::Cell;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{Quat, Vec3};
 use serde::Deserialize;
+use toml::Spanned;
 
-use super::obj::{ReadText, accepted_illums, load_obj_with, name_list};
+use super::obj::{ReadText, accepted_illums, load_obj_with, name_list, read_text};
 use super::{
     CameraSetup, DirectionalLight, IllumModel, Light, Material, MaterialId, Mesh, Plane,
     PointLight, Scene, SceneDescription, Sphere, Texture,
 };
 use crate::Error;
+use crate::film::one_line;
 
 /// Loads a TOML scene file; OBJ meshes and textures it names are found relative to its
 /// directory. See `docs/scene-format.md` for the format.
 pub fn load_scene_file(path: &Path) -> Result<Scene, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = read_text(path).map_err(|e| Error::io(path, e))?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    parse_scene_with(path, &text, base_dir, &|p: &Path| {
-        std::fs::read_to_string(p)
-    })
+    parse_scene_with(path, &text, base_dir, &read_text)
 }
 
 /// Parses scene-file text. `name` stands for the file in error messages (and its stem is the
 /// scene's name unless the text sets one); files it names are found relative to `base_dir`.
 pub fn parse_scene_str(name: &str, text: &str, base_dir: &Path) -> Result<Scene, Error> {
-    parse_scene_with(Path::new(name), text, base_dir, &|p: &Path| {
-        std::fs::read_to_string(p)
-    })
+    parse_scene_with(Path::new(name), text, base_dir, &read_text)
 }
 
 /// Parses scene-file text that stands for the file `path`, reading the OBJ and MTL files it
@@ -57,32 +56,47 @@ pub(crate) fn parse_scene_with(
 ) -> Result<Scene, Error> {
     let file: SceneToml = toml::from_str(text).map_err(|e| Error::SceneFile {
         path: path.to_path_buf(),
-        reason: e.to_string().trim_end().to_string(),
+        reason: match e.span() {
+            Some(span) => format!("{}: {}", position(text, span.start), one_line(e.message())),
+            None => one_line(e.message()),
+        },
     })?;
     Builder {
         path,
+        text,
+        at: Cell::new(None),
         base_dir,
         read,
     }
     .build(file)
 }
 
+/// "line L, column C" of the byte offset `at` of `text` (both 1-based; columns count
+/// characters).
+fn position(text: &str, at: usize) -> String {
+    let at = at.min(text.len());
+    let before = text.get(..at).unwrap_or(text);
+    let line = 1 + before.matches('\n').count();
+    let column = 1 + before.rsplit('\n').next().map_or(0, |l| l.chars().count());
+    format!("line {line}, column {column}")
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneToml {
     name: Option<String>,
-    background: Option<[f32; 3]>,
-    camera: Option<CameraToml>,
+    background: Option<Spanned<[f32; 3]>>,
+    camera: Option<Spanned<CameraToml>>,
     #[serde(default)]
-    materials: BTreeMap<String, MaterialToml>,
+    materials: BTreeMap<String, Spanned<MaterialToml>>,
     #[serde(default)]
-    lights: Vec<LightToml>,
+    lights: Vec<Spanned<LightToml>>,
     #[serde(default)]
-    planes: Vec<PlaneToml>,
+    planes: Vec<Spanned<PlaneToml>>,
     #[serde(default)]
-    spheres: Vec<SphereToml>,
+    spheres: Vec<Spanned<SphereToml>>,
     #[serde(default)]
-    meshes: Vec<MeshToml>,
+    meshes: Vec<Spanned<MeshToml>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -162,6 +176,10 @@ enum Scale {
 
 struct Builder<'a> {
     path: &'a Path,
+    /// The scene file's text, for the line of an entry.
+    text: &'a str,
+    /// The byte offset of the entry being built, which an error names by its line.
+    at: Cell<Option<usize>>,
     base_dir: &'a Path,
     read: ReadText<'a>,
 }
@@ -170,8 +188,16 @@ impl Builder<'_> {
     fn fail(&self, reason: String) -> Error {
         Error::SceneFile {
             path: self.path.to_path_buf(),
-            reason,
+            reason: match self.at.get() {
+                Some(at) => format!("{}: {reason}", position(self.text, at)),
+                None => reason,
+            },
         }
+    }
+
+    /// Makes later errors name the line of the entry `span`.
+    fn entry(&self, span: std::ops::Range<usize>) {
+        self.at.set(Some(span.start));
     }
 
     fn build(&self, file: SceneToml) -> Result<Scene, Error> {
@@ -186,13 +212,20 @@ impl Builder<'_> {
                     .into(),
             )
         })?;
+        self.entry(camera.span());
+        let camera = camera.get_ref();
         let camera = CameraSetup {
             eye: Vec3::from(camera.eye),
             look_at: Vec3::from(camera.look_at),
             up: Vec3::from(camera.up),
             focal_distance: camera.focal_distance,
         };
-        let background = file.background.map_or(Vec3::ZERO, Vec3::from);
+        self.at
+            .set(file.background.as_ref().map(|b| b.span().start));
+        let background = file
+            .background
+            .as_ref()
+            .map_or(Vec3::ZERO, |b| Vec3::from(*b.get_ref()));
         if !background.is_finite() {
             return Err(self.fail(format!(
                 "background is {background}; expected finite numbers"
@@ -203,6 +236,8 @@ impl Builder<'_> {
         let mut ids = HashMap::new();
         let mut textures = HashMap::new();
         for (key, m) in &file.materials {
+            self.entry(m.span());
+            let m = m.get_ref();
             ids.insert(key.clone(), MaterialId(materials.len() as u32));
             materials.push(self.material(key, m, &mut textures)?);
         }
@@ -211,11 +246,13 @@ impl Builder<'_> {
             ids.get(name).copied().ok_or_else(|| {
                 self.fail(if names.is_empty() {
                     format!(
-                        "{what}: unknown material '{name}'; no materials are defined (add a [materials.{name}] table)"
+                        "{what}: unknown material '{}'; no materials are defined (add a [materials.{0}] table)",
+                        name.escape_debug()
                     )
                 } else {
                     format!(
-                        "{what}: unknown material '{name}'; expected one of {}",
+                        "{what}: unknown material '{}'; expected one of {}",
+                        name.escape_debug(),
                         name_list(&names)
                     )
                 })
@@ -224,7 +261,8 @@ impl Builder<'_> {
 
         let mut lights = Vec::new();
         for (i, l) in file.lights.iter().enumerate() {
-            lights.push(match l {
+            self.entry(l.span());
+            lights.push(match l.get_ref() {
                 LightToml::Point {
                     position,
                     intensity,
@@ -261,6 +299,8 @@ impl Builder<'_> {
 
         let mut planes = Vec::new();
         for (i, p) in file.planes.iter().enumerate() {
+            self.entry(p.span());
+            let p = p.get_ref();
             let (point, normal) = (Vec3::from(p.point), Vec3::from(p.normal));
             if !point.is_finite() || normal.normalize_or_zero() == Vec3::ZERO {
                 return Err(self.fail(format!(
@@ -281,6 +321,8 @@ impl Builder<'_> {
 
         let mut spheres = Vec::new();
         for (i, s) in file.spheres.iter().enumerate() {
+            self.entry(s.span());
+            let s = s.get_ref();
             let center = Vec3::from(s.center);
             if !(center.is_finite() && s.radius.is_finite() && s.radius > 0.0) {
                 return Err(self.fail(format!(
@@ -297,6 +339,8 @@ impl Builder<'_> {
 
         let mut mesh = Mesh::default();
         for (i, m) in file.meshes.iter().enumerate() {
+            self.entry(m.span());
+            let m = m.get_ref();
             let what = format!("meshes[{i}]");
             let overridden = m
                 .material
@@ -307,7 +351,7 @@ impl Builder<'_> {
             let text = (self.read)(&obj_path).map_err(|e| {
                 self.fail(format!(
                     "{what}: cannot read the OBJ file '{}': {e}",
-                    obj_path.display()
+                    obj_path.display().to_string().escape_debug()
                 ))
             })?;
             let obj = load_obj_with(&obj_path, &text, self.read)?;
@@ -325,6 +369,9 @@ impl Builder<'_> {
             mesh.append(&part);
         }
 
+        // The scene-wide checks (the camera, the merged geometry) name the file; a camera
+        // error its table's line, the others no line.
+        let camera_at = file.camera.as_ref().map(|c| c.span().start);
         Scene::new(SceneDescription {
             name,
             camera: Some(camera),
@@ -335,6 +382,14 @@ impl Builder<'_> {
             spheres,
             mesh,
         })
+        .map_err(|e| match e {
+            Error::Scene { reason, .. } => {
+                self.at
+                    .set(camera_at.filter(|_| reason.starts_with("camera")));
+                self.fail(reason)
+            }
+            other => other,
+        })
     }
 
     /// A material table: checks its values and loads its texture.
@@ -344,7 +399,7 @@ impl Builder<'_> {
         m: &MaterialToml,
         textures: &mut HashMap<PathBuf, Arc<Texture>>,
     ) -> Result<Material, Error> {
-        let what = format!("materials.{key}");
+        let what = format!("materials.{}", key.escape_debug());
         let illum = u8::try_from(m.illum)
             .ok()
             .and_then(IllumModel::from_illum)
@@ -391,7 +446,15 @@ impl Builder<'_> {
             let texture = match textures.get(&path) {
                 Some(t) => Arc::clone(t),
                 None => {
-                    let t = Arc::new(Texture::load(&path)?);
+                    let statement = match self.at.get() {
+                        Some(at) => format!(
+                            "{what} at {}, {}",
+                            self.path.display(),
+                            position(self.text, at)
+                        ),
+                        None => format!("{what} in {}", self.path.display()),
+                    };
+                    let t = Arc::new(Texture::load_for(&path, &statement)?);
                     textures.insert(path, Arc::clone(&t));
                     t
                 }
@@ -659,6 +722,84 @@ material = "glass"
             "background = [nan, 0, 0]\n[camera]\neye = [0, 1, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfocal_distance = 1.0\n",
         );
         assert!(message.contains("background"), "{message}");
+    }
+
+    #[test]
+    fn value_errors_name_the_line_of_their_entry() {
+        // CAMERA is lines 1-6; the sphere's table starts on line 9.
+        let message = scene_file_error(&format!(
+            "{CAMERA}[materials.m]\n\n[[spheres]]\ncenter = [0, 0, 0]\nradius = -1\nmaterial = \"m\"\n"
+        ));
+        assert!(
+            message.starts_with("bad.toml: line 9, column 1: spheres[0]: "),
+            "{message}"
+        );
+        let message = scene_file_error(&format!(
+            "{CAMERA}[[lights]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = [1, 1, 1]\n\
+             [[lights]]\ntype = \"directional\"\ndirection = [0, 0, 0]\nemission = [1, 1, 1]\n"
+        ));
+        assert!(
+            message.contains("line 11") && message.contains("lights[1]"),
+            "{message}"
+        );
+        let message = scene_file_error(&format!("{CAMERA}[materials.m]\nior = 0\n"));
+        assert!(
+            message.contains("line 7") && message.contains("materials.m"),
+            "{message}"
+        );
+        let message = scene_file_error("x = 1\n[camera]\neye = [0, 1, [2]]\n");
+        assert!(message.starts_with("bad.toml: line "), "{message}");
+        assert!(!message.contains('\n'), "{message}");
+    }
+
+    #[test]
+    fn scene_wide_errors_name_the_file_without_debug_dumps() {
+        let message = scene_file_error(
+            "\n[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfocal_distance = 1.0\n",
+        );
+        assert_eq!(
+            message,
+            "bad.toml: line 2, column 1: camera eye and look_at are the same point"
+        );
+        let message = scene_file_error(
+            "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 0, 1]\nfocal_distance = 1.0\n",
+        );
+        assert!(
+            message.contains("bad.toml") && message.contains("parallel"),
+            "{message}"
+        );
+        assert!(
+            !message.contains("CameraSetup") && !message.contains('{'),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn texture_errors_name_the_material_and_its_line() {
+        let dir = temp_dir("bad-texture");
+        std::fs::write(dir.join("tex.png"), b"not a PNG").unwrap();
+        let scene = dir.join("scene.toml");
+        std::fs::write(
+            &scene,
+            format!("{CAMERA}\n[materials.floor]\ntexture = \"tex.png\"\n"),
+        )
+        .unwrap();
+        match load_scene_file(&scene) {
+            Err(e @ Error::Texture { .. }) => {
+                let message = e.to_string();
+                assert!(
+                    message.contains("tex.png: cannot decode texture"),
+                    "{message}"
+                );
+                assert!(
+                    message.contains("(the texture of materials.floor at ")
+                        && message.contains("scene.toml, line 8, column 1)"),
+                    "{message}"
+                );
+            }
+            other => panic!("expected a texture error, got {other:?}"),
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

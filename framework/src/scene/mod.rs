@@ -151,7 +151,10 @@ fn validate(
     };
     let finite = |v: Vec3| v.is_finite();
     if !(finite(camera.eye) && finite(camera.look_at) && finite(camera.up)) {
-        return Err(bad(format!("camera has a non-finite vector: {camera:?}")));
+        return Err(bad(format!(
+            "camera has a non-finite vector: eye {}, look_at {}, up {}; expected finite numbers",
+            camera.eye, camera.look_at, camera.up
+        )));
     }
     if !(camera.focal_distance.is_finite() && camera.focal_distance > 0.0) {
         return Err(bad(format!(
@@ -209,7 +212,11 @@ fn validate(
     for (f, face) in mesh.faces.iter().enumerate() {
         if face.iter().any(|&i| i as usize >= mesh.positions.len()) {
             return Err(bad(format!(
-                "triangle #{f} refers to a missing vertex: {face:?}"
+                "triangle #{f} refers to vertices {}, {} and {} but the mesh has {}",
+                face[0],
+                face[1],
+                face[2],
+                mesh.positions.len()
             )));
         }
         check_material(format!("triangle #{f}"), mesh.face_materials[f])?;
@@ -225,8 +232,19 @@ fn validate(
             Light::Area(_) => true,
         };
         if !ok {
+            let what = match l {
+                Light::Point(p) => format!(
+                    "point light at {} with intensity {}",
+                    p.position, p.intensity
+                ),
+                Light::Directional(d) => format!(
+                    "directional light with direction {} and emission {}",
+                    d.direction, d.emission
+                ),
+                Light::Area(_) => "area light".to_string(),
+            };
             return Err(bad(format!(
-                "light #{i} has a non-finite or zero vector: {l:?}"
+                "light #{i} ({what}) has a non-finite or zero vector; expected finite numbers and a non-zero direction"
             )));
         }
     }

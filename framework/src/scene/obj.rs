@@ -14,6 +14,7 @@ use glam::{Vec2, Vec3};
 
 use super::{IllumModel, Material, MaterialId, Mesh, Texture};
 use crate::Error;
+use crate::film::{LoadBudget, read_text_bounded};
 
 /// A loaded OBJ file: all of its objects merged into one triangle mesh, and its materials.
 #[derive(Clone, Debug, Default)]
@@ -28,11 +29,17 @@ pub struct ObjData {
 /// Reads the text of a file that another file refers to (an MTL library, an OBJ mesh).
 pub(crate) type ReadText<'a> = &'a dyn Fn(&Path) -> io::Result<String>;
 
+/// Reads a text file from disk under the [`LoadBudget::current`] budget: a regular file, not
+/// too large, UTF-8.
+pub(crate) fn read_text(path: &Path) -> io::Result<String> {
+    read_text_bounded(path, &LoadBudget::current())
+}
+
 /// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's directory); diffuse
 /// textures (`map_Kd`) are loaded relative to their MTL file's directory.
 pub fn load_obj(path: &Path) -> Result<ObjData, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    load_obj_with(path, &text, &|p: &Path| std::fs::read_to_string(p))
+    let text = read_text(path).map_err(|e| Error::io(path, e))?;
+    load_obj_with(path, &text, &|p: &Path| read_text(p))
 }
 
 /// Loads OBJ text held in memory, with the text of its material library (every `mtllib`
@@ -60,7 +67,9 @@ pub(crate) fn load_obj_with(path: &Path, text: &str, read: ReadText<'_>) -> Resu
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, tobj_materials) =
+    // The text tobj reads has been checked line by line; a panic of tobj on it would still be
+    // a bug of ours, reported as an error about the file rather than a crash.
+    let parsed = crate::panic::catch_panic(|| {
         tobj::load_obj_buf(&mut checked.text.as_bytes(), &options, |p: &Path| {
             let key = p.to_string_lossy();
             match libs.get(key.as_ref()) {
@@ -68,11 +77,20 @@ pub(crate) fn load_obj_with(path: &Path, text: &str, read: ReadText<'_>) -> Resu
                 None => Err(tobj::LoadError::OpenFileFailed),
             }
         })
-        .map_err(|e| Error::Parse {
-            path: path.to_path_buf(),
-            line: 0,
-            reason: format!("the OBJ reader rejected the file: {e}"),
-        })?;
+    })
+    .map_err(|caught| Error::Parse {
+        path: path.to_path_buf(),
+        line: 0,
+        reason: format!(
+            "the OBJ reader failed on the file (it panicked: {})",
+            caught.message
+        ),
+    })?;
+    let (models, tobj_materials) = parsed.map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        line: 0,
+        reason: format!("the OBJ reader rejected the file: {e}"),
+    })?;
     let tobj_materials = tobj_materials.map_err(|e| Error::Parse {
         path: path.to_path_buf(),
         line: 0,
@@ -83,11 +101,11 @@ pub(crate) fn load_obj_with(path: &Path, text: &str, read: ReadText<'_>) -> Resu
     let mut materials = Vec::with_capacity(tobj_materials.len() + 1);
     for (i, m) in tobj_materials.iter().enumerate() {
         // Textures are relative to the MTL file that defines the material.
-        let mtl_path = checked
+        let (mtl_path, texture_line) = checked
             .material_sources
             .get(i)
-            .map_or(path, PathBuf::as_path);
-        materials.push(convert_material(m, mtl_path, &mut textures)?);
+            .map_or((path, None), |(p, line)| (p.as_path(), *line));
+        materials.push(convert_material(m, mtl_path, texture_line, &mut textures)?);
     }
 
     let default_id = MaterialId(materials.len() as u32);
@@ -176,7 +194,7 @@ pub(crate) fn name_list<S: AsRef<str>>(names: &[S]) -> String {
     let mut list = names
         .iter()
         .take(SHOWN)
-        .map(|s| format!("'{}'", s.as_ref()))
+        .map(|s| format!("'{}'", s.as_ref().escape_debug()))
         .collect::<Vec<_>>()
         .join(", ");
     if names.len() > SHOWN {
@@ -191,8 +209,9 @@ struct CheckedObj {
     text: String,
     /// Normalized MTL text by the name the `mtllib` statement uses.
     libs: HashMap<String, String>,
-    /// For each material tobj will return (in its order), the MTL file it comes from.
-    material_sources: Vec<PathBuf>,
+    /// For each material tobj will return (in its order), the MTL file it comes from and the
+    /// line of its `map_Kd` statement, if it has one.
+    material_sources: Vec<(PathBuf, Option<usize>)>,
 }
 
 fn strip_comment(line: &str) -> &str {
@@ -389,8 +408,8 @@ fn check_obj(path: &Path, dir: &Path, text: &str, read: ReadText<'_>) -> Result<
                     ))
                 })?;
                 let (clean, names) = check_mtl(&mtl_path, &mtl_text)?;
-                for n in &names {
-                    material_sources.push(mtl_path.clone());
+                for (n, texture_line) in &names {
+                    material_sources.push((mtl_path.clone(), *texture_line));
                     if known_set.insert(n.clone()) {
                         known.push(n.clone());
                     }
@@ -437,9 +456,12 @@ fn check_obj(path: &Path, dir: &Path, text: &str, read: ReadText<'_>) -> Result<
     })
 }
 
-/// Checks an MTL file line by line; returns the normalized text for tobj and the names of the
-/// materials in the order they are defined.
-fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<String>), Error> {
+/// A material's name and the line of its `map_Kd` statement, if any.
+type MtlEntry = (String, Option<usize>);
+
+/// Checks an MTL file line by line; returns the normalized text for tobj and the materials in
+/// the order they are defined.
+fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<MtlEntry>), Error> {
     let mut out = String::with_capacity(text.len());
     let mut names = Vec::new();
     for (i, raw) in text.lines().enumerate() {
@@ -462,7 +484,7 @@ fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<String>), Error> {
                 if name.is_empty() {
                     return Err(fail("newmtl without a name; expected newmtl NAME".into()));
                 }
-                names.push(name.to_string());
+                names.push((name.to_string(), None));
                 out.push_str(&format!("newmtl {name}\n"));
             }
             "Ka" | "Kd" | "Ks" | "Ke" | "Tf" => {
@@ -525,11 +547,9 @@ fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<String>), Error> {
                 out.push_str(&format!("illum {}\n", args[0]));
             }
             "map_Kd" => {
-                let file = rest_of_statement(content, keyword);
-                if file.is_empty() {
-                    return Err(fail(
-                        "map_Kd without a file name; expected map_Kd FILE".into(),
-                    ));
+                let file = texture_statement(rest_of_statement(content, keyword)).map_err(fail)?;
+                if let Some((_, texture_line)) = names.last_mut() {
+                    *texture_line = Some(line_no);
                 }
                 out.push_str(&format!("map_Kd {file}\n"));
             }
@@ -540,14 +560,145 @@ fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<String>), Error> {
     Ok((out, names))
 }
 
-/// The texture file of a `map_Kd` statement: the statement's text, or its last word when it
-/// starts with options (`-s 1 1 1 file.png`).
-fn texture_file(spec: &str) -> &str {
-    if spec.starts_with('-') {
-        spec.split_whitespace().last().unwrap_or(spec)
-    } else {
-        spec
+/// The arguments of an MTL texture option, and those with which the option changes nothing in
+/// raylab's lookup (nearest texel, coordinates wrapped, no mip maps, RGB).
+enum OptionArgs {
+    /// `on` or `off`; the value that changes nothing, if one does.
+    Switch(Option<&'static str>),
+    /// From `min` to `max` numbers, and the numbers that change nothing (compared with those
+    /// given): `None` when every value is refused, `&[]` when every value is accepted.
+    Numbers(usize, usize, Option<&'static [f32]>),
+    /// One word (`-imfchan r`): always refused for an RGB texture.
+    Word,
+}
+
+/// The options of MTL texture statements (`map_Kd -s 2 2 1 file.png`): name, what it does,
+/// and its arguments.
+const TEXTURE_OPTIONS: [(&str, &str, OptionArgs); 13] = [
+    ("-blendu", "blending across u", OptionArgs::Switch(None)),
+    ("-blendv", "blending across v", OptionArgs::Switch(None)),
+    (
+        "-boost",
+        "mip-map sharpness",
+        OptionArgs::Numbers(1, 1, Some(&[])),
+    ),
+    ("-cc", "colour correction", OptionArgs::Switch(Some("off"))),
+    (
+        "-clamp",
+        "clamping of the texture coordinates",
+        OptionArgs::Switch(Some("off")),
+    ),
+    (
+        "-mm",
+        "a value range (base, gain)",
+        OptionArgs::Numbers(2, 2, Some(&[0.0, 1.0])),
+    ),
+    (
+        "-o",
+        "an offset of the texture coordinates",
+        OptionArgs::Numbers(1, 3, Some(&[0.0, 0.0, 0.0])),
+    ),
+    (
+        "-s",
+        "a scale of the texture coordinates",
+        OptionArgs::Numbers(1, 3, Some(&[1.0, 1.0, 1.0])),
+    ),
+    (
+        "-t",
+        "turbulence",
+        OptionArgs::Numbers(1, 3, Some(&[0.0, 0.0, 0.0])),
+    ),
+    (
+        "-texres",
+        "resampling to a resolution",
+        OptionArgs::Numbers(1, 1, None),
+    ),
+    (
+        "-bm",
+        "a bump multiplier",
+        OptionArgs::Numbers(1, 1, Some(&[1.0])),
+    ),
+    (
+        "-imfchan",
+        "a single channel of the image",
+        OptionArgs::Word,
+    ),
+    ("-type", "a reflection map's projection", OptionArgs::Word),
+];
+
+/// Parses the arguments of a `map_Kd` statement: its options (see [`TEXTURE_OPTIONS`]), each
+/// accepted when it changes nothing in raylab's texture lookup (`-blendu`/`-blendv` and
+/// `-boost` with any value: there is no blending or mip map; the others at their neutral
+/// values) and refused otherwise, and the file name after them (which may contain spaces).
+fn texture_statement(spec: &str) -> Result<&str, String> {
+    let mut rest = spec.trim_start();
+    let next_word = |rest: &str| rest.split_whitespace().next().map(str::to_owned);
+    while let Some(word) = next_word(rest).filter(|w| w.starts_with('-') && w.len() > 1) {
+        let Some((name, what, args)) = TEXTURE_OPTIONS.iter().find(|o| o.0 == word) else {
+            return Err(format!(
+                "map_Kd has unknown option '{word}'; expected one of {} before the file name",
+                TEXTURE_OPTIONS.map(|o| o.0).join(", ")
+            ));
+        };
+        rest = rest[word.len()..].trim_start();
+        let mut values: Vec<String> = Vec::new();
+        let (min, max) = match args {
+            OptionArgs::Numbers(min, max, _) => (*min, *max),
+            _ => (1, 1),
+        };
+        while values.len() < max {
+            let Some(arg) = next_word(rest) else { break };
+            let fits = match args {
+                OptionArgs::Numbers(..) => arg.parse::<f32>().is_ok_and(f32::is_finite),
+                OptionArgs::Switch(_) => arg == "on" || arg == "off",
+                OptionArgs::Word => true,
+            };
+            if !fits {
+                break;
+            }
+            rest = rest[arg.len()..].trim_start();
+            values.push(arg);
+        }
+        if values.len() < min {
+            let expected = match args {
+                OptionArgs::Switch(_) => "on or off".to_string(),
+                OptionArgs::Word => "a value".to_string(),
+                OptionArgs::Numbers(a, b, _) if a == b => format!("{a} finite number(s)"),
+                OptionArgs::Numbers(a, b, _) => format!("{a} to {b} finite numbers"),
+            };
+            return Err(format!(
+                "map_Kd option {name} ({what}) is followed by {}; expected {expected}",
+                next_word(rest).map_or("nothing".to_string(), |w| format!("'{w}'"))
+            ));
+        }
+        let accepted = match args {
+            OptionArgs::Switch(None) => true,
+            OptionArgs::Switch(Some(neutral)) => values[0] == *neutral,
+            OptionArgs::Numbers(_, _, None) | OptionArgs::Word => false,
+            OptionArgs::Numbers(_, _, Some(neutral)) => values
+                .iter()
+                .zip(neutral.iter())
+                .all(|(v, n)| v.parse::<f32>().ok() == Some(*n)),
+        };
+        if !accepted {
+            return Err(format!(
+                "map_Kd option '{name} {}' ({what}) is not supported: raylab looks a texture up \
+                 at the nearest texel of the texture coordinates as given, wrapped; remove the \
+                 option{}",
+                values.join(" "),
+                if matches!(*name, "-s" | "-o") {
+                    " and transform the texture coordinates (vt) in the OBJ instead"
+                } else {
+                    ""
+                }
+            ));
+        }
     }
+    let file = rest.trim();
+    if file.is_empty() {
+        return Err("map_Kd without a file name; expected map_Kd [OPTIONS] FILE".into());
+    }
+    Ok(file)
 }
 
 /// Three numbers from a statement that tobj keeps as an unknown parameter (`Ke`, `Tf`).
@@ -570,6 +721,7 @@ fn unknown_rgb(m: &tobj::Material, key: &str) -> Option<Vec3> {
 fn convert_material(
     m: &tobj::Material,
     mtl_path: &Path,
+    texture_line: Option<usize>,
     textures: &mut HashMap<PathBuf, Arc<Texture>>,
 ) -> Result<Material, Error> {
     let illum = match m.illumination_model {
@@ -587,14 +739,17 @@ fn convert_material(
     let diffuse_texture = match &m.diffuse_texture {
         None => None,
         Some(spec) => {
-            let file = mtl_path
-                .parent()
-                .unwrap_or(Path::new(""))
-                .join(texture_file(spec));
+            let file = mtl_path.parent().unwrap_or(Path::new("")).join(spec);
             let texture = match textures.get(&file) {
                 Some(t) => t.clone(),
                 None => {
-                    let t = Arc::new(Texture::load(&file)?);
+                    let statement = format!(
+                        "map_Kd of material '{}' at {}:{}",
+                        m.name,
+                        mtl_path.display(),
+                        texture_line.unwrap_or(0)
+                    );
+                    let t = Arc::new(Texture::load_for(&file, &statement)?);
                     textures.insert(file, t.clone());
                     t
                 }
@@ -958,6 +1113,82 @@ map_Ks ignored.png
         let b = data.materials[1].diffuse_texture.as_ref().unwrap();
         assert_eq!((a.width, a.height), (2, 2));
         assert!(Arc::ptr_eq(a, b), "the same file is loaded once");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn texture_options_are_parsed_and_those_that_change_the_lookup_refused() {
+        for (spec, file) in [
+            ("tex.png", "tex.png"),
+            ("-s 1 1 1 tex.png", "tex.png"),
+            ("-s 1 my texture.png", "my texture.png"),
+            (
+                "-o 0 0 -blendu off -blendv on -boost 2.5 -clamp off -cc off tex.png",
+                "tex.png",
+            ),
+            ("-mm 0 1 -bm 1 -t 0 tex.png", "tex.png"),
+        ] {
+            assert_eq!(texture_statement(spec), Ok(file), "{spec}");
+        }
+        for (spec, expected) in [
+            (
+                "-s 2 2 1 tex.png",
+                "'-s 2 2 1' (a scale of the texture coordinates) is not supported",
+            ),
+            ("-o 0.5 tex.png", "'-o 0.5' (an offset"),
+            ("-clamp on tex.png", "'-clamp on' (clamping"),
+            ("-cc on tex.png", "'-cc on'"),
+            ("-bm 2 tex.png", "'-bm 2'"),
+            ("-imfchan r tex.png", "'-imfchan r'"),
+            ("-texres 512 tex.png", "'-texres 512'"),
+            ("-mm 0.2 1 tex.png", "'-mm 0.2 1'"),
+            (
+                "-clamp maybe tex.png",
+                "-clamp (clamping of the texture coordinates) is followed by 'maybe'; expected on or off",
+            ),
+            ("-s tex.png", "expected 1 to 3 finite numbers"),
+            ("-halo 1 tex.png", "unknown option '-halo'"),
+            ("-s 1 1 1", "without a file name"),
+        ] {
+            let reason = texture_statement(spec).unwrap_err();
+            assert!(reason.contains(expected), "{spec}: {reason}");
+        }
+        // In an MTL file, with its line.
+        let obj = format!("mtllib m.mtl\n{SQUARE}usemtl a\nf 1 2 3\n");
+        let (path, line, reason, _) =
+            parse_error(&obj, Some("newmtl a\nKd 1 1 1\nmap_Kd -s 2 2 2 tex.png\n"));
+        assert_eq!((path.as_path(), line), (Path::new("m.mtl"), 3));
+        assert!(reason.contains("'-s 2 2 2'"), "{reason}");
+    }
+
+    #[test]
+    fn texture_errors_name_the_mtl_line_that_referenced_them() {
+        let dir = temp_dir("texture-line");
+        std::fs::write(dir.join("bad.png"), b"this is not a PNG file at all").unwrap();
+        std::fs::write(
+            dir.join("m.mtl"),
+            "newmtl a\nKd 1 1 1\n\nnewmtl b\nmap_Kd -s 1 1 1 bad.png\n",
+        )
+        .unwrap();
+        let obj = dir.join("g.obj");
+        std::fs::write(&obj, format!("mtllib m.mtl\n{SQUARE}usemtl b\nf 1 2 3\n")).unwrap();
+        match load_obj(&obj) {
+            Err(e @ Error::Texture { .. }) => {
+                let message = e.to_string();
+                assert!(
+                    message.contains("bad.png: cannot decode texture"),
+                    "{message}"
+                );
+                assert!(
+                    message.ends_with(&format!(
+                        "(the texture of map_Kd of material 'b' at {}:5)",
+                        dir.join("m.mtl").display()
+                    )),
+                    "{message}"
+                );
+            }
+            other => panic!("expected a texture error, got {other:?}"),
+        }
         let _ = std::fs::remove_dir_all(&dir);
     }
 

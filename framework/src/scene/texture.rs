@@ -3,6 +3,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use crate::Error;
+use crate::film::{LoadBudget, decode_image, srgb_to_linear};
 
 /// An RGB image in linear floating point, looked up by texture coordinates.
 #[derive(Clone, Debug)]
@@ -18,33 +19,24 @@ pub struct Texture {
 }
 
 impl Texture {
-    /// Loads an image file; 8-bit images are decoded from sRGB to linear, float images
-    /// (EXR, HDR) are taken as linear.
+    /// Loads an image file under the [`LoadBudget::current`] budget; 8-bit images are decoded
+    /// from sRGB to linear, float images (EXR, HDR) are taken as linear.
     pub fn load(path: &Path) -> Result<Self, Error> {
-        let img = image::open(path).map_err(|e| Error::Texture {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-        let is_float = matches!(
-            img.color(),
-            image::ColorType::Rgb32F | image::ColorType::Rgba32F
-        );
-        let rgb = img.to_rgb32f();
-        let (width, height) = rgb.dimensions();
-        if width == 0 || height == 0 {
-            return Err(Error::Texture {
+        let decoded =
+            decode_image(path, &LoadBudget::current()).map_err(|reason| Error::Texture {
                 path: path.to_path_buf(),
-                reason: "the image has no pixels".into(),
-            });
-        }
-        let texels = rgb
+                reason,
+            })?;
+        let (width, height) = decoded.rgb.dimensions();
+        let texels = decoded
+            .rgb
             .pixels()
             .map(|p| {
                 let c = Vec3::from(p.0);
-                if is_float {
+                if decoded.is_float {
                     c
                 } else {
-                    crate::film::srgb_to_linear(c)
+                    srgb_to_linear(c)
                 }
             })
             .collect();
@@ -53,6 +45,18 @@ impl Texture {
             width,
             height,
             texels,
+        })
+    }
+
+    /// [`Texture::load`] for the statement `named_by` (e.g. "map_Kd of material 'a' at
+    /// m.mtl:3"), which an error names after the decoder's reason.
+    pub(crate) fn load_for(path: &Path, named_by: &str) -> Result<Self, Error> {
+        Self::load(path).map_err(|e| match e {
+            Error::Texture { path, reason } => Error::Texture {
+                path,
+                reason: format!("{reason} (the texture of {named_by})"),
+            },
+            other => other,
         })
     }
 

@@ -64,7 +64,9 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            // One line whatever the message holds (a file or material name with a line
+            // break in it, say).
+            eprintln!("error: {}", e.to_string().trim_end().replace('\n', "\\n"));
             ExitCode::FAILURE
         }
     }

@@ -307,3 +307,54 @@ fn grade_without_bubblewrap_refuses_to_run_unsandboxed_code() {
     assert!(!dir.join("grades").exists(), "nothing is written");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn hostile_files_are_one_error_line_and_exit_status_1() {
+    let dir = scratch("hostile");
+    let hostile = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../framework/tests/hostile-files")
+        .canonicalize()
+        .unwrap();
+    let camera =
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfocal_distance = 1.0\n";
+    for (file, needle) in [
+        ("palette-plte-not-multiple-of-3.png", "panicked: "),
+        ("png-30000x30000.png", "load budget"),
+        ("exr-dwaa.exr", "dwaa compression"),
+        ("exr-piz.exr", "piz compression"),
+        ("exr-zip-huge-window.exr", "load budget"),
+    ] {
+        let scene = dir.join("textured.toml");
+        let texture = hostile.join(file);
+        std::fs::write(
+            &scene,
+            format!(
+                "{camera}[materials.m]\ntexture = {:?}\n",
+                texture.to_str().unwrap()
+            ),
+        )
+        .unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .args([
+                "render",
+                "-s",
+                "textured.toml",
+                "--width",
+                "8",
+                "--height",
+                "8",
+            ])
+            .current_dir(&dir)
+            .output()
+            .expect("raylab runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{file}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{file}: {stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains(file) && stderr.contains(needle),
+            "{file}: {stderr}"
+        );
+        assert!(stderr.contains("textured.toml, line 6"), "{file}: {stderr}");
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
