@@ -69,65 +69,32 @@ pub trait LabSlots {
     fn install(code: Arc<Self>, base: Pipeline) -> Pipeline;
 }
 
-impl LabSlots for dyn lab01::CameraRays {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-        Pipeline {
-            camera: code,
-            ..base
+/// `impl LabSlots` for a contract whose code fills the one slot `$slot`.
+macro_rules! one_slot {
+    ($($contract:ty => $slot:ident),* $(,)?) => {$(
+        impl LabSlots for $contract {
+            fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+                Pipeline { $slot: code, ..base }
+            }
         }
-    }
+    )*};
 }
 
+one_slot! {
+    dyn lab01::CameraRays => camera,
+    dyn lab03::Shadows => shadows,
+    dyn lab04::Reflection => reflection,
+    dyn lab05::Radiometry => radiometry,
+    dyn lab06::Radiosity => radiosity,
+    dyn lab07::Antialiasing => antialiasing,
+}
+
+/// Lab 02's code fills two slots: the intersections and the shading.
 impl LabSlots for dyn lab02::Lab02 {
     fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
         Pipeline {
             intersection: Some(code.clone()),
             shading: code,
-            ..base
-        }
-    }
-}
-
-impl LabSlots for dyn lab03::Shadows {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-        Pipeline {
-            shadows: code,
-            ..base
-        }
-    }
-}
-
-impl LabSlots for dyn lab04::Reflection {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-        Pipeline {
-            reflection: code,
-            ..base
-        }
-    }
-}
-
-impl LabSlots for dyn lab05::Radiometry {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-        Pipeline {
-            radiometry: code,
-            ..base
-        }
-    }
-}
-
-impl LabSlots for dyn lab06::Radiosity {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-        Pipeline {
-            radiosity: code,
-            ..base
-        }
-    }
-}
-
-impl LabSlots for dyn lab07::Antialiasing {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-        Pipeline {
-            antialiasing: code,
             ..base
         }
     }
