@@ -237,6 +237,23 @@ fn unraw(name: &str) -> &str {
     name.strip_prefix("r#").unwrap_or(name)
 }
 
+/// Whether the use of the denied item `item` at `tokens[i]` counts (see [`DeniedItem::counts`]):
+/// the receiver of `x.name` or the qualifier of `Q::name`, if there is one.
+fn counts_here(item: &DeniedItem, tokens: &[TokenTree], i: usize) -> bool {
+    let dot = i >= 1 && is_punct(tokens.get(i - 1), '.');
+    let path = i >= 2 && is_punct(tokens.get(i - 1), ':') && is_punct(tokens.get(i - 2), ':');
+    let qualifier = match (dot, path) {
+        (true, _) if i >= 2 => tokens.get(i - 2),
+        (_, true) if i >= 3 => tokens.get(i - 3),
+        _ => None,
+    }
+    .and_then(|t| match t {
+        TokenTree::Ident(q) => Some(q.to_string()),
+        _ => None,
+    });
+    item.counts(dot || path, qualifier.as_deref().map(unraw))
+}
+
 /// Whether `token` is the punctuation `c`.
 fn is_punct(token: Option<&TokenTree>, c: char) -> bool {
     matches!(token, Some(TokenTree::Punct(p)) if p.as_char() == c)
@@ -354,23 +371,10 @@ impl Scanner {
                 TokenTree::Ident(ident) => {
                     let name = ident.to_string();
                     let name = unraw(&name);
-                    let dot = i >= 1 && is_punct(tokens.get(i - 1), '.');
-                    let path = i >= 2
-                        && is_punct(tokens.get(i - 1), ':')
-                        && is_punct(tokens.get(i - 2), ':');
-                    let qualifier = match (dot, path) {
-                        (true, _) if i >= 2 => tokens.get(i - 2),
-                        (_, true) if i >= 3 => tokens.get(i - 3),
-                        _ => None,
-                    }
-                    .and_then(|t| match t {
-                        TokenTree::Ident(q) => Some(unraw(&q.to_string()).to_string()),
-                        _ => None,
-                    });
                     if let Some(item) = self
                         .denied_items
                         .iter()
-                        .find(|d| d.name == name && d.counts(dot || path, qualifier.as_deref()))
+                        .find(|d| d.name == name && counts_here(d, &tokens, i))
                     {
                         self.denied.push(DeniedUse {
                             exercises: item.exercises,
