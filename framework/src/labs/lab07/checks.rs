@@ -244,7 +244,7 @@ fn jitters_of_many_pixels(
 }
 
 /// The mean jitter over many pixels is the pixel centre.
-fn check_mean_jitter(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
+pub fn check_mean_jitter(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
     let means: Vec<DVec2> = pixels
         .iter()
         .map(|js| js.iter().map(|p| p.as_dvec2()).sum::<DVec2>() / js.len() as f64)
@@ -269,7 +269,7 @@ fn check_mean_jitter(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), Str
 }
 
 /// Per subpixel: the in-subpixel position over many pixels is uniform (mean ½, variance 1/12).
-fn check_subpixels(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
+pub fn check_subpixels(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
     let n = pixels.len() as f64;
     let mut offsets = vec![Vec::with_capacity(pixels.len()); (s * s) as usize];
     for js in pixels {
@@ -305,7 +305,7 @@ fn check_subpixels(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), Strin
 }
 
 /// The in-subpixel positions, pooled over subpixels and pixels, fill the square uniformly.
-fn check_pooled_uniformity(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
+pub fn check_pooled_uniformity(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
     const K: u32 = 4;
     let mut counts = vec![0u32; (K * K) as usize];
     for p in pixels.iter().flatten() {
@@ -332,7 +332,7 @@ fn check_pooled_uniformity(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(
 
 /// The subpixels of one pixel are jittered independently: the mean in-subpixel offset of a
 /// pixel varies no more than that of `s²` independent uniform offsets, `1/(12 s²)`.
-fn check_independence(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
+pub fn check_independence(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), String> {
     let n = pixels.len() as f64;
     let expected = 1.0 / (12.0 * (s * s) as f64);
     let mut spread = DVec2::ZERO;
@@ -356,7 +356,7 @@ fn check_independence(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Result<(), St
 /// The generator moves on past the jitters' numbers: over many pixels, what it gives after the
 /// call (`next`) is uncorrelated with where each jitter lies in its subpixel. Each of the `4 s²`
 /// correlations is a z-score by Fisher's transformation, `atanh(r)·√(n − 3)`.
-fn check_generator_moves_on(
+pub fn check_generator_moves_on(
     s: u32,
     pixels: &[Vec<Vec2>],
     next: &[Vec2],
@@ -671,7 +671,7 @@ pub fn edge_input() -> impl Strategy<Value = (UVec2, (f64, f64), f64)> {
 const EDGE_COLOUR: Vec3 = Vec3::new(1.0, 0.5, 0.25);
 
 /// A pixel crossed by a straight edge converges to the covered fraction as `s` grows.
-fn check_edge(
+pub fn check_edge(
     p: &dyn Antialiasing,
     jitters_from: &dyn Antialiasing,
     (pixel, (cx, cy), angle): (UVec2, (f64, f64), f64),
@@ -747,126 +747,6 @@ fn exercise_7_2(p: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<(), Strin
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The jitters of many pixels, `f(i, j, s, rng)` per subpixel.
-    fn pixels_of(s: u32, f: impl Fn(u32, u32, f32, &mut Rng) -> Vec2) -> Vec<Vec<Vec2>> {
-        (0..STREAMS)
-            .map(|k| {
-                let mut rng = Rng::for_sample(5, k, s, 0);
-                let mut js = Vec::new();
-                for j in 0..s {
-                    for i in 0..s {
-                        js.push(f(i, j, s as f32, &mut rng));
-                    }
-                }
-                js
-            })
-            .collect()
-    }
-
-    fn cell(i: u32, j: u32) -> Vec2 {
-        Vec2::new(i as f32, j as f32)
-    }
-
-    #[test]
-    fn statistics_accept_jittered_samples() {
-        let z = z_limit();
-        for s in STATISTICS_SUBDIVISIONS {
-            let pixels = pixels_of(s, |i, j, s, rng| (cell(i, j) + rng.next_vec2()) / s);
-            check_mean_jitter(s, &pixels, z).unwrap();
-            check_subpixels(s, &pixels, z).unwrap();
-            check_pooled_uniformity(s, &pixels, z).unwrap();
-            check_independence(s, &pixels, z).unwrap();
-        }
-        assert!(
-            (z - 5.07).abs() < 0.005,
-            "the module documents |z| ≤ 5.07, not {z:.3}"
-        );
-    }
-
-    #[test]
-    fn generator_check_accepts_a_moved_generator_and_rejects_a_copy() {
-        let z = z_limit();
-        let jitter = |s: u32, rng: &mut Rng| -> Vec<Vec2> {
-            (0..s * s)
-                .map(|q| (cell(q % s, q / s) + rng.next_vec2()) / s as f32)
-                .collect()
-        };
-        for s in STATISTICS_SUBDIVISIONS {
-            let (mut moved, mut next_moved) = (Vec::new(), Vec::new());
-            let (mut copied, mut next_copied) = (Vec::new(), Vec::new());
-            for k in 0..STREAMS {
-                let mut rng = Rng::for_sample(5, k, s, 0);
-                copied.push(jitter(s, &mut rng.clone()));
-                next_copied.push(rng.clone().next_vec2());
-                moved.push(jitter(s, &mut rng));
-                next_moved.push(rng.next_vec2());
-            }
-            check_generator_moves_on(s, &moved, &next_moved, z).unwrap();
-            assert!(check_generator_moves_on(s, &copied, &next_copied, z).is_err());
-        }
-    }
-
-    #[test]
-    fn each_statistic_rejects_its_mistake() {
-        let z = z_limit();
-        // Offsets ξ² inside each subpixel: stratified, but pulled towards the corner.
-        let squared = pixels_of(3, |i, j, s, rng| {
-            let u = rng.next_vec2();
-            (cell(i, j) + u * u) / s
-        });
-        assert!(check_mean_jitter(3, &squared, z).is_err());
-        assert!(check_subpixels(3, &squared, z).is_err());
-        // Subpixel centres.
-        let centres = pixels_of(2, |i, j, s, _| (cell(i, j) + 0.5) / s);
-        assert!(check_subpixels(2, &centres, z).is_err());
-        // One number for both coordinates.
-        let diagonal = pixels_of(2, |i, j, s, rng| (cell(i, j) + rng.next_f32()) / s);
-        assert!(check_pooled_uniformity(2, &diagonal, z).is_err());
-        // One offset for every subpixel of a pixel: uniform per subpixel, but not independent.
-        let shared = pixels_of(2, |i, j, s, rng| {
-            let mut copy = rng.clone();
-            (cell(i, j) + copy.next_vec2()) / s
-        });
-        check_subpixels(2, &shared, z).unwrap();
-        check_pooled_uniformity(2, &shared, z).unwrap();
-        assert!(check_independence(2, &shared, z).is_err());
-    }
-
-    /// Jittered sampling, averaged with `average` (the sum, say, for a mistake).
-    struct Edges(fn(&[Vec3]) -> Vec3);
-
-    impl Antialiasing for Edges {
-        fn compute_jitters(&self, s: u32, rng: &mut Rng) -> Vec<Vec2> {
-            (0..s * s)
-                .map(|k| (cell(k % s, k / s) + rng.next_vec2()) / s as f32)
-                .collect()
-        }
-        fn compute_pixel(
-            &self,
-            pixel: UVec2,
-            jitters: &[Vec2],
-            radiance: &mut dyn FnMut(Vec2) -> Vec3,
-        ) -> Vec3 {
-            let values: Vec<Vec3> = jitters
-                .iter()
-                .map(|&j| radiance(pixel.as_vec2() + j))
-                .collect();
-            (self.0)(&values)
-        }
-    }
-
-    #[test]
-    fn edge_check_accepts_the_average_and_rejects_others() {
-        let mean = Edges(|v| v.iter().sum::<Vec3>() / v.len() as f32);
-        let sum = Edges(|v| v.iter().sum());
-        let first = Edges(|v| v[0]);
-        let per_s = Edges(|v| v.iter().sum::<Vec3>() / (v.len() as f32).sqrt());
-        for_all(100, edge_input(), |edge| check_edge(&mean, &mean, edge)).unwrap();
-        for wrong in [&sum, &first, &per_s] {
-            assert!(for_all(100, edge_input(), |edge| check_edge(wrong, &mean, edge)).is_err());
-        }
-    }
 
     #[test]
     fn covered_fraction_of_simple_edges() {
