@@ -250,7 +250,9 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
     }
     // Load the mesh first, so that a bad path fails before the long measurements.
     let mesh = match &args.mesh {
-        Some(path) => mesh_scene(&path.display().to_string(), load_obj(path)?.mesh)?,
+        Some(path) => {
+            crate::render::framed_scene(&path.display().to_string(), load_obj(path)?, false)?
+        }
         None => mesh_scene("bumpy sphere", bumpy_sphere(190, 185))?,
     };
     measure(&builtin_scene("cornell")?, args)?;

@@ -6,9 +6,14 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use framework::Error;
 use framework::film::{ToneMap, write_exr, write_png};
+use framework::glam::Vec3;
+use framework::math::Aabb;
 use framework::pipeline::View;
 use framework::render::{PartialRender, PixelFailures, RenderSettings, render_partial};
-use framework::scene::{BUILTIN_SCENES, Scene, builtin_scene, load_scene_file};
+use framework::scene::{
+    BUILTIN_SCENES, CameraSetup, Light, ObjData, PointLight, Scene, SceneDescription,
+    builtin_scene, load_obj, load_scene_file,
+};
 
 /// Whose code renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -36,7 +41,9 @@ pub enum ViewChoice {
 /// Options of `raylab render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene: a built-in name (default, cornell, …), a scene file (.toml) or an OBJ file.
+    /// Scene: a built-in name (default, cornell, cornell-spheres), a scene file (.toml), or an
+    /// OBJ file, which is framed by a camera looking at its bounds from the front and lit by a
+    /// point light at the eye.
     #[arg(long, short, default_value = "default")]
     pub scene: String,
     /// Image width in pixels.
@@ -102,18 +109,100 @@ pub fn load_scene(spec: &str) -> Result<Scene, Error> {
     let path = Path::new(spec);
     match path.extension().and_then(|e| e.to_str()) {
         Some("toml") => load_scene_file(path),
-        Some("obj") => Err(Error::Invalid {
-            what: format!("scene '{spec}'"),
-            reason: "an OBJ file needs a camera: write a scene file (.toml) with a [[meshes]] entry for it (docs/scene-format.md)".into(),
-        }),
+        Some("obj") => {
+            let obj = load_obj(path)?;
+            if obj.mesh.faces.is_empty() {
+                return Err(Error::Invalid {
+                    what: format!("OBJ file '{spec}'"),
+                    reason: "it holds no faces (`f` statements), so there is nothing to render; is the file cut short?".into(),
+                });
+            }
+            eprintln!(
+                "note: '{spec}' has no camera or lights of its own: the camera frames its bounds from the front and a point light sits at the eye; for your own, write a scene file with a [[meshes]] entry (docs/scene-format.md)"
+            );
+            framed_scene(spec, obj, true)
+        }
         _ => Err(Error::Invalid {
             what: format!("scene '{spec}'"),
             reason: format!(
-                "expected a built-in scene ({}) or a scene file ending in .toml",
+                "expected a built-in scene ({}), a scene file ending in .toml or an OBJ file ending in .obj",
                 BUILTIN_SCENES.join(", ")
             ),
         }),
     }
+}
+
+/// A scene of one OBJ's triangles and materials with a camera looking at the bounding box from
+/// the front (in front of +z, a little above) and, with `lit`, a point light at the eye bright
+/// enough that a surface facing it at the box's centre reflects about its albedo.
+pub fn framed_scene(name: &str, obj: ObjData, lit: bool) -> Result<Scene, Error> {
+    let bounds = Aabb::from_points(obj.mesh.positions.iter().copied());
+    let centre = bounds.centroid();
+    let extent = bounds.diagonal().max_element();
+    let eye = centre + Vec3::new(0.0, 0.2, 1.6) * extent;
+    let distance_squared = eye.distance_squared(centre);
+    let lights = if lit {
+        vec![Light::Point(PointLight {
+            position: eye,
+            intensity: Vec3::splat(std::f32::consts::PI * distance_squared),
+        })]
+    } else {
+        Vec::new()
+    };
+    Scene::new(SceneDescription {
+        name: name.into(),
+        camera: Some(CameraSetup {
+            eye,
+            look_at: centre,
+            up: Vec3::Y,
+            focal_distance: 1.2,
+        }),
+        materials: obj.materials,
+        lights,
+        mesh: obj.mesh,
+        ..SceneDescription::default()
+    })
+}
+
+/// What to say when `scene` holds nothing to hit: its image is the background alone.
+pub fn empty_scene_warning(scene: &Scene, spec: &str) -> Option<String> {
+    (scene.mesh.faces.is_empty() && scene.planes.is_empty() && scene.spheres.is_empty()).then(|| {
+        format!(
+            "warning: scene '{spec}' holds no geometry (no triangles, planes or spheres; an OBJ it names may be empty or cut short): the image shows only the background"
+        )
+    })
+}
+
+/// The output file as an absolute path, its directory made if it is missing and lies below the
+/// working directory (as the default `out/` does); a missing directory elsewhere is an error, so
+/// that a typing mistake does not make directories across the file system.
+pub fn prepare_output(output: &Path) -> Result<PathBuf, Error> {
+    let cwd = std::env::current_dir().map_err(|e| Error::io(Path::new("."), e))?;
+    let absolute = cwd.join(output);
+    let Some(dir) = absolute.parent() else {
+        return Ok(absolute);
+    };
+    if dir.is_dir() {
+        return Ok(absolute);
+    }
+    let below_cwd = output.is_relative()
+        && output.components().all(|c| {
+            matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        });
+    if !below_cwd {
+        return Err(Error::Invalid {
+            what: format!("--output '{}'", output.display()),
+            reason: format!(
+                "the directory '{}' does not exist; create it first, or give a path below the working directory, where missing directories are made",
+                dir.display()
+            ),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    Ok(absolute)
 }
 
 /// Runs `raylab render`.
@@ -147,7 +236,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             reason: "expected a file name ending in .png or .exr".into(),
         });
     }
+    let output = prepare_output(&args.output)?;
     let scene = load_scene(&args.scene)?;
+    if let Some(warning) = empty_scene_warning(&scene, &args.scene) {
+        eprintln!("{warning}");
+    }
     let mut pipeline = reference::pipeline(lab);
     if args.pipeline == PipelineChoice::Student {
         pipeline = crate::students::with_student_lab(pipeline, lab)?;
@@ -166,9 +259,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let seconds = start.elapsed().as_secs_f64();
     let exr = ext.as_deref() == Some("exr");
     if exr {
-        write_exr(&rendered.film, &args.output)?;
+        write_exr(&rendered.film, &output)?;
     } else {
-        write_png(&rendered.display(tonemap), &args.output, ToneMap::default())?;
+        write_png(&rendered.display(tonemap), &output, ToneMap::default())?;
     }
     eprintln!(
         "rendered '{}' ({}×{}, {} spp, lab {lab}, {:?} pipeline) in {seconds:.2} s",
@@ -177,7 +270,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     for line in warnings(&rendered, exr) {
         eprintln!("{line}");
     }
-    println!("{}", args.output.display());
+    println!("{}", output.display());
     Ok(())
 }
 

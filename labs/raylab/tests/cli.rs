@@ -41,6 +41,70 @@ fn render_without_arguments_writes_the_default_scene_as_png() {
 }
 
 #[test]
+fn a_bare_obj_is_framed_and_lit_and_the_printed_path_is_absolute() {
+    let dir = scratch("obj");
+    std::fs::write(
+        dir.join("quad.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = raylab(
+        &[
+            "render",
+            "-s",
+            "quad.obj",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "-o",
+            "new/q.png",
+        ],
+        &dir,
+    );
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("note:") && stderr.contains("frames its bounds"),
+        "{stderr}"
+    );
+    let path = PathBuf::from(stdout.trim());
+    assert!(path.is_absolute(), "{}", path.display());
+    let img = image::open(&path).expect("a PNG was written").to_rgb8();
+    // The quad fills the middle of the image, lit from the eye: bright, not the black background.
+    let centre = img.get_pixel(16, 12).0;
+    assert!(centre.iter().all(|&c| c > 100), "{centre:?}");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_scene_with_no_geometry_is_a_warning_naming_it() {
+    let dir = scratch("empty");
+    std::fs::write(
+        dir.join("empty.toml"),
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfocal_distance = 1\n",
+    )
+    .unwrap();
+    let (ok, _, stderr) = raylab(
+        &[
+            "render",
+            "-s",
+            "empty.toml",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        &dir,
+    );
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("warning: scene 'empty.toml' holds no geometry"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
 fn exr_output_holds_linear_radiance() {
     let dir = scratch("exr");
     let (ok, stdout, stderr) = raylab(
@@ -60,6 +124,7 @@ fn bad_input_is_a_clear_error_not_a_panic() {
     let dir = scratch("bad");
     std::fs::write(dir.join("nocam.toml"), "[materials.white]\ndiffuse = [0.8, 0.8, 0.8]\n\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\n").unwrap();
     std::fs::write(dir.join("broken.toml"), "[camera]\neye = [0, 0\n").unwrap();
+    std::fs::write(dir.join("cut.obj"), "v 0 0 0\nv 1 0 0\n").unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["render", "--width", "0"], "image width 0"),
         (&["render", "-s", "missing.toml"], "missing.toml"),
@@ -69,6 +134,11 @@ fn bad_input_is_a_clear_error_not_a_panic() {
         (&["render", "--tonemap", "gamma"], "gamma"),
         (&["render", "--lab", "99"], "99"),
         (&["render", "-o", "image.bmp"], "image.bmp"),
+        (&["render", "-s", "cut.obj"], "holds no faces"),
+        (
+            &["render", "-o", "/nonexistent-raylab-dir/x.png"],
+            "'/nonexistent-raylab-dir' does not exist",
+        ),
     ];
     for (args, needle) in cases {
         let (ok, _, stderr) = raylab(args, &dir);

@@ -3,9 +3,9 @@
 
 use framework::Error;
 use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::{Aabb, Onb, RAY_EPSILON, Ray};
+use framework::math::{Onb, RAY_EPSILON, Ray};
 use framework::sampling::Rng;
-use framework::scene::{CameraSetup, Material, MaterialId, Mesh, Scene, SceneDescription};
+use framework::scene::{Material, MaterialId, Mesh, ObjData, Scene};
 
 /// A sphere of `rings × segments × 2` triangles with a few percent of radial bumps.
 pub fn bumpy_sphere(rings: u32, segments: u32) -> Mesh {
@@ -34,25 +34,6 @@ pub fn bumpy_sphere(rings: u32, segments: u32) -> Mesh {
     }
     mesh.face_materials = vec![MaterialId(0); mesh.faces.len()];
     mesh
-}
-
-/// A scene of one mesh, with a camera looking at its bounding box from the front.
-pub fn mesh_scene(name: &str, mesh: Mesh) -> Result<Scene, Error> {
-    let bounds = Aabb::from_points(mesh.positions.iter().copied());
-    let centre = bounds.centroid();
-    let extent = bounds.diagonal().max_element();
-    Scene::new(SceneDescription {
-        name: name.into(),
-        camera: Some(CameraSetup {
-            eye: centre + Vec3::new(0.0, 0.2, 1.6) * extent,
-            look_at: centre,
-            up: Vec3::Y,
-            focal_distance: 1.2,
-        }),
-        materials: vec![Material::lambertian("grey", Vec3::splat(0.7))],
-        mesh,
-        ..SceneDescription::default()
-    })
 }
 
 /// The triangles of a scene's mesh, in face order. The benchmark's engines all trace these.
@@ -99,4 +80,10 @@ pub fn diffuse_rays(scene: &Scene, rays: &[Ray]) -> Vec<Ray> {
             ))
         })
         .collect()
+}
+
+/// A scene of one mesh of grey Lambertian material, framed as `raylab render` frames an OBJ.
+pub fn mesh_scene(name: &str, mesh: Mesh) -> Result<Scene, Error> {
+    let materials = vec![Material::lambertian("grey", Vec3::splat(0.7))];
+    crate::render::framed_scene(name, ObjData { mesh, materials }, false)
 }
