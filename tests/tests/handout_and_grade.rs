@@ -213,6 +213,24 @@ fn handout_then_grade_four_submissions() {
     }
     let report = read(&grades.join("partial/report.md"));
     assert!(report.contains("index out of bounds"), "{report}");
+    // Each failure says what kind it is, and a panic where it was raised.
+    for (id, status) in [
+        ("1.4", "wrong"),
+        ("2.1", "timed out"),
+        ("2.3", "crashed"),
+        ("1.1", "passed"),
+    ] {
+        assert!(
+            report
+                .lines()
+                .any(|l| l.starts_with(&format!("| {id} ")) && l.contains(&format!("| {status} |"))),
+            "partial, Exercise {id} is not '{status}':\n{report}"
+        );
+    }
+    assert!(
+        report.contains("panicked at labs/lab02/src/lib.rs:"),
+        "{report}"
+    );
     assert!(report.contains("returned [NaN, NaN, NaN]"), "{report}");
     assert!(
         report.contains("Exercise 2.1 — `intersect_plane` did not finish within 15 s"),
@@ -225,6 +243,28 @@ fn handout_then_grade_four_submissions() {
         .and_then(|rest| rest.split('"').next())
         .unwrap_or_else(|| panic!("no image in the partial report:\n{html}"));
     assert!(grades.join("partial").join(image).is_file(), "{image}");
+
+    let report = read(&grades.join("lab02-only/report.md"));
+    assert!(
+        report
+            .lines()
+            .any(|l| l.starts_with("| 1.1 ") && l.contains("| not started |")),
+        "lab02-only, Exercise 1.1 is not 'not started':\n{report}"
+    );
+    // Nothing a student sees names the instructor's directories.
+    for name in ["partial", "lab02-only"] {
+        for file in ["report.md", "report.html", "results.json"] {
+            let text = read(&grades.join(name).join(file));
+            let root = raylab_tests::workflow::root();
+            let root = root.canonicalize().unwrap_or(root);
+            for path in [root.to_string_lossy(), grades.to_string_lossy()] {
+                assert!(
+                    !text.contains(&*path),
+                    "{name}/{file} names {path}:\n{text:.2000}"
+                );
+            }
+        }
+    }
 
     let row = csv_row(&csv, "lab02-only");
     for id in ["2.1", "2.2", "2.3", "2.4", "2.5", "2.6"] {
@@ -267,6 +307,9 @@ fn handout_then_grade_four_submissions() {
 
     let junit = read(&grades.join("junit.xml"));
     assert!(junit.contains("<testsuite name=\"partial\""), "{junit}");
-    assert!(junit.contains("<failure message="), "{junit}");
+    assert!(
+        junit.contains("<failure type=\"crashed\" message="),
+        "{junit}"
+    );
     assert!(grades.join("index.html").is_file());
 }

@@ -166,24 +166,66 @@ pub fn run_exercise<S: ?Sized>(
         exercise.id, exercise.function, exercise.title
     );
     let docs = format!("see docs/lab{lab:02}.md, Exercise {}", exercise.id);
-    let outcome = match crate::catch_quietly(&place, || (exercise.check)(subject, ctx)) {
+    let outcome = match crate::panic::quietly(|| {
+        crate::panic::catch_panic(|| (exercise.check)(subject, ctx))
+    }) {
         Ok(result) => result,
-        Err(panic) => Err(format!("panicked: {}", panic.message)),
+        Err(panic) => Err(match panic.location {
+            Some(at) => format!("panicked at {at}: {}", panic.message),
+            None => format!("panicked: {}", panic.message),
+        }),
     };
     match outcome {
         Ok(()) => Ok(()),
         Err(reason) => match unfinished_exercise(&reason) {
-            Some(other) if other == exercise.id => {
-                Err(format!("{place} is not implemented yet.\n({docs})"))
-            }
+            Some(other) if other == exercise.id => Err(format!("{place}{NOT_STARTED}\n({docs})")),
             Some(other) => Err(format!(
-                "{place} cannot be checked until Exercise {other} is done (it is not implemented yet: {reason}).\n({docs})"
+                "{place}{BLOCKED}{other} is done (it is not implemented yet: {reason}).\n({docs})"
             )),
-            None if reason.contains("panicked") => {
-                Err(format!("{place} failed: {reason}\n({docs})"))
+            None if reason.starts_with("panicked") => {
+                Err(format!("{place}{CRASHED}{reason}\n({docs})"))
             }
-            None => Err(format!("{place} is wrong:\n{reason}\n({docs})")),
+            None => Err(format!("{place}{WRONG}\n{reason}\n({docs})")),
         },
+    }
+}
+
+/// What follows the exercise's place in [`run_exercise`]'s message, for each kind of failure.
+const NOT_STARTED: &str = " is not implemented yet.";
+const BLOCKED: &str = " cannot be checked until Exercise ";
+const CRASHED: &str = " failed: ";
+const WRONG: &str = " is wrong:";
+
+/// The kind of a failure of [`run_exercise`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FailureKind {
+    /// The exercise's own stub is unfinished (`todo!()`).
+    NotStarted,
+    /// The check met the unfinished stub of another exercise, this one (`"2.1"`).
+    Blocked(String),
+    /// The student's code (or the check, on its output) panicked.
+    Panicked,
+    /// The check ran to its end and rejected the answer.
+    Wrong,
+}
+
+/// The kind of failure a message of [`run_exercise`] reports, read from its first line (the
+/// exercise's place, then the kind); `None` for a message that is not one of its.
+pub fn failure_kind(message: &str) -> Option<FailureKind> {
+    let first = message.lines().next()?;
+    let after = &first[first.find("/src/lib.rs")? + "/src/lib.rs".len()..];
+    if after.starts_with(NOT_STARTED) {
+        Some(FailureKind::NotStarted)
+    } else if let Some(rest) = after.strip_prefix(BLOCKED) {
+        Some(FailureKind::Blocked(
+            crate::panic::exercise_in(&format!("Exercise {rest}"))?.to_string(),
+        ))
+    } else if after.starts_with(CRASHED) {
+        Some(FailureKind::Panicked)
+    } else if after.starts_with(WRONG) {
+        Some(FailureKind::Wrong)
+    } else {
+        None
     }
 }
 
@@ -195,4 +237,37 @@ fn unfinished_exercise(message: &str) -> Option<&str> {
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
         .unwrap_or(rest.len());
     Some(rest[..end].trim_end_matches('.'))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failure_kind_reads_the_first_line_of_each_kind_of_message() {
+        let place = "Exercise 2.3 — `shade` (Lambert) in labs/lab02/src/lib.rs";
+        let cases = [
+            (
+                format!("{place}{NOT_STARTED}\n(docs)"),
+                FailureKind::NotStarted,
+            ),
+            (
+                format!("{place}{BLOCKED}2.1 is done (…).\n(docs)"),
+                FailureKind::Blocked("2.1".into()),
+            ),
+            (
+                format!("{place}{CRASHED}panicked at x.rs:1:2: boom\n(docs)"),
+                FailureKind::Panicked,
+            ),
+            // A wrong answer whose reason quotes another kind's words is still wrong.
+            (
+                format!("{place}{WRONG}\n{place}{NOT_STARTED}\n(docs)"),
+                FailureKind::Wrong,
+            ),
+        ];
+        for (message, kind) in cases {
+            assert_eq!(failure_kind(&message), Some(kind), "{message}");
+        }
+        assert_eq!(failure_kind("the submission could not be graded"), None);
+    }
 }

@@ -6,7 +6,9 @@ use std::sync::Arc;
 
 use clap::Args;
 use framework::Error;
-use framework::grading::{Exercise, LabContext, Visibility, run_exercise};
+use framework::grading::{
+    Exercise, FailureKind, LabContext, Visibility, failure_kind, run_exercise,
+};
 use framework::pipeline::LabSlots;
 
 use crate::students::{LabCode, LabVisitor};
@@ -54,12 +56,15 @@ fn judge<S: ?Sized>(
         .map(|e| {
             let state = match run_exercise(e, &student, &ctx) {
                 Ok(()) => State::Passed,
-                Err(m) if m.contains(&format!("Exercise {} — `{}` ({}) in labs/lab{lab:02}/src/lib.rs is not implemented yet", e.id, e.function, e.title)) => State::NotStarted,
-                Err(m) if m.contains("cannot be checked until Exercise ") => {
-                    let rest = &m[m.find("until Exercise ").unwrap_or(0) + 15..];
-                    State::Blocked(rest.split_whitespace().next().unwrap_or_default().to_string())
-                }
-                Err(m) => State::Failing(m.lines().nth(1).unwrap_or_default().to_string()),
+                Err(m) => match failure_kind(&m) {
+                    Some(FailureKind::NotStarted) => State::NotStarted,
+                    Some(FailureKind::Blocked(other)) => State::Blocked(other),
+                    Some(FailureKind::Panicked) => {
+                        let first = m.lines().next().unwrap_or_default();
+                        State::Failing(first[first.find("panicked").unwrap_or(0)..].to_string())
+                    }
+                    _ => State::Failing(m.lines().nth(1).unwrap_or_default().to_string()),
+                },
             };
             (e.id.to_string(), e.function.to_string(), e.points, state)
         })
@@ -84,7 +89,23 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
             .map(|r| r.2)
             .sum();
         let total: u32 = rows.iter().map(|r| r.2).sum();
-        println!("lab{lab:02}  {earned}/{total} points");
+        // A handout runs the visible exercises only; grading adds the hidden ones.
+        let hidden: u32 = if cfg!(feature = "instructor") {
+            0
+        } else {
+            framework::labs::exercise_infos(lab)
+                .unwrap_or_default()
+                .iter()
+                .filter(|e| e.visibility == Visibility::Hidden)
+                .map(|e| e.points)
+                .sum()
+        };
+        match hidden {
+            0 => println!("lab{lab:02}  {earned}/{total} points"),
+            h => println!(
+                "lab{lab:02}  {earned}/{total} points (+{h} hidden points, checked when graded)"
+            ),
+        }
         for (id, function, points, state) in &rows {
             let (mark, detail) = match state {
                 State::Passed => ("passed     ", String::new()),

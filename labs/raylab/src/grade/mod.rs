@@ -26,7 +26,7 @@ use std::time::Duration;
 
 use clap::Args;
 use framework::Error;
-use framework::grading::ExerciseInfo;
+use framework::grading::{ExerciseInfo, FailureKind};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::handout::{TreeOptions, build_tree, io, repository_root};
@@ -71,12 +71,64 @@ pub struct GradeArgs {
     pub unsandboxed: bool,
 }
 
+/// What became of one exercise in grading.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// The check accepted the student's code.
+    Passed,
+    /// The check ran to its end and rejected the answer.
+    Wrong,
+    /// The exercise's stub is unfinished (`todo!()`).
+    NotStarted,
+    /// The check met the unfinished stub of another exercise, this one.
+    BlockedBy(String),
+    /// The student's code panicked, or the test process crashed, ran out of memory or ended
+    /// without a verdict.
+    Crashed,
+    /// The test ran past its time limit (wall clock or CPU time).
+    TimedOut,
+    /// The lab's code (or the checks against it) does not compile.
+    DoesNotCompile,
+    /// The lab's code was flagged: it reads files outside the lab at compile time, or names
+    /// framework code that answers the exercise.
+    Flagged,
+    /// The submission could not be graded at all (its sources are missing, say).
+    NotGraded,
+}
+
+impl Status {
+    /// The status as the reports write it.
+    pub fn label(&self) -> String {
+        match self {
+            Self::Passed => "passed".into(),
+            Self::Wrong => "wrong".into(),
+            Self::NotStarted => "not started".into(),
+            Self::BlockedBy(other) => format!("blocked by {other}"),
+            Self::Crashed => "crashed".into(),
+            Self::TimedOut => "timed out".into(),
+            Self::DoesNotCompile => "does not compile".into(),
+            Self::Flagged => "flagged".into(),
+            Self::NotGraded => "not graded".into(),
+        }
+    }
+
+    /// The status of a check's failure message (see [`framework::grading::failure_kind`]).
+    pub fn of_failure(message: &str) -> Self {
+        match framework::grading::failure_kind(message) {
+            Some(FailureKind::NotStarted) => Self::NotStarted,
+            Some(FailureKind::Blocked(other)) => Self::BlockedBy(other),
+            Some(FailureKind::Panicked) => Self::Crashed,
+            Some(FailureKind::Wrong) | None => Self::Wrong,
+        }
+    }
+}
+
 /// The grade of one exercise.
 pub struct ExerciseGrade {
     /// Which exercise.
     pub info: ExerciseInfo,
-    /// Whether it passed.
-    pub passed: bool,
+    /// What became of it.
+    pub status: Status,
     /// Points earned.
     pub score: u32,
     /// Why it failed, or empty (the grader's words, or the check's).
@@ -125,7 +177,7 @@ impl StudentGrade {
         let exercises = labs
             .iter()
             .flat_map(|&lab| framework::labs::exercise_infos(lab).unwrap_or_default())
-            .map(|info| ExerciseGrade::failed(info, reason.clone()))
+            .map(|info| ExerciseGrade::failed(info, Status::NotGraded, reason.clone()))
             .collect();
         Self {
             student: student.to_string(),
@@ -140,11 +192,16 @@ impl StudentGrade {
 }
 
 impl ExerciseGrade {
-    /// A failed exercise that did not run, with `why`.
-    fn failed(info: ExerciseInfo, why: String) -> Self {
+    /// Whether it passed.
+    pub fn passed(&self) -> bool {
+        self.status == Status::Passed
+    }
+
+    /// A failed exercise that did not run, with its status and `why`.
+    fn failed(info: ExerciseInfo, status: Status, why: String) -> Self {
         Self {
             info,
-            passed: false,
+            status,
             score: 0,
             output: why,
             program_output: String::new(),
@@ -241,7 +298,15 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             ));
             pristine = make_tree()?;
         }
-        reports::write_student(&grade, &dir)?;
+        let mut redactions = reports::Redactions::default();
+        redactions.add(&grading, "<grading>");
+        redactions.add(submission, "<submission>");
+        redactions.add(&args.out, "<grades>");
+        redactions.add(&repository_root(), "<course>");
+        if let Some(home) = std::env::var_os("HOME") {
+            redactions.add(Path::new(&home), "~");
+        }
+        reports::write_student(&grade, &dir, &redactions)?;
         bar.println(format!(
             "{student}: {}/{} points{}",
             grade.score(),
@@ -346,7 +411,7 @@ fn grade_submission(
     // Only the graded labs' code goes in: every other slot of every check is the answer key,
     // so one lab's code never costs points in another. Sources that name files outside their
     // lab are not compiled at all.
-    let mut broken = std::collections::BTreeMap::new();
+    let mut broken = std::collections::BTreeMap::<u32, (Status, String)>::new();
     // Exercises whose answer the code takes from the framework, with where.
     let mut answered = std::collections::BTreeMap::<&str, Vec<String>>::new();
     for &lab in labs {
@@ -358,9 +423,12 @@ fn grade_submission(
         if !flags.is_empty() {
             broken.insert(
                 lab,
-                format!(
-                    "labs/lab{lab:02}/src was flagged and not compiled: it names files outside labs/lab{lab:02}/src/ at compile time:\n{}",
-                    flags.join("\n")
+                (
+                    Status::Flagged,
+                    format!(
+                        "labs/lab{lab:02}/src was flagged and not compiled: it names files outside labs/lab{lab:02}/src/ at compile time:\n{}",
+                        flags.join("\n")
+                    ),
                 ),
             );
             flagged.extend(flags);
@@ -375,7 +443,10 @@ fn grade_submission(
         if let Err(errors) = workspace.build_lib(&format!("lab{lab:02}"))? {
             broken.insert(
                 lab,
-                format!("labs/lab{lab:02}/src does not compile:\n{errors}"),
+                (
+                    Status::DoesNotCompile,
+                    format!("labs/lab{lab:02}/src does not compile:\n{errors}"),
+                ),
             );
         }
     }
@@ -393,11 +464,11 @@ fn grade_submission(
     for &lab in labs {
         let infos = framework::labs::exercise_infos(lab).unwrap_or_default();
         let executable = match (broken.get(&lab), build.executables.get(&lab)) {
-            (Some(why), _) => {
+            (Some((status, why)), _) => {
                 exercises.extend(
                     infos
                         .into_iter()
-                        .map(|i| ExerciseGrade::failed(i, why.clone())),
+                        .map(|i| ExerciseGrade::failed(i, status.clone(), why.clone())),
                 );
                 continue;
             }
@@ -409,7 +480,7 @@ fn grade_submission(
                 exercises.extend(
                     infos
                         .into_iter()
-                        .map(|i| ExerciseGrade::failed(i, why.clone())),
+                        .map(|i| ExerciseGrade::failed(i, Status::DoesNotCompile, why.clone())),
                 );
                 continue;
             }
@@ -430,7 +501,7 @@ fn grade_submission(
                     info.id,
                     lines.join("\n")
                 );
-                exercises.push(ExerciseGrade::failed(info, why));
+                exercises.push(ExerciseGrade::failed(info, Status::Flagged, why));
                 continue;
             }
             let Some(test) = tests.iter().find(|t| t.starts_with(&info.test_prefix())) else {
@@ -439,7 +510,7 @@ fn grade_submission(
                     info.test_prefix(),
                     info.id
                 );
-                exercises.push(ExerciseGrade::failed(info, why));
+                exercises.push(ExerciseGrade::failed(info, Status::NotGraded, why));
                 continue;
             };
             let scratch = runs.join(info.id);
@@ -469,9 +540,13 @@ fn grade_submission(
                 images.push(relative);
             }
             exercises.push(ExerciseGrade {
-                score: if run.passed { info.points } else { 0 },
+                score: if run.status == Status::Passed {
+                    info.points
+                } else {
+                    0
+                },
                 info,
-                passed: run.passed,
+                status: run.status,
                 output: run.output,
                 program_output: run.program_output,
                 images,

@@ -8,16 +8,54 @@ use std::path::Path;
 use framework::Error;
 use framework::grading::Visibility;
 
-use super::{ExerciseGrade, StudentGrade};
+use super::{ExerciseGrade, Status, StudentGrade};
 use crate::handout::io;
 
-/// Writes `report.md`, `report.html` and `results.json` of `grade` into `dir`.
-pub fn write_student(grade: &StudentGrade, dir: &Path) -> Result<(), Error> {
+/// The paths of the instructor's machine that a student's report must not show, each with what
+/// it shows instead.
+#[derive(Default)]
+pub struct Redactions(Vec<(String, &'static str)>);
+
+impl Redactions {
+    /// Shows `path` (as given and, when it exists, canonical) as `instead`. Longer paths are
+    /// replaced first, so a path inside another keeps its own name.
+    pub fn add(&mut self, path: &Path, instead: &'static str) {
+        let mut forms = vec![path.to_path_buf()];
+        if let Ok(canonical) = fs::canonicalize(path) {
+            forms.push(canonical);
+        }
+        if let Ok(cwd) = std::env::current_dir() {
+            forms.push(cwd.join(path));
+        }
+        for form in forms {
+            let text = form.to_string_lossy().trim_end_matches('/').to_string();
+            if form.is_absolute() && text.len() > 1 && !self.0.iter().any(|(p, _)| *p == text) {
+                self.0.push((text, instead));
+            }
+        }
+        self.0.sort_by_key(|(p, _)| std::cmp::Reverse(p.len()));
+    }
+
+    /// `text` with every path replaced.
+    pub fn apply(&self, text: &str) -> String {
+        self.0.iter().fold(text.to_string(), |t, (path, instead)| {
+            t.replace(path, instead)
+        })
+    }
+}
+
+/// Writes `report.md`, `report.html` and `results.json` of `grade` into `dir`, with the paths of
+/// `redactions` replaced.
+pub fn write_student(
+    grade: &StudentGrade,
+    dir: &Path,
+    redactions: &Redactions,
+) -> Result<(), Error> {
     fs::create_dir_all(dir).map_err(io(dir))?;
-    write(&dir.join("report.md"), &markdown(grade))?;
-    write(&dir.join("report.html"), &html(grade))?;
+    write(&dir.join("report.md"), &redactions.apply(&markdown(grade)))?;
+    write(&dir.join("report.html"), &redactions.apply(&html(grade)))?;
     let results = serde_json::to_string_pretty(&gradescope(grade)).unwrap_or_default();
-    write(&dir.join("results.json"), &results)
+    write(&dir.join("results.json"), &redactions.apply(&results))
 }
 
 /// Writes `gradebook.csv`, `junit.xml` and `index.html` of the class into `dir`.
@@ -55,8 +93,29 @@ fn lab_title(lab: u32) -> &'static str {
     framework::labs::lab(lab).map_or("", |l| l.title)
 }
 
-fn verdict(e: &ExerciseGrade) -> &'static str {
-    if e.passed { "passed" } else { "failed" }
+/// The CSS class of an exercise's status.
+fn class(e: &ExerciseGrade) -> &'static str {
+    if e.passed() { "passed" } else { "failed" }
+}
+
+/// The message every exercise of a lab shares when the lab failed as a whole (its code does not
+/// compile or was flagged, or it could not be graded): shown once, under the lab's heading.
+fn lab_wide_failure<'a>(exercises: &[&'a ExerciseGrade]) -> Option<&'a str> {
+    let first = exercises.first()?;
+    let whole = matches!(first.status, Status::DoesNotCompile | Status::NotGraded)
+        || (first.status == Status::Flagged
+            && first.output.contains("was flagged and not compiled"));
+    (whole
+        && exercises
+            .iter()
+            .all(|e| e.status == first.status && e.output == first.output))
+    .then_some(first.output.as_str())
+}
+
+/// Whether the report has a section of its own for `e` (its failure or its output), which the
+/// table links to.
+fn has_section(e: &ExerciseGrade, lab_wide: bool) -> bool {
+    (!e.passed() && !lab_wide) || !e.program_output.is_empty() || !e.images.is_empty()
 }
 
 fn markdown(grade: &StudentGrade) -> String {
@@ -111,23 +170,28 @@ fn markdown(grade: &StudentGrade) -> String {
                 e.info.id,
                 e.info.title,
                 e.info.function,
-                verdict(e),
+                e.status.label(),
                 e.score,
                 e.info.points
             );
         }
         md.push('\n');
+        let lab_wide = lab_wide_failure(&exercises);
+        if let Some(why) = lab_wide {
+            let _ = writeln!(md, "Every exercise of this lab:\n\n{}", fenced(why));
+        }
         for e in exercises
             .iter()
-            .filter(|e| !e.passed || !e.program_output.is_empty())
+            .filter(|e| has_section(e, lab_wide.is_some()))
         {
             let _ = writeln!(
                 md,
-                "### Exercise {} — `{}`\n\n{}",
+                "### Exercise {} — `{}`: {}\n\n{}",
                 e.info.id,
                 e.info.function,
-                if e.passed {
-                    "Passed.\n".to_string()
+                e.status.label(),
+                if e.passed() || lab_wide.is_some() {
+                    String::new()
                 } else {
                     fenced(&e.output)
                 }
@@ -143,6 +207,7 @@ fn markdown(grade: &StudentGrade) -> String {
             }
         }
     }
+    let _ = writeln!(md, "---\n\n{}", stamp());
     md
 }
 
@@ -217,30 +282,44 @@ fn html(grade: &StudentGrade) -> String {
             "<h2>Lab {lab:02} — {} ({earned}/{total})</h2>\n<table><tr><th>exercise</th><th>function</th><th>result</th><th>points</th></tr>",
             escape(lab_title(lab))
         );
+        let lab_wide = lab_wide_failure(&exercises);
         for e in &exercises {
+            let id = if has_section(e, lab_wide.is_some()) {
+                format!("<a href=\"#ex-{0}\">{0}</a>", e.info.id)
+            } else {
+                e.info.id.to_string()
+            };
             let _ = writeln!(
                 h,
-                "<tr><td><a href=\"#ex-{0}\">{0}</a> {1}</td><td><code>{2}</code></td><td class=\"{3}\">{3}</td><td>{4}/{5}</td></tr>",
-                e.info.id,
+                "<tr><td>{id} {0}</td><td><code>{1}</code></td><td class=\"{2}\">{3}</td><td>{4}/{5}</td></tr>",
                 escape(e.info.title),
                 escape(e.info.function),
-                verdict(e),
+                class(e),
+                e.status.label(),
                 e.score,
                 e.info.points
             );
         }
         h.push_str("</table>\n");
+        if let Some(why) = lab_wide {
+            let _ = writeln!(
+                h,
+                "<p>Every exercise of this lab:</p>\n<pre>{}</pre>",
+                escape(why)
+            );
+        }
         for e in exercises
             .iter()
-            .filter(|e| !e.passed || !e.program_output.is_empty())
+            .filter(|e| has_section(e, lab_wide.is_some()))
         {
             let _ = writeln!(
                 h,
-                "<h3 id=\"ex-{0}\">Exercise {0} — <code>{1}</code></h3>\n{2}",
+                "<h3 id=\"ex-{0}\">Exercise {0} — <code>{1}</code>: {2}</h3>\n{3}",
                 e.info.id,
                 escape(e.info.function),
-                if e.passed {
-                    "<p>Passed.</p>".to_string()
+                e.status.label(),
+                if e.passed() || lab_wide.is_some() {
+                    String::new()
                 } else {
                     format!("<pre>{}</pre>", escape(&e.output))
                 }
@@ -267,8 +346,22 @@ fn html(grade: &StudentGrade) -> String {
             }
         }
     }
-    h.push_str("</body></html>\n");
+    let _ = writeln!(
+        h,
+        "<footer><p>{}</p></footer>\n</body></html>",
+        escape(&stamp())
+    );
     h
+}
+
+/// An exercise's status, why, and what its code printed, as one text.
+fn exercise_output(e: &ExerciseGrade) -> String {
+    let verdict = format!("{}.\n{}", e.status.label(), e.output);
+    if e.program_output.is_empty() {
+        verdict
+    } else {
+        format!("{verdict}\n\n{PROGRAM_OUTPUT}:\n{}", e.program_output)
+    }
 }
 
 /// Gradescope's autograder `results.json` of one submission.
@@ -282,12 +375,8 @@ fn gradescope(grade: &StudentGrade) -> serde_json::Value {
                 "number": e.info.id,
                 "score": e.score,
                 "max_score": e.info.points,
-                "status": verdict(e),
-                "output": if e.program_output.is_empty() {
-                    e.output.clone()
-                } else {
-                    format!("{}\n\n{PROGRAM_OUTPUT}:\n{}", e.output, e.program_output)
-                },
+                "status": class(e),
+                "output": exercise_output(e),
                 "visibility": match e.info.visibility {
                     Visibility::Visible => "visible",
                     Visibility::Hidden => "after_published",
@@ -308,6 +397,7 @@ fn gradescope(grade: &StudentGrade) -> serde_json::Value {
     if !grade.sandbox.is_empty() {
         let _ = writeln!(output, "Student code was {}.", grade.sandbox);
     }
+    let _ = writeln!(output, "{}", stamp());
     serde_json::json!({
         "score": grade.score(),
         "max_score": grade.max_score(),
@@ -353,7 +443,7 @@ fn gradebook(grades: &[StudentGrade]) -> String {
 
 /// JUnit XML: a test suite per student, a test case per exercise.
 fn junit(grades: &[StudentGrade]) -> String {
-    let failures = |g: &StudentGrade| g.exercises.iter().filter(|e| !e.passed).count();
+    let failures = |g: &StudentGrade| g.exercises.iter().filter(|e| !e.passed()).count();
     let mut xml = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"raylab grade\" tests=\"{}\" failures=\"{}\">\n",
         grades.iter().map(|g| g.exercises.len()).sum::<usize>(),
@@ -378,16 +468,17 @@ fn junit(grades: &[StudentGrade]) -> String {
                 escape(e.info.function),
                 e.seconds
             );
-            if e.passed && e.program_output.is_empty() {
+            if e.passed() && e.program_output.is_empty() {
                 xml.push_str("/>\n");
                 continue;
             }
             xml.push_str(">\n");
-            if !e.passed {
+            if !e.passed() {
                 let first = e.output.lines().next().unwrap_or("failed");
                 let _ = writeln!(
                     xml,
-                    "      <failure message=\"{}\">{}</failure>",
+                    "      <failure type=\"{}\" message=\"{}\">{}</failure>",
+                    escape(&e.status.label()),
                     escape(first),
                     escape(&e.output)
                 );
@@ -407,21 +498,183 @@ fn junit(grades: &[StudentGrade]) -> String {
     xml
 }
 
-/// The class page: each student's total, linking to their report.
+/// The grader's version and the time of writing, for the foot of every report.
+fn stamp() -> String {
+    let seconds = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    format!(
+        "raylab {} (grader), {}",
+        env!("CARGO_PKG_VERSION"),
+        utc_time(seconds)
+    )
+}
+
+/// `seconds` since the Unix epoch as `YYYY-MM-DD HH:MM UTC` (the proleptic Gregorian calendar,
+/// by the days-to-civil algorithm of Howard Hinnant).
+fn utc_time(seconds: u64) -> String {
+    let days = (seconds / 86_400) as i64;
+    let (hour, minute) = ((seconds % 86_400) / 3600, (seconds % 3600) / 60);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02} {hour:02}:{minute:02} UTC")
+}
+
+/// The median of `values` (0 for none).
+fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+/// Mean and median of `values`, as table cells.
+fn mean_median(values: &mut [f64]) -> String {
+    let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
+    format!("<td>{mean:.1}</td><td>{:.1}</td>", median(values))
+}
+
+/// Sorts a table by the column whose header is clicked (numbers as numbers), each click
+/// reversing the order.
+const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.style.cursor='pointer';th.title='sort';th.onclick=()=>{const t=th.closest('table'),b=t.tBodies[0],rows=[...b.rows],up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';const key=r=>{const s=r.cells[i].dataset.v??r.cells[i].textContent;const n=parseFloat(s);return isNaN(n)?s:n};rows.sort((x,y)=>{const a=key(x),c=key(y);return (a<c?-1:a>c?1:0)*(up?1:-1)});rows.forEach(r=>b.appendChild(r))}});";
+
+/// The class page: each student's points per lab and total, linking to their report; per lab
+/// and per exercise the mean and median points and how many passed; the tables sort by any
+/// column.
 fn index(grades: &[StudentGrade]) -> String {
     let mut h = format!(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Grades</title><style>{STYLE}</style></head><body>\n<h1>Grades</h1>\n<table><tr><th>student</th><th>points</th><th>files changed outside labs/*/src</th></tr>\n"
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Grades</title><style>{STYLE}</style></head><body>\n<h1>Grades</h1>\n<p>{} submissions.</p>\n",
+        grades.len()
     );
+    let labs: Vec<u32> = grades
+        .first()
+        .map(|g| by_lab(g).iter().map(|(lab, _)| *lab).collect())
+        .unwrap_or_default();
+    h.push_str("<h2>Students</h2>\n<table class=\"sortable\"><thead><tr><th>student</th>");
+    for lab in &labs {
+        let _ = write!(h, "<th>lab {lab:02}</th>");
+    }
+    h.push_str("<th>points</th><th>files changed outside labs/*/src</th></tr></thead><tbody>\n");
     for g in grades {
+        let _ = write!(
+            h,
+            "<tr><td><a href=\"{0}/report.html\">{0}</a></td>",
+            escape(&g.student)
+        );
+        for (_, exercises) in by_lab(g) {
+            let (earned, total) = points(&exercises);
+            let _ = write!(h, "<td data-v=\"{earned}\">{earned}/{total}</td>");
+        }
         let _ = writeln!(
             h,
-            "<tr><td><a href=\"{0}/report.html\">{0}</a></td><td>{1}/{2}</td><td>{3}</td></tr>",
-            escape(&g.student),
+            "<td data-v=\"{0}\">{0}/{1}</td><td>{2}</td></tr>",
             g.score(),
             g.max_score(),
             g.changed_files.len()
         );
     }
-    h.push_str("</table>\n<p>Also: gradebook.csv, junit.xml, and each student's results.json (Gradescope).</p>\n</body></html>\n");
+    h.push_str("</tbody></table>\n");
+    if let Some(first) = grades.first() {
+        h.push_str("<h2>Labs</h2>\n<table class=\"sortable\"><thead><tr><th>lab</th><th>points</th><th>mean</th><th>median</th><th>all passed</th></tr></thead><tbody>\n");
+        for (k, (lab, exercises)) in by_lab(first).iter().enumerate() {
+            let mut earned = Vec::new();
+            let mut complete = 0;
+            for g in grades {
+                if let Some((_, es)) = by_lab(g).get(k) {
+                    earned.push(f64::from(points(es).0));
+                    complete += usize::from(es.iter().all(|e| e.passed()));
+                }
+            }
+            let _ = writeln!(
+                h,
+                "<tr><td>{lab:02} {}</td><td>{}</td>{}<td>{complete}/{}</td></tr>",
+                escape(lab_title(*lab)),
+                points(exercises).1,
+                mean_median(&mut earned),
+                grades.len()
+            );
+        }
+        h.push_str("</tbody></table>\n<h2>Exercises</h2>\n<table class=\"sortable\"><thead><tr><th>exercise</th><th>function</th><th>points</th><th>mean</th><th>median</th><th>passed</th><th>most common failure</th></tr></thead><tbody>\n");
+        for (k, e) in first.exercises.iter().enumerate() {
+            let mut earned = Vec::new();
+            let mut passed = 0;
+            let mut failures = std::collections::BTreeMap::<String, usize>::new();
+            for g in grades {
+                if let Some(x) = g.exercises.get(k) {
+                    earned.push(f64::from(x.score));
+                    if x.passed() {
+                        passed += 1;
+                    } else {
+                        *failures.entry(x.status.label()).or_default() += 1;
+                    }
+                }
+            }
+            let common = failures
+                .iter()
+                .max_by_key(|(_, n)| **n)
+                .map_or(String::new(), |(label, n)| {
+                    format!("{} ({n})", escape(label))
+                });
+            let _ = writeln!(
+                h,
+                "<tr><td data-v=\"{k}\">{}</td><td><code>{}</code></td><td>{}</td>{}<td>{passed}/{}</td><td>{common}</td></tr>",
+                e.info.id,
+                escape(e.info.function),
+                e.info.points,
+                mean_median(&mut earned),
+                grades.len()
+            );
+        }
+        h.push_str("</tbody></table>\n");
+    }
+    let _ = writeln!(
+        h,
+        "<p>Also: gradebook.csv, junit.xml, and each student's results.json (Gradescope).</p>\n<footer><p>{}</p></footer>\n<script>{SORT_SCRIPT}</script>\n</body></html>",
+        escape(&stamp())
+    );
     h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn utc_time_of_known_instants() {
+        assert_eq!(utc_time(0), "1970-01-01 00:00 UTC");
+        // 2000-02-29 12:34 UTC, a leap day in a year divisible by 400.
+        assert_eq!(utc_time(951_827_640), "2000-02-29 12:34 UTC");
+        assert_eq!(utc_time(1_798_761_599), "2026-12-31 23:59 UTC");
+    }
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(&mut []), 0.0);
+    }
+
+    #[test]
+    fn redactions_replace_the_longest_path_first() {
+        let mut r = Redactions::default();
+        r.add(Path::new("/srv/course"), "<course>");
+        r.add(Path::new("/srv/course/grades"), "<grades>");
+        assert_eq!(
+            r.apply("at /srv/course/grades/x and /srv/course/labs"),
+            "at <grades>/x and <course>/labs"
+        );
+    }
 }

@@ -13,6 +13,7 @@ use framework::Error;
 use framework::grading::ExerciseInfo;
 use framework::grading::verdict::{self, RecordScanner};
 
+use super::Status;
 use super::sandbox::{LINGERING, Sandbox};
 use crate::handout::io;
 
@@ -369,8 +370,8 @@ fn kill_group(group: u32) {
 
 /// The outcome of running one exercise's test.
 pub struct Run {
-    /// The check's verdict record said it passed.
-    pub passed: bool,
+    /// What became of the exercise: passed only when the check's verdict record said so.
+    pub status: Status,
     /// Why it failed (the check's message, the time-out, the crash), or empty.
     pub output: String,
     /// What the student's code printed (cut to [`OUTPUT_LIMIT`]), apart from the verdict.
@@ -446,9 +447,9 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
     );
     let record = run.scanner.as_ref().and_then(|s| s.record(info.id));
     let printed = printable(&run.text());
-    let (passed, output) = match (&record, run.status) {
+    let (status, output) = match (&record, run.status) {
         (_, None) => (
-            false,
+            Status::TimedOut,
             format!(
                 "Exercise {} — `{}` did not finish within {} s and was stopped (an infinite loop?).",
                 info.id,
@@ -456,8 +457,12 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
                 how.timeout.as_secs()
             ),
         ),
-        (Some(record), Some(_)) => (record.passed, printable(&record.message)),
-        (None, Some(status)) => (false, no_verdict(info, status, &printed, how.memory_limit)),
+        (Some(record), Some(_)) if record.passed => (Status::Passed, printable(&record.message)),
+        (Some(record), Some(_)) => (
+            Status::of_failure(&record.message),
+            printable(&record.message),
+        ),
+        (None, Some(exit)) => no_verdict(info, exit, &printed, how.memory_limit),
     };
     let output = if printed.contains(LINGERING) {
         format!(
@@ -467,7 +472,7 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
         output
     };
     Ok(Run {
-        passed,
+        status,
         output,
         program_output: program_output(
             &printed,
@@ -481,7 +486,33 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
 }
 
 /// Why an exercise whose process ended without a verdict record failed.
-fn no_verdict(info: &ExerciseInfo, status: ExitStatus, printed: &str, memory_limit: u64) -> String {
+fn no_verdict(
+    info: &ExerciseInfo,
+    status: ExitStatus,
+    printed: &str,
+    memory_limit: u64,
+) -> (Status, String) {
+    use std::os::unix::process::ExitStatusExt;
+    let why = no_verdict_reason(info, status, printed, memory_limit);
+    let timed_out =
+        status.signal() == Some(libc::SIGXCPU) || status.code() == Some(128 + libc::SIGXCPU);
+    (
+        if timed_out {
+            Status::TimedOut
+        } else {
+            Status::Crashed
+        },
+        why,
+    )
+}
+
+/// The words of [`no_verdict`].
+fn no_verdict_reason(
+    info: &ExerciseInfo,
+    status: ExitStatus,
+    printed: &str,
+    memory_limit: u64,
+) -> String {
     use std::os::unix::process::ExitStatusExt;
     let place = format!("Exercise {} — `{}`", info.id, info.function);
     if printed.contains("memory allocation of") {
