@@ -268,12 +268,14 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         workspace.prepare()?;
         Manifest::of(&workspace.tree)
     };
-    let mut pristine = make_tree()?;
-
+    let started = std::time::Instant::now();
     let bar = ProgressBar::new(args.submissions.len() as u64).with_style(
-        ProgressStyle::with_template("grading {bar:30} {pos}/{len} {msg}")
+        ProgressStyle::with_template("grading {bar:30} {pos}/{len} [{elapsed}] {msg}")
             .expect("the progress template is valid"),
     );
+    bar.enable_steady_tick(Duration::from_millis(500));
+    bar.set_message("preparing the grading tree (the framework is built once per class)");
+    let mut pristine = make_tree()?;
     let timeout = Duration::from_secs(args.timeout);
     let mut grades = Vec::new();
     for (submission, student) in args.submissions.iter().zip(&students) {
@@ -283,10 +285,15 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             fs::remove_dir_all(&dir).map_err(io(&dir))?;
         }
         // One submission that cannot be graded costs that submission, not the class.
-        let mut grade = grade_submission(
-            submission, student, &handout, &workspace, &labs, &dir, timeout,
-        )
-        .unwrap_or_else(|e| StudentGrade::ungraded(student, &labs, &e.to_string()));
+        let class = ClassGrading {
+            handout: &handout,
+            workspace: &workspace,
+            labs: &labs,
+            timeout,
+            bar: &bar,
+        };
+        let mut grade = grade_submission(submission, student, &dir, &class)
+            .unwrap_or_else(|e| StudentGrade::ungraded(student, &labs, &e.to_string()));
         grade.sandbox = workspace.sandbox.describe();
         // The sandbox keeps the tree read-only; should it change all the same (unsandboxed),
         // the submission is named and the next one gets a fresh tree.
@@ -324,12 +331,35 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         bar.inc(1);
     }
     bar.finish_and_clear();
+    println!("{}", summary(&grades, started.elapsed()));
     reports::write_class(&grades, &args.out)?;
     println!(
         "reports in {}: index.html, gradebook.csv, junit.xml, and per student report.md, report.html, results.json",
         args.out.display()
     );
     Ok(())
+}
+
+/// The line that ends a grading run: how many submissions in how long, their mean points, and
+/// how many exercises ended in each status.
+fn summary(grades: &[StudentGrade], took: Duration) -> String {
+    let mut counts = std::collections::BTreeMap::<String, usize>::new();
+    for e in grades.iter().flat_map(|g| &g.exercises) {
+        *counts.entry(e.status.label()).or_default() += 1;
+    }
+    let mean =
+        grades.iter().map(|g| f64::from(g.score())).sum::<f64>() / grades.len().max(1) as f64;
+    let max = grades.first().map_or(0, StudentGrade::max_score);
+    format!(
+        "graded {} submission(s) in {:.0} s: mean {mean:.1}/{max} points; exercises {}",
+        grades.len(),
+        took.as_secs_f64(),
+        counts
+            .iter()
+            .map(|(label, n)| format!("{label} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
 }
 
 /// 32-bit FNV-1a hash of `text`: stable across runs and toolchains.
@@ -393,16 +423,35 @@ fn student_names(submissions: &[PathBuf]) -> Result<Vec<String>, Error> {
     Ok(names)
 }
 
+/// What every submission of a class is graded with.
+#[derive(Clone, Copy)]
+struct ClassGrading<'a> {
+    /// The handout the submissions started from.
+    handout: &'a Path,
+    /// The grading tree and its builds.
+    workspace: &'a Workspace,
+    /// The graded labs.
+    labs: &'a [u32],
+    /// The time limit of one exercise.
+    timeout: Duration,
+    /// The progress shown while grading.
+    bar: &'a ProgressBar,
+}
+
 /// Grades one submission into `dir` (its images go to `dir/images/`).
 fn grade_submission(
     submission: &Path,
     student: &str,
-    handout: &Path,
-    workspace: &Workspace,
-    labs: &[u32],
     dir: &Path,
-    timeout: Duration,
+    class: &ClassGrading,
 ) -> Result<StudentGrade, Error> {
+    let ClassGrading {
+        handout,
+        workspace,
+        labs,
+        timeout,
+        bar,
+    } = *class;
     let mut notes = Vec::new();
     let mut rejected = Vec::new();
     let mut flagged = Vec::new();
@@ -440,6 +489,7 @@ fn grade_submission(
             }
             flagged.push(denied.line);
         }
+        bar.set_message(format!("{student}: compiling labs/lab{lab:02}/src"));
         if let Err(errors) = workspace.build_lib(&format!("lab{lab:02}"))? {
             broken.insert(
                 lab,
@@ -458,6 +508,7 @@ fn grade_submission(
         .copied()
         .filter(|l| !broken.contains_key(l))
         .collect();
+    bar.set_message(format!("{student}: building the checks"));
     let build = workspace.build_checks(&to_build)?;
 
     let mut exercises = Vec::new();
@@ -525,6 +576,7 @@ fn grade_submission(
                 timeout,
                 memory_limit: workspace.sandbox.memory_limit(),
             };
+            bar.set_message(format!("{student}: Exercise {}", info.id));
             let run = runner::run_exercise(&how, test, &info)?;
             let mut images = Vec::new();
             for image in &run.images {
