@@ -12,6 +12,7 @@ mod render;
 mod report;
 mod status;
 mod students;
+mod watch;
 
 use std::process::ExitCode;
 
@@ -33,6 +34,8 @@ enum Command {
     Report(report::ReportArgs),
     /// Show which exercises pass with your code, lab by lab, and which one is next.
     Status(status::StatusArgs),
+    /// Re-run a lab's checks whenever its sources change, and show the next exercise to do.
+    Watch(watch::WatchArgs),
     /// Measure the ray-tracing core: rays per second and BVH build time (docs/performance.md).
     Bench(bench::BenchArgs),
     /// Regenerate the labs' golden cases and snapshot images from the reference solution.
@@ -53,6 +56,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Report(args)) => report::run(&args),
         Some(Command::Status(args)) => status::run(&args),
+        Some(Command::Watch(args)) => watch::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         #[cfg(feature = "instructor")]
         Some(Command::Golden(args)) => golden::run(&args),
