@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
+use std::time::Duration;
 
 use framework::Error;
 use framework::grading::Visibility;
@@ -406,96 +407,62 @@ fn gradescope(grade: &StudentGrade) -> serde_json::Value {
     })
 }
 
-/// A CSV field, quoted when it needs to be.
-fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_string()
-    }
-}
-
 /// One row per student: the points of each exercise, the total, the maximum, and how many files
 /// outside the lab sources were changed.
 fn gradebook(grades: &[StudentGrade]) -> String {
-    let mut csv = String::from("student");
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["student".to_string()];
     if let Some(first) = grades.first() {
-        for e in &first.exercises {
-            let _ = write!(csv, ",{}", e.info.id);
-        }
+        header.extend(first.exercises.iter().map(|e| e.info.id.to_string()));
     }
-    csv.push_str(",total,max_score,changed_files\n");
+    header.extend(["total", "max_score", "changed_files"].map(String::from));
+    // Writing to memory cannot fail.
+    let _ = csv.write_record(&header);
     for grade in grades {
-        csv.push_str(&csv_field(&grade.student));
-        for e in &grade.exercises {
-            let _ = write!(csv, ",{}", e.score);
-        }
-        let _ = writeln!(
-            csv,
-            ",{},{},{}",
-            grade.score(),
-            grade.max_score(),
-            grade.changed_files.len()
-        );
+        let mut row = vec![grade.student.clone()];
+        row.extend(grade.exercises.iter().map(|e| e.score.to_string()));
+        row.extend([
+            grade.score().to_string(),
+            grade.max_score().to_string(),
+            grade.changed_files.len().to_string(),
+        ]);
+        let _ = csv.write_record(&row);
     }
-    csv
+    String::from_utf8(csv.into_inner().unwrap_or_default()).unwrap_or_default()
 }
 
-/// JUnit XML: a test suite per student, a test case per exercise.
+/// JUnit XML: a test suite per student, a test case per exercise; a failure's type is its
+/// status.
 fn junit(grades: &[StudentGrade]) -> String {
-    let failures = |g: &StudentGrade| g.exercises.iter().filter(|e| !e.passed()).count();
-    let mut xml = format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"raylab grade\" tests=\"{}\" failures=\"{}\">\n",
-        grades.iter().map(|g| g.exercises.len()).sum::<usize>(),
-        grades.iter().map(failures).sum::<usize>()
-    );
+    use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
+    let mut report = Report::new("raylab grade");
     for grade in grades {
-        let _ = writeln!(
-            xml,
-            "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" time=\"{:.3}\">",
-            escape(&grade.student),
-            grade.exercises.len(),
-            failures(grade),
-            grade.exercises.iter().map(|e| e.seconds).sum::<f64>()
-        );
+        let mut suite = TestSuite::new(grade.student.as_str());
         for e in &grade.exercises {
-            let _ = write!(
-                xml,
-                "    <testcase classname=\"{}.lab{:02}\" name=\"Exercise {} {}\" time=\"{:.3}\"",
-                escape(&grade.student),
-                e.info.lab,
-                e.info.id,
-                escape(e.info.function),
-                e.seconds
+            let status = if e.passed() {
+                TestCaseStatus::success()
+            } else {
+                let mut status = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                status
+                    .set_type(e.status.label())
+                    .set_message(e.output.lines().next().unwrap_or("failed"))
+                    .set_description(e.output.as_str());
+                status
+            };
+            let mut case = TestCase::new(
+                format!("Exercise {} {}", e.info.id, e.info.function),
+                status,
             );
-            if e.passed() && e.program_output.is_empty() {
-                xml.push_str("/>\n");
-                continue;
-            }
-            xml.push_str(">\n");
-            if !e.passed() {
-                let first = e.output.lines().next().unwrap_or("failed");
-                let _ = writeln!(
-                    xml,
-                    "      <failure type=\"{}\" message=\"{}\">{}</failure>",
-                    escape(&e.status.label()),
-                    escape(first),
-                    escape(&e.output)
-                );
-            }
+            case.set_classname(format!("{}.lab{:02}", grade.student, e.info.lab))
+                .set_time(Duration::from_secs_f64(e.seconds.max(0.0)));
             if !e.program_output.is_empty() {
-                let _ = writeln!(
-                    xml,
-                    "      <system-out>{}</system-out>",
-                    escape(&e.program_output)
-                );
+                case.set_system_out(e.program_output.as_str());
             }
-            xml.push_str("    </testcase>\n");
+            suite.add_test_case(case);
         }
-        xml.push_str("  </testsuite>\n");
+        report.add_test_suite(suite);
     }
-    xml.push_str("</testsuites>\n");
-    xml
+    report.to_string().unwrap_or_default()
 }
 
 /// The grader's version and the time of writing, for the foot of every report.
@@ -665,6 +632,52 @@ mod tests {
         assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
         assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
         assert_eq!(median(&mut []), 0.0);
+    }
+
+    fn grade_of(student: &str, status: Status) -> StudentGrade {
+        let info = framework::grading::ExerciseInfo {
+            lab: 1,
+            id: "1.1",
+            function: "image_plane_coords",
+            title: "pixel to image plane",
+            points: 2,
+            visibility: Visibility::Visible,
+        };
+        StudentGrade {
+            student: student.into(),
+            exercises: vec![ExerciseGrade {
+                score: if status == Status::Passed { 2 } else { 0 },
+                info,
+                status,
+                output: "Exercise 1.1 — … timed out\nsecond line <&>".into(),
+                program_output: String::new(),
+                images: Vec::new(),
+                seconds: 1.5,
+            }],
+            changed_files: Vec::new(),
+            notes: Vec::new(),
+            rejected: Vec::new(),
+            flagged: Vec::new(),
+            sandbox: String::new(),
+        }
+    }
+
+    #[test]
+    fn the_gradebook_quotes_names_and_junit_types_failures_by_status() {
+        let grades = [
+            grade_of("doe, \"jane\"", Status::TimedOut),
+            grade_of("roe", Status::Passed),
+        ];
+        let csv = gradebook(&grades);
+        assert_eq!(
+            csv,
+            "student,1.1,total,max_score,changed_files\n\"doe, \"\"jane\"\"\",0,0,2,0\nroe,2,2,2,0\n"
+        );
+        let xml = junit(&grades);
+        assert!(xml.contains("type=\"timed out\""), "{xml}");
+        assert!(xml.contains("second line &lt;&amp;&gt;"), "{xml}");
+        assert_eq!(xml.matches("<testcase").count(), 2, "{xml}");
+        assert_eq!(xml.matches("<failure").count(), 1, "{xml}");
     }
 
     #[test]
