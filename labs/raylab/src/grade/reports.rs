@@ -8,6 +8,7 @@ use std::time::Duration;
 
 use framework::Error;
 use framework::grading::Visibility;
+use maud::{DOCTYPE, Markup, PreEscaped, html};
 
 use super::{ExerciseGrade, Status, StudentGrade};
 use crate::handout::io;
@@ -228,131 +229,113 @@ fn image_caption(image: &Path) -> String {
     stem.rsplit('-').next().unwrap_or_default().to_string()
 }
 
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
 const STYLE: &str = "body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em}\
 table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.3em .6em;text-align:left}\
 .passed{color:#060}.failed{color:#a00}pre{background:#f4f4f4;padding:.6em;white-space:pre-wrap}\
 pre.program{border-left:4px solid #c90}\
 .images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{image-rendering:pixelated;\
-width:320px;border:1px solid #ccc}";
+width:320px;border:1px solid #ccc}footer{margin-top:2em;color:#666}";
+
+/// A page with `title`, the shared style, `body` and the grader's stamp at its foot.
+fn page(title: &str, body: Markup, script: Option<&str>) -> String {
+    html! {
+        (DOCTYPE)
+        html lang="en" {
+            head {
+                meta charset="utf-8";
+                title { (title) }
+                style { (PreEscaped(STYLE)) }
+            }
+            body {
+                (body)
+                footer { p { (stamp()) } }
+                @if let Some(script) = script {
+                    script { (PreEscaped(script)) }
+                }
+            }
+        }
+    }
+    .into_string()
+}
+
+/// A titled list, or nothing when `lines` is empty.
+fn section_list(title: Markup, lines: &[String]) -> Markup {
+    html! {
+        @if !lines.is_empty() {
+            h2 { (title) }
+            ul { @for line in lines { li { (line) } } }
+        }
+    }
+}
 
 fn html(grade: &StudentGrade) -> String {
-    let mut h = format!(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{0}: grade report</title><style>{STYLE}</style></head><body>\n<h1>Grade report: {0}</h1>\n<p><strong>{1}/{2} points</strong></p>\n",
-        escape(&grade.student),
-        grade.score(),
-        grade.max_score()
-    );
-    if !grade.changed_files.is_empty() {
-        h.push_str("<h2>Files changed outside <code>labs/labNN/src/</code> (not used for grading)</h2><ul>\n");
-        for change in &grade.changed_files {
-            let _ = writeln!(h, "<li>{}</li>", escape(change));
-        }
-        h.push_str("</ul>\n");
-    }
-    for (title, lines) in [
-        ("Notes", &grade.notes),
-        ("Files not taken from the submission", &grade.rejected),
-        (
-            "Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise",
+    let body = html! {
+        h1 { "Grade report: " (grade.student) }
+        p { strong { (grade.score()) "/" (grade.max_score()) " points" } }
+        (section_list(
+            html! { "Files changed outside " code { "labs/labNN/src/" } " (not used for grading)" },
+            &grade.changed_files,
+        ))
+        (section_list(html! { "Notes" }, &grade.notes))
+        (section_list(html! { "Files not taken from the submission" }, &grade.rejected))
+        (section_list(
+            html! { "Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise" },
             &grade.flagged,
-        ),
-    ] {
-        if lines.is_empty() {
-            continue;
+        ))
+        @if !grade.sandbox.is_empty() {
+            p { "Student code was " (grade.sandbox) "." }
         }
-        let _ = writeln!(h, "<h2>{title}</h2><ul>");
-        for line in lines {
-            let _ = writeln!(h, "<li>{}</li>", escape(line));
-        }
-        h.push_str("</ul>\n");
-    }
-    if !grade.sandbox.is_empty() {
-        let _ = writeln!(h, "<p>Student code was {}.</p>", escape(&grade.sandbox));
-    }
-    for (lab, exercises) in by_lab(grade) {
-        let (earned, total) = points(&exercises);
-        let _ = writeln!(
-            h,
-            "<h2>Lab {lab:02} — {} ({earned}/{total})</h2>\n<table><tr><th>exercise</th><th>function</th><th>result</th><th>points</th></tr>",
-            escape(lab_title(lab))
-        );
-        let lab_wide = lab_wide_failure(&exercises);
-        for e in &exercises {
-            let id = if has_section(e, lab_wide.is_some()) {
-                format!("<a href=\"#ex-{0}\">{0}</a>", e.info.id)
-            } else {
-                e.info.id.to_string()
-            };
-            let _ = writeln!(
-                h,
-                "<tr><td>{id} {0}</td><td><code>{1}</code></td><td class=\"{2}\">{3}</td><td>{4}/{5}</td></tr>",
-                escape(e.info.title),
-                escape(e.info.function),
-                class(e),
-                e.status.label(),
-                e.score,
-                e.info.points
-            );
-        }
-        h.push_str("</table>\n");
-        if let Some(why) = lab_wide {
-            let _ = writeln!(
-                h,
-                "<p>Every exercise of this lab:</p>\n<pre>{}</pre>",
-                escape(why)
-            );
-        }
-        for e in exercises
-            .iter()
-            .filter(|e| has_section(e, lab_wide.is_some()))
-        {
-            let _ = writeln!(
-                h,
-                "<h3 id=\"ex-{0}\">Exercise {0} — <code>{1}</code>: {2}</h3>\n{3}",
-                e.info.id,
-                escape(e.info.function),
-                e.status.label(),
-                if e.passed() || lab_wide.is_some() {
-                    String::new()
-                } else {
-                    format!("<pre>{}</pre>", escape(&e.output))
+        @for (lab, exercises) in by_lab(grade) {
+            @let (earned, total) = points(&exercises);
+            @let lab_wide = lab_wide_failure(&exercises);
+            h2 { "Lab " (format!("{lab:02}")) " — " (lab_title(lab)) " (" (earned) "/" (total) ")" }
+            table {
+                tr { th { "exercise" } th { "function" } th { "result" } th { "points" } }
+                @for e in &exercises {
+                    tr {
+                        td {
+                            @if has_section(e, lab_wide.is_some()) {
+                                a href={ "#ex-" (e.info.id) } { (e.info.id) }
+                            } @else {
+                                (e.info.id)
+                            }
+                            " " (e.info.title)
+                        }
+                        td { code { (e.info.function) } }
+                        td class=(class(e)) { (e.status.label()) }
+                        td { (e.score) "/" (e.info.points) }
+                    }
                 }
-            );
-            if !e.program_output.is_empty() {
-                let _ = writeln!(
-                    h,
-                    "<p>{PROGRAM_OUTPUT}:</p>\n<pre class=\"program\">{}</pre>",
-                    escape(&e.program_output)
-                );
             }
-            if !e.images.is_empty() {
-                h.push_str("<div class=\"images\">\n");
-                for image in &e.images {
-                    let src = image.to_string_lossy().replace('\\', "/");
-                    let _ = writeln!(
-                        h,
-                        "<figure><img src=\"{}\" alt=\"{1}\"><figcaption>{1}</figcaption></figure>",
-                        escape(&src),
-                        escape(&image_caption(image))
-                    );
+            @if let Some(why) = lab_wide {
+                p { "Every exercise of this lab:" }
+                pre { (why) }
+            }
+            @for e in exercises.iter().filter(|e| has_section(e, lab_wide.is_some())) {
+                h3 id={ "ex-" (e.info.id) } {
+                    "Exercise " (e.info.id) " — " code { (e.info.function) } ": " (e.status.label())
                 }
-                h.push_str("</div>\n");
+                @if !e.passed() && lab_wide.is_none() {
+                    pre { (e.output) }
+                }
+                @if !e.program_output.is_empty() {
+                    p { (PROGRAM_OUTPUT) ":" }
+                    pre class="program" { (e.program_output) }
+                }
+                @if !e.images.is_empty() {
+                    div class="images" {
+                        @for image in &e.images {
+                            figure {
+                                img src=(image.to_string_lossy().replace('\\', "/")) alt=(image_caption(image));
+                                figcaption { (image_caption(image)) }
+                            }
+                        }
+                    }
+                }
             }
         }
-    }
-    let _ = writeln!(
-        h,
-        "<footer><p>{}</p></footer>\n</body></html>",
-        escape(&stamp())
-    );
-    h
+    };
+    page(&format!("{}: grade report", grade.student), body, None)
 }
 
 /// An exercise's status, why, and what its code printed, as one text.
@@ -509,9 +492,13 @@ fn median(values: &mut [f64]) -> f64 {
 }
 
 /// Mean and median of `values`, as table cells.
-fn mean_median(values: &mut [f64]) -> String {
+fn mean_median(values: &mut [f64]) -> Markup {
     let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
-    format!("<td>{mean:.1}</td><td>{:.1}</td>", median(values))
+    let median = median(values);
+    html! {
+        td data-v=(mean) { (format!("{mean:.1}")) }
+        td data-v=(median) { (format!("{median:.1}")) }
+    }
 }
 
 /// Sorts a table by the column whose header is clicked (numbers as numbers), each click
@@ -522,97 +509,110 @@ const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEac
 /// and per exercise the mean and median points and how many passed; the tables sort by any
 /// column.
 fn index(grades: &[StudentGrade]) -> String {
-    let mut h = format!(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Grades</title><style>{STYLE}</style></head><body>\n<h1>Grades</h1>\n<p>{} submissions.</p>\n",
-        grades.len()
-    );
-    let labs: Vec<u32> = grades
-        .first()
-        .map(|g| by_lab(g).iter().map(|(lab, _)| *lab).collect())
-        .unwrap_or_default();
-    h.push_str("<h2>Students</h2>\n<table class=\"sortable\"><thead><tr><th>student</th>");
-    for lab in &labs {
-        let _ = write!(h, "<th>lab {lab:02}</th>");
-    }
-    h.push_str("<th>points</th><th>files changed outside labs/*/src</th></tr></thead><tbody>\n");
-    for g in grades {
-        let _ = write!(
-            h,
-            "<tr><td><a href=\"{0}/report.html\">{0}</a></td>",
-            escape(&g.student)
-        );
-        for (_, exercises) in by_lab(g) {
-            let (earned, total) = points(&exercises);
-            let _ = write!(h, "<td data-v=\"{earned}\">{earned}/{total}</td>");
-        }
-        let _ = writeln!(
-            h,
-            "<td data-v=\"{0}\">{0}/{1}</td><td>{2}</td></tr>",
-            g.score(),
-            g.max_score(),
-            g.changed_files.len()
-        );
-    }
-    h.push_str("</tbody></table>\n");
-    if let Some(first) = grades.first() {
-        h.push_str("<h2>Labs</h2>\n<table class=\"sortable\"><thead><tr><th>lab</th><th>points</th><th>mean</th><th>median</th><th>all passed</th></tr></thead><tbody>\n");
-        for (k, (lab, exercises)) in by_lab(first).iter().enumerate() {
-            let mut earned = Vec::new();
-            let mut complete = 0;
-            for g in grades {
-                if let Some((_, es)) = by_lab(g).get(k) {
-                    earned.push(f64::from(points(es).0));
-                    complete += usize::from(es.iter().all(|e| e.passed()));
+    let labs: Vec<(u32, Vec<&ExerciseGrade>)> = grades.first().map(by_lab).unwrap_or_default();
+    let body = html! {
+        h1 { "Grades" }
+        p { (grades.len()) " submissions." }
+        h2 { "Students" }
+        table class="sortable" {
+            thead {
+                tr {
+                    th { "student" }
+                    @for (lab, _) in &labs { th { "lab " (format!("{lab:02}")) } }
+                    th { "points" }
+                    th { "files changed outside labs/*/src" }
                 }
             }
-            let _ = writeln!(
-                h,
-                "<tr><td>{lab:02} {}</td><td>{}</td>{}<td>{complete}/{}</td></tr>",
-                escape(lab_title(*lab)),
-                points(exercises).1,
-                mean_median(&mut earned),
-                grades.len()
-            );
-        }
-        h.push_str("</tbody></table>\n<h2>Exercises</h2>\n<table class=\"sortable\"><thead><tr><th>exercise</th><th>function</th><th>points</th><th>mean</th><th>median</th><th>passed</th><th>most common failure</th></tr></thead><tbody>\n");
-        for (k, e) in first.exercises.iter().enumerate() {
-            let mut earned = Vec::new();
-            let mut passed = 0;
-            let mut failures = std::collections::BTreeMap::<String, usize>::new();
-            for g in grades {
-                if let Some(x) = g.exercises.get(k) {
-                    earned.push(f64::from(x.score));
-                    if x.passed() {
-                        passed += 1;
-                    } else {
-                        *failures.entry(x.status.label()).or_default() += 1;
+            tbody {
+                @for g in grades {
+                    tr {
+                        td { a href={ (g.student) "/report.html" } { (g.student) } }
+                        @for (_, exercises) in by_lab(g) {
+                            @let (earned, total) = points(&exercises);
+                            td data-v=(earned) { (earned) "/" (total) }
+                        }
+                        td data-v=(g.score()) { (g.score()) "/" (g.max_score()) }
+                        td { (g.changed_files.len()) }
                     }
                 }
             }
-            let common = failures
-                .iter()
-                .max_by_key(|(_, n)| **n)
-                .map_or(String::new(), |(label, n)| {
-                    format!("{} ({n})", escape(label))
-                });
-            let _ = writeln!(
-                h,
-                "<tr><td data-v=\"{k}\">{}</td><td><code>{}</code></td><td>{}</td>{}<td>{passed}/{}</td><td>{common}</td></tr>",
-                e.info.id,
-                escape(e.info.function),
-                e.info.points,
-                mean_median(&mut earned),
-                grades.len()
-            );
         }
-        h.push_str("</tbody></table>\n");
+        @if !labs.is_empty() {
+            h2 { "Labs" }
+            table class="sortable" {
+                thead { tr { th { "lab" } th { "points" } th { "mean" } th { "median" } th { "all passed" } } }
+                tbody {
+                    @for (k, (lab, exercises)) in labs.iter().enumerate() {
+                        @let (mut earned, complete) = lab_statistics(grades, k);
+                        tr {
+                            td data-v=(lab) { (format!("{lab:02}")) " " (lab_title(*lab)) }
+                            td { (points(exercises).1) }
+                            (mean_median(&mut earned))
+                            td data-v=(complete) { (complete) "/" (grades.len()) }
+                        }
+                    }
+                }
+            }
+            h2 { "Exercises" }
+            table class="sortable" {
+                thead {
+                    tr {
+                        th { "exercise" } th { "function" } th { "points" } th { "mean" }
+                        th { "median" } th { "passed" } th { "most common failure" }
+                    }
+                }
+                tbody {
+                    @for (k, e) in grades[0].exercises.iter().enumerate() {
+                        @let (mut earned, passed, common) = exercise_statistics(grades, k);
+                        tr {
+                            td data-v=(k) { (e.info.id) }
+                            td { code { (e.info.function) } }
+                            td { (e.info.points) }
+                            (mean_median(&mut earned))
+                            td data-v=(passed) { (passed) "/" (grades.len()) }
+                            td { (common) }
+                        }
+                    }
+                }
+            }
+        }
+        p { "Also: gradebook.csv, junit.xml, and each student's results.json (Gradescope)." }
+    };
+    page("Grades", body, Some(SORT_SCRIPT))
+}
+
+/// The points each student earned in the `k`-th lab, and how many passed all of it.
+fn lab_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize) {
+    let mut earned = Vec::new();
+    let mut complete = 0;
+    for g in grades {
+        if let Some((_, es)) = by_lab(g).get(k) {
+            earned.push(f64::from(points(es).0));
+            complete += usize::from(es.iter().all(|e| e.passed()));
+        }
     }
-    let _ = writeln!(
-        h,
-        "<p>Also: gradebook.csv, junit.xml, and each student's results.json (Gradescope).</p>\n<footer><p>{}</p></footer>\n<script>{SORT_SCRIPT}</script>\n</body></html>",
-        escape(&stamp())
-    );
-    h
+    (earned, complete)
+}
+
+/// The points each student earned in the `k`-th exercise, how many passed it, and its most
+/// common failure with its count.
+fn exercise_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize, String) {
+    let mut earned = Vec::new();
+    let mut passed = 0;
+    let mut failures = std::collections::BTreeMap::<String, usize>::new();
+    for x in grades.iter().filter_map(|g| g.exercises.get(k)) {
+        earned.push(f64::from(x.score));
+        if x.passed() {
+            passed += 1;
+        } else {
+            *failures.entry(x.status.label()).or_default() += 1;
+        }
+    }
+    let common = failures
+        .iter()
+        .max_by_key(|(_, n)| **n)
+        .map_or(String::new(), |(label, n)| format!("{label} ({n})"));
+    (earned, passed, common)
 }
 
 #[cfg(test)]
@@ -678,6 +678,43 @@ mod tests {
         assert!(xml.contains("second line &lt;&amp;&gt;"), "{xml}");
         assert_eq!(xml.matches("<testcase").count(), 2, "{xml}");
         assert_eq!(xml.matches("<failure").count(), 1, "{xml}");
+    }
+
+    /// The targets of a page's in-page links, and its element ids.
+    fn anchors(page: &str) -> (Vec<&str>, Vec<&str>) {
+        let grab = |marker: &str| -> Vec<&str> {
+            page.split(marker)
+                .skip(1)
+                .filter_map(|rest| rest.split('"').next())
+                .collect()
+        };
+        (grab("href=\"#"), grab("id=\""))
+    }
+
+    #[test]
+    fn pages_escape_names_and_link_only_to_sections_that_exist() {
+        let failed = grade_of("<b>&", Status::TimedOut);
+        let passed = grade_of("roe", Status::Passed);
+        let page = html(&failed);
+        assert!(
+            page.contains("&lt;b&gt;&amp;") && !page.contains("<b>&"),
+            "{page}"
+        );
+        let (links, ids) = anchors(&page);
+        assert_eq!(links, ["ex-1.1"]);
+        assert!(ids.contains(&"ex-1.1"), "{page}");
+        assert!(page.contains("timed out"), "{page}");
+        // A passed exercise with nothing to show has no section and no link.
+        let page = html(&passed);
+        let (links, _) = anchors(&page);
+        assert!(links.is_empty(), "{links:?}");
+        let class = index(&[failed, passed]);
+        assert!(class.contains("&lt;b&gt;&amp;/report.html"), "{class}");
+        assert!(class.contains("class=\"sortable\""), "{class}");
+        assert!(
+            class.contains("raylab ") && class.contains(" UTC"),
+            "{class}"
+        );
     }
 
     #[test]
