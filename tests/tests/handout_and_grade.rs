@@ -311,5 +311,30 @@ fn handout_then_grade_four_submissions() {
         junit.contains("<failure type=\"crashed\" message="),
         "{junit}"
     );
-    assert!(grades.join("index.html").is_file());
+    // Every link and image of the pages resolves: files beside them, anchors within them.
+    for page in ["index.html", "partial/report.html", "complete/report.html"] {
+        let path = grades.join(page);
+        let html = read(&path);
+        let dir = path.parent().unwrap();
+        let ids: Vec<&str> = html
+            .split("id=\"")
+            .skip(1)
+            .filter_map(|r| r.split('"').next())
+            .collect();
+        for marker in ["href=\"", "src=\""] {
+            for target in html
+                .split(marker)
+                .skip(1)
+                .filter_map(|r| r.split('"').next())
+            {
+                match target.strip_prefix('#') {
+                    Some(id) => assert!(ids.contains(&id), "{page}: no id {id} for its link"),
+                    None => assert!(
+                        dir.join(target).is_file(),
+                        "{page}: {target} does not exist"
+                    ),
+                }
+            }
+        }
+    }
 }
