@@ -140,6 +140,7 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             "'/nonexistent-raylab-dir' does not exist",
         ),
     ];
+    let mut transcript = String::new();
     for (args, needle) in cases {
         let (ok, _, stderr) = raylab(args, &dir);
         assert!(!ok, "{args:?} succeeded");
@@ -148,7 +149,25 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             "{args:?}: {stderr}"
         );
         assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+        transcript.push_str(&format!("$ raylab {}\n{stderr}\n", args.join(" ")));
     }
+    // The exact words of every message, reviewed with `cargo insta review` when they change.
+    insta::assert_snapshot!(transcript);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn help_texts_stay_the_same() {
+    let dir = scratch("help");
+    let mut transcript = String::new();
+    for command in [
+        "render", "report", "status", "watch", "bench", "golden", "handout", "grade",
+    ] {
+        let (ok, stdout, stderr) = raylab(&[command, "--help"], &dir);
+        assert!(ok, "{command} --help: {stderr}");
+        transcript.push_str(&format!("$ raylab {command} --help\n{stdout}\n"));
+    }
+    insta::assert_snapshot!(transcript);
     std::fs::remove_dir_all(dir).ok();
 }
 
