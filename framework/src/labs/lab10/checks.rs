@@ -272,7 +272,7 @@ impl Coefficient {
 
     /// The value from the other side of the interface at the same pair of angles: the
     /// amplitudes change sign, the reflectance does not.
-    fn from_other_side(self, value: f32) -> f32 {
+    fn seen_from_other_side(self, value: f32) -> f32 {
         match self {
             Coefficient::RS | Coefficient::RP => -value,
             Coefficient::R => value,
@@ -322,7 +322,7 @@ fn check_coefficient(
     compare_f32(
         &format!("{} (from the other side of the interface)", which.show((c2, c1, e2, e1))),
         other,
-        which.from_other_side(got),
+        which.seen_from_other_side(got),
         COEFFICIENT_TOLERANCE,
         1e-4,
     )
@@ -565,8 +565,8 @@ pub fn reflectance_is_clear(&(c, e1, e2): &ReflectanceInput) -> bool {
 fn exercise_10_4(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
     let key = key(ctx);
     let base = ctx.base.reflection.clone();
-    let clear = reflectance_strategy()
-        .prop_filter("clear of the critical angle", |i| reflectance_is_clear(i));
+    let clear =
+        reflectance_strategy().prop_filter("clear of the critical angle", reflectance_is_clear);
     for_all(800, clear, |input| {
         let expected = key
             .as_ref()
@@ -614,7 +614,8 @@ fn exercise_10_4(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
                         "{call} is {got}: under total internal reflection R = 1 exactly ({REFLECTANCE_HINT})"
                     ));
                 }
-                if !past && !(got < 1.0 && got > 0.0) {
+                let partial = 0.0 < got && got < 1.0;
+                if !past && !partial {
                     return Err(format!(
                         "{call} is {got}: just below the critical angle some light is still transmitted, 0 < R < 1 ({REFLECTANCE_HINT})"
                     ));
