@@ -77,7 +77,7 @@ pub const COURSE: &[Lab] = &[
         number: 10,
         title: "Fresnel reflectance and absorption",
         exercises: || infos(10, &lab10::checks::exercises()),
-        denied: &[],
+        denied: LAB10_DENIED,
     },
 ];
 
@@ -95,6 +95,23 @@ const LAB04_DENIED: &[DeniedItem] = &[
         own: &["self", "Self", "Reflection"],
         exercises: &["4.4"],
         computes: "glam's refraction of a direction through a surface",
+    },
+];
+
+/// Lab 10's checks find the transmitted cosine that goes with a cosine of incidence (Snell's
+/// law, through a lab 04 `refract`): the first step of Exercise 10.4.
+const LAB10_DENIED: &[DeniedItem] = &[
+    DeniedItem {
+        name: "transmitted_cosine",
+        own: &[],
+        exercises: &["10.4"],
+        computes: "the checks' cosine of the transmitted ray by Snell's law",
+    },
+    DeniedItem {
+        name: "pair_of",
+        own: &[],
+        exercises: &["10.4"],
+        computes: "the checks' pair of cosines of incidence and transmission by Snell's law",
     },
 ];
 
