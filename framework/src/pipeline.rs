@@ -7,10 +7,11 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab10};
 use crate::math::Ray;
 use crate::sampling::Rng;
 use crate::scene::Hit;
+use crate::scene::Material;
 use crate::scene::{
     AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
 };
@@ -50,9 +51,12 @@ pub struct Pipeline {
     pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// Lab 10, Fresnel reflectance and absorption.
+    pub fresnel: Arc<dyn lab10::Fresnel>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
-    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision.
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 10 weights
+    /// reflection and refraction by the Fresnel reflectance and absorbs light in volumes.
     pub lab: u32,
     /// What to show.
     pub view: View,
@@ -87,6 +91,7 @@ one_slot! {
     dyn lab05::Radiometry => radiometry,
     dyn lab06::Radiosity => radiosity,
     dyn lab07::Antialiasing => antialiasing,
+    dyn lab10::Fresnel => fresnel,
 }
 
 /// Lab 02's code fills two slots: the intersections and the shading.
@@ -220,6 +225,14 @@ impl Pipeline {
         }
         match material.illum {
             IllumModel::Mirror => emitted + self.trace_reflected(scene, ray, &hit, rng),
+            IllumModel::Transparent
+            | IllumModel::AbsorbingVolume
+            | IllumModel::Glossy
+            | IllumModel::GlossyVolume
+                if self.lab >= 10 =>
+            {
+                emitted + self.shade_dielectric(scene, ray, &hit, material, rng)
+            }
             IllumModel::Transparent | IllumModel::AbsorbingVolume => {
                 emitted + self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
@@ -263,6 +276,88 @@ impl Pipeline {
                 self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng)
             }
             None => self.trace_reflected(scene, ray, hit, rng),
+        }
+    }
+
+    /// Lab 10's shaders of a dielectric (DTU `Transparent`, `Glossy`, `Volume` and
+    /// `GlossyVolume` with Fresnel): the reflected and refracted radiance weighted by the
+    /// Fresnel reflectance, plus the Phong highlight (the specular lobe alone) on a glossy
+    /// surface, times the transmittance of the medium when the ray has crossed a volume.
+    fn shade_dielectric(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        material: &Material,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let mut radiance = self.trace_fresnel(scene, ray, hit, material.ior, rng);
+        if matches!(
+            material.illum,
+            IllumModel::Glossy | IllumModel::GlossyVolume
+        ) {
+            let lights = self.light_samples(scene, hit, rng);
+            radiance += self.reflection.shade_phong(
+                Vec3::ZERO,
+                material.specular,
+                material.shininess,
+                hit.shading_normal,
+                -ray.direction,
+                &lights,
+            );
+        }
+        radiance * self.medium_transmittance(ray.direction, hit, material)
+    }
+
+    /// `R` times the radiance along the reflected ray plus `1 − R` times the radiance along
+    /// the refracted ray, `R` the Fresnel reflectance (lab 10) at the interface lab 04 finds;
+    /// the reflected radiance alone under total internal reflection (black past the depth
+    /// limit).
+    fn trace_fresnel(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        material_ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        if hit.trace_depth >= self.max_depth {
+            return Vec3::ZERO;
+        }
+        let Some((refracted, ior)) = self.reflection.refracted_ray(ray, hit, material_ior) else {
+            return self.trace_reflected(scene, ray, hit, rng);
+        };
+        let side = self.reflection.interface(ray.direction, hit, material_ior);
+        let cos_i = (-ray.direction.dot(side.normal)).clamp(0.0, 1.0);
+        let r = self
+            .fresnel
+            .fresnel_reflectance(cos_i, side.eta_incident, side.eta_transmitted);
+        // A NaN reflectance reaches the pixel (`!=` is true for NaN).
+        let mut radiance = Vec3::ZERO;
+        if r != 0.0 {
+            radiance += r * self.trace_reflected(scene, ray, hit, rng);
+        }
+        if r != 1.0 {
+            radiance +=
+                (1.0 - r) * self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng);
+        }
+        radiance
+    }
+
+    /// The transmittance of the medium a ray along `direction` has crossed to reach `hit` on
+    /// a surface of `material` (lab 10): the Bouguer–Lambert–Beer attenuation over
+    /// `hit.distance` when the material is an absorbing volume (`illum 11` or 12) and the ray
+    /// leaves it (`direction · shading normal > 0`: it travelled inside), one otherwise and
+    /// below lab 10. The shaders and photon tracing call it at every hit of a dielectric.
+    pub fn medium_transmittance(&self, direction: Vec3, hit: &Hit, material: &Material) -> Vec3 {
+        let volume = matches!(
+            material.illum,
+            IllumModel::AbsorbingVolume | IllumModel::GlossyVolume
+        );
+        if self.lab >= 10 && volume && direction.dot(hit.shading_normal) > 0.0 {
+            self.fresnel.transmittance(hit.distance, material)
+        } else {
+            Vec3::ONE
         }
     }
 

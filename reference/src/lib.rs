@@ -20,6 +20,8 @@ pub mod lab05;
 pub mod lab06;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
+#[cfg(feature = "key-lab10")]
+pub mod lab10;
 
 use std::sync::Arc;
 
@@ -44,6 +46,8 @@ mod slots {
     pub use super::lab06::Lab06;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
+    #[cfg(feature = "key-lab10")]
+    pub use super::lab10::Lab10;
     #[cfg(not(feature = "key-lab01"))]
     pub use ::lab01::Student as Lab01;
     #[cfg(not(feature = "key-lab02"))]
@@ -58,6 +62,8 @@ mod slots {
     pub use ::lab06::Student as Lab06;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
+    #[cfg(not(feature = "key-lab10"))]
+    pub use ::lab10::Student as Lab10;
 }
 
 /// The reference pipeline with every lab enabled up to `lab`.
@@ -71,6 +77,7 @@ pub fn pipeline(lab: u32) -> Pipeline {
         radiometry: Arc::new(slots::Lab05),
         radiosity: Arc::new(slots::Lab06),
         antialiasing: Arc::new(slots::Lab07),
+        fresnel: Arc::new(slots::Lab10),
         lab,
         view: View::Shaded,
         area_light_samples: 4,

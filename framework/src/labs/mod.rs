@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab10;
 pub mod strategies;
 
 use crate::grading::{DeniedItem, ExerciseInfo};
@@ -72,6 +73,12 @@ pub const COURSE: &[Lab] = &[
         exercises: || infos(7, &lab07::checks::exercises()),
         denied: &[],
     },
+    Lab {
+        number: 10,
+        title: "Fresnel reflectance and absorption",
+        exercises: || infos(10, &lab10::checks::exercises()),
+        denied: LAB10_DENIED,
+    },
 ];
 
 /// glam's vectors reflect and refract about a normal; the names are also the contract's own
@@ -88,6 +95,23 @@ const LAB04_DENIED: &[DeniedItem] = &[
         own: &["self", "Self", "Reflection"],
         exercises: &["4.4"],
         computes: "glam's refraction of a direction through a surface",
+    },
+];
+
+/// Lab 10's checks find the transmitted cosine that goes with a cosine of incidence (Snell's
+/// law, through a lab 04 `refract`): the first step of Exercise 10.4.
+const LAB10_DENIED: &[DeniedItem] = &[
+    DeniedItem {
+        name: "transmitted_cosine",
+        own: &[],
+        exercises: &["10.4"],
+        computes: "the checks' cosine of the transmitted ray by Snell's law",
+    },
+    DeniedItem {
+        name: "pair_of",
+        own: &[],
+        exercises: &["10.4"],
+        computes: "the checks' pair of cosines of incidence and transmission by Snell's law",
     },
 ];
 

@@ -103,6 +103,13 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             reference::lab07::Lab07,
             lab07
         )),
+        10 => visitor.visit(lab_code!(
+            10,
+            Fresnel,
+            ::lab10::Student,
+            reference::lab10::Lab10,
+            lab10
+        )),
         _ => {
             check_lab(lab)?;
             return Err(Error::Invalid {
