@@ -118,3 +118,30 @@ impl Texture {
         self.texels[(j as usize) * (self.width as usize) + i as usize]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checkerboard_alternates_by_square() {
+        let (light, dark) = (Vec3::ONE, Vec3::ZERO);
+        let t = Texture::checkerboard(4, 2, light, dark);
+        assert_eq!((t.width, t.height), (8, 8));
+        assert_eq!(t.texel(0, 0), light);
+        assert_eq!(t.texel(1, 1), light);
+        assert_eq!(t.texel(2, 0), dark);
+        assert_eq!(t.texel(2, 2), light);
+        assert_eq!(t.texel(7, 0), dark);
+    }
+
+    #[test]
+    fn gradient_is_linear_in_the_texel_indices() {
+        let t = Texture::gradient(5, 3);
+        assert_eq!(t.texel(0, 2), Vec3::new(0.0, 0.0, 0.25));
+        assert_eq!(t.texel(4, 0), Vec3::new(1.0, 1.0, 0.25));
+        assert_eq!(t.texel(2, 1), Vec3::new(0.5, 0.5, 0.25));
+        // A single texel has no gradient to show; empty sizes become 1.
+        assert_eq!(Texture::gradient(0, 0).texels, vec![Vec3::new(0.0, 0.0, 0.25)]);
+    }
+}
