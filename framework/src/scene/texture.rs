@@ -86,7 +86,7 @@ impl Texture {
             size,
             size,
             |i, j| {
-                if (i / n + j / n) % 2 == 0 {
+                if (i / n + j / n) & 1 == 0 {
                     light
                 } else {
                     dark
@@ -142,6 +142,9 @@ mod tests {
         assert_eq!(t.texel(4, 0), Vec3::new(1.0, 1.0, 0.25));
         assert_eq!(t.texel(2, 1), Vec3::new(0.5, 0.5, 0.25));
         // A single texel has no gradient to show; empty sizes become 1.
-        assert_eq!(Texture::gradient(0, 0).texels, vec![Vec3::new(0.0, 0.0, 0.25)]);
+        assert_eq!(
+            Texture::gradient(0, 0).texels,
+            vec![Vec3::new(0.0, 0.0, 0.25)]
+        );
     }
 }

@@ -443,7 +443,7 @@ pub fn variants() -> Vec<Variant> {
             address: Some(|t, m| match m {
                 Addressing::Repeat => t.rem_euclid(1.0).min(1.0),
                 Addressing::Mirror => 1.0 - (t.rem_euclid(2.0) - 1.0).abs(),
-                Addressing::Clamp => t.max(0.0).min(1.0),
+                Addressing::Clamp => t.clamp(0.0, 1.0),
             }),
             ..NONE
         },

@@ -1081,7 +1081,7 @@ fn check_continuity(
     // Texels lie in [0, 1): the change over 2·10⁻³ texels is at most 2·10⁻³, plus rounding.
     let bound = 2.0 * CONTINUITY_STEP_TEXELS + 2e-4 * (1.0 + at.abs() * n);
     let jump = (ca - cb).abs().max_element();
-    if !(jump <= bound) {
+    if jump.is_nan() || jump > bound {
         let place = if (at - at.round()).abs() < 1e-6 && centre == 0 {
             "the texture's edge (the seam of the repeated texture)"
         } else if centre == 0 {
