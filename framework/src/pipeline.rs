@@ -7,14 +7,14 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
+use crate::contracts::lab09::{self, Addressing, TextureFilter};
 use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab10};
 use crate::math::Ray;
 use crate::sampling::Rng;
-use crate::scene::Hit;
-use crate::scene::Material;
 use crate::scene::{
     AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
 };
+use crate::scene::{Hit, HitSurface, Material};
 
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -51,12 +51,15 @@ pub struct Pipeline {
     pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// Lab 09, texture coordinates, addressing and lookups.
+    pub texturing: Arc<dyn lab09::Texturing>,
     /// Lab 10, Fresnel reflectance and absorption.
     pub fresnel: Arc<dyn lab10::Fresnel>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
-    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 10 weights
-    /// reflection and refraction by the Fresnel reflectance and absorbs light in volumes.
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 9 adds diffuse
+    /// textures; 10 weights reflection and refraction by the Fresnel reflectance and absorbs
+    /// light in volumes.
     pub lab: u32,
     /// What to show.
     pub view: View,
@@ -64,6 +67,10 @@ pub struct Pipeline {
     pub area_light_samples: u32,
     /// Reflected and refracted rays stop after this many bounces (lab 04).
     pub max_depth: u32,
+    /// How textures are read between texel centres (lab 09).
+    pub texture_filter: TextureFilter,
+    /// What textures do outside `[0, 1]` (lab 09).
+    pub texture_addressing: Addressing,
 }
 
 /// A lab contract with its slots in the [`Pipeline`]: how a whole lab's code goes in, so that
@@ -91,6 +98,7 @@ one_slot! {
     dyn lab05::Radiometry => radiometry,
     dyn lab06::Radiosity => radiosity,
     dyn lab07::Antialiasing => antialiasing,
+    dyn lab09::Texturing => texturing,
     dyn lab10::Fresnel => fresnel,
 }
 
@@ -213,15 +221,16 @@ impl Pipeline {
         hit.trace_depth = depth;
         hit.ior = ior;
         let material = scene.material(hit.material);
+        let diffuse = self.diffuse_colour(scene, &mut hit, material);
         match self.view {
             View::Normals => return 0.5 * (hit.shading_normal + Vec3::ONE),
-            View::BaseColour => return material.diffuse,
-            View::Shaded if self.lab < 2 => return material.diffuse,
+            View::BaseColour => return diffuse,
+            View::Shaded if self.lab < 2 => return diffuse,
             View::Shaded => {}
         }
         let emitted = material.emission;
         if self.lab < 4 {
-            return emitted + self.shade_lambertian(scene, &hit, rng);
+            return emitted + self.shade_lambertian(scene, &hit, diffuse, rng);
         }
         match material.illum {
             IllumModel::Mirror => emitted + self.trace_reflected(scene, ray, &hit, rng),
@@ -240,12 +249,12 @@ impl Pipeline {
                 // The worksheet's glossy shader: a little Phong and mirror, mostly refraction
                 // (lab 10 replaces the weights by the Fresnel reflectance).
                 emitted
-                    + 0.1 * self.shade_phong(scene, ray, &hit, rng)
+                    + 0.1 * self.shade_phong(scene, ray, &hit, diffuse, rng)
                     + 0.1 * self.trace_reflected(scene, ray, &hit, rng)
                     + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
-            IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, rng),
-            IllumModel::Lambertian => emitted + self.shade_lambertian(scene, &hit, rng),
+            IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, diffuse, rng),
+            IllumModel::Lambertian => emitted + self.shade_lambertian(scene, &hit, diffuse, rng),
         }
     }
 
@@ -367,14 +376,61 @@ impl Pipeline {
         let material = scene.material(hit.material);
         self.shading
             .shade_lambertian(material.diffuse, hit.shading_normal, &lights)
+    /// The diffuse reflectance at a hit: the material's, times its diffuse texture at the hit's
+    /// texture coordinates from lab 09 on (which it stores in `hit.texcoord`); projector,
+    /// corresponder and lookup all through the lab 09 slot.
+    fn diffuse_colour(&self, scene: &Scene, hit: &mut Hit, material: &Material) -> Vec3 {
+        let Some(texture) = material.diffuse_texture.as_deref() else {
+            return material.diffuse;
+        };
+        if self.lab < 9 {
+            return material.diffuse;
+        }
+        let t = self.texturing.as_ref();
+        hit.texcoord = match hit.surface {
+            HitSurface::Unknown => hit.texcoord,
+            HitSurface::Plane(i) => t.plane_texcoord(&scene.planes[i as usize], hit.position),
+            HitSurface::Sphere(i) => t.sphere_texcoord(&scene.spheres[i as usize], hit.position),
+            HitSurface::Triangle { face, barycentrics } => {
+                let mesh = &scene.mesh;
+                if mesh.texcoords.is_empty() {
+                    Vec2::ZERO
+                } else {
+                    let uvs = mesh.faces[face as usize].map(|v| mesh.texcoords[v as usize]);
+                    t.triangle_texcoord(uvs, barycentrics)
+                }
+            }
+        };
+        let mode = self.texture_addressing;
+        let address = |c: f32| t.address(c, mode);
+        let texel = match self.texture_filter {
+            TextureFilter::Nearest => t.sample_nearest(texture, hit.texcoord, &address),
+            TextureFilter::Bilinear => t.sample_bilinear(texture, hit.texcoord, &address),
+        };
+        material.diffuse * texel
     }
 
-    /// Phong reflection of every light at a hit (lab 04).
-    fn shade_phong(&self, scene: &Scene, ray: &Ray, hit: &Hit, rng: &mut Rng) -> Vec3 {
+    /// Lambertian reflection of every light at a hit (labs 02 and 03), of reflectance
+    /// `diffuse`.
+    fn shade_lambertian(&self, scene: &Scene, hit: &Hit, diffuse: Vec3, rng: &mut Rng) -> Vec3 {
+        let lights = self.light_samples(scene, hit, rng);
+        self.shading
+            .shade_lambertian(diffuse, hit.shading_normal, &lights)
+    }
+
+    /// Phong reflection of every light at a hit (lab 04), of diffuse reflectance `diffuse`.
+    fn shade_phong(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        diffuse: Vec3,
+        rng: &mut Rng,
+    ) -> Vec3 {
         let lights = self.light_samples(scene, hit, rng);
         let m = scene.material(hit.material);
         self.reflection.shade_phong(
-            m.diffuse,
+            diffuse,
             m.specular,
             m.shininess,
             hit.shading_normal,

@@ -20,11 +20,14 @@ pub mod lab05;
 pub mod lab06;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
+#[cfg(feature = "key-lab09")]
+pub mod lab09;
 #[cfg(feature = "key-lab10")]
 pub mod lab10;
 
 use std::sync::Arc;
 
+use framework::contracts::lab09::{Addressing, TextureFilter};
 use framework::pipeline::{Pipeline, View};
 
 include!(concat!(env!("OUT_DIR"), "/keys.rs"));
@@ -46,6 +49,8 @@ mod slots {
     pub use super::lab06::Lab06;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
+    #[cfg(feature = "key-lab09")]
+    pub use super::lab09::Lab09;
     #[cfg(feature = "key-lab10")]
     pub use super::lab10::Lab10;
     #[cfg(not(feature = "key-lab01"))]
@@ -62,6 +67,8 @@ mod slots {
     pub use ::lab06::Student as Lab06;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
+    #[cfg(not(feature = "key-lab09"))]
+    pub use ::lab09::Student as Lab09;
     #[cfg(not(feature = "key-lab10"))]
     pub use ::lab10::Student as Lab10;
 }
@@ -77,10 +84,13 @@ pub fn pipeline(lab: u32) -> Pipeline {
         radiometry: Arc::new(slots::Lab05),
         radiosity: Arc::new(slots::Lab06),
         antialiasing: Arc::new(slots::Lab07),
+        texturing: Arc::new(slots::Lab09),
         fresnel: Arc::new(slots::Lab10),
         lab,
         view: View::Shaded,
         area_light_samples: 4,
         max_depth: 10,
+        texture_filter: TextureFilter::Bilinear,
+        texture_addressing: Addressing::Repeat,
     }
 }

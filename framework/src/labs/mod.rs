@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab09;
 pub mod lab10;
 pub mod strategies;
 
@@ -74,6 +75,10 @@ pub const COURSE: &[Lab] = &[
         denied: &[],
     },
     Lab {
+        number: 9,
+        title: "Texture mapping",
+        exercises: || infos(9, &lab09::checks::exercises()),
+        denied: LAB09_DENIED,
         number: 10,
         title: "Fresnel reflectance and absorption",
         exercises: || infos(10, &lab10::checks::exercises()),
@@ -234,3 +239,11 @@ const LAB02_DENIED: &[DeniedItem] = &[
         computes: "the framework's own watertight ray-triangle test",
     },
 ];
+
+/// glam's GLSL-style fractional part is the repeat corresponder.
+const LAB09_DENIED: &[DeniedItem] = &[DeniedItem {
+    name: "fract_gl",
+    own: &[],
+    exercises: &["9.4"],
+    computes: "glam's fractional part x − ⌊x⌋ (the repeat corresponder)",
+}];

@@ -17,7 +17,7 @@ mod trace;
 pub use builtin::{BUILTIN_SCENES, builtin_scene};
 pub use camera::CameraSetup;
 pub use file::{load_scene_file, parse_scene_str};
-pub use hit::Hit;
+pub use hit::{Hit, HitSurface};
 pub use light::{AreaLight, DirectionalLight, Light, PointLight};
 pub use material::{IllumModel, Material, MaterialId};
 pub use obj::{ObjData, load_obj, load_obj_str};

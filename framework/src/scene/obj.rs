@@ -561,7 +561,8 @@ fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<MtlEntry>), Error> 
 }
 
 /// The arguments of an MTL texture option, and those with which the option changes nothing in
-/// raylab's lookup (nearest texel, coordinates wrapped, no mip maps, RGB).
+/// raylab's lookup (the coordinates as given, the render's filter and addressing, no mip maps,
+/// RGB).
 enum OptionArgs {
     /// `on` or `off`; the value that changes nothing, if one does.
     Switch(Option<&'static str>),
@@ -683,8 +684,8 @@ fn texture_statement(spec: &str) -> Result<&str, String> {
         if !accepted {
             return Err(format!(
                 "map_Kd option '{name} {}' ({what}) is not supported: raylab looks a texture up \
-                 at the nearest texel of the texture coordinates as given, wrapped; remove the \
-                 option{}",
+                 at the texture coordinates as given, with the render's filter and addressing \
+                 (lab 09); remove the option{}",
                 values.join(" "),
                 if matches!(*name, "-s" | "-o") {
                     " and transform the texture coordinates (vt) in the OBJ instead"

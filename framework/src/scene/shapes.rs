@@ -3,7 +3,7 @@ use glam::{Vec2, Vec3};
 use super::MaterialId;
 use crate::math::Aabb;
 
-/// An infinite plane `p·n + d = 0`, with a tangent frame for texture coordinates.
+/// An infinite plane `p·n + d = 0`, with a tangent frame for texture coordinates (lab 09).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plane {
     /// Unit normal `n`.
@@ -34,11 +34,6 @@ impl Plane {
             material,
         }
     }
-
-    /// Texture coordinates of a point on the plane.
-    pub fn texcoord(&self, p: Vec3) -> Vec2 {
-        Vec2::new(p.dot(self.tangent), p.dot(self.bitangent)) / self.tex_scale
-    }
 }
 
 /// A sphere.
@@ -59,15 +54,6 @@ impl Sphere {
             self.center - Vec3::splat(self.radius),
             self.center + Vec3::splat(self.radius),
         )
-    }
-
-    /// Spherical texture coordinates of a point on the sphere (`u` around the y axis, `v` from
-    /// the south to the north pole).
-    pub fn texcoord(&self, p: Vec3) -> Vec2 {
-        let d = (p - self.center) / self.radius;
-        let u = 0.5 + d.z.atan2(d.x) / (2.0 * std::f32::consts::PI);
-        let v = 0.5 + d.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
-        Vec2::new(u, v)
     }
 }
 

@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 use super::{Plane, Scene, Sphere};
 use crate::geometry::{intersect_plane, intersect_sphere, intersect_triangle};
 use crate::math::Ray;
-use crate::scene::Hit;
+use crate::scene::{Hit, HitSurface};
 
 /// What one ray–primitive test of [`PrimitiveTests`] found.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -157,18 +157,16 @@ impl Scene {
         let found = found?;
         let t = r.tmax;
         let position = ray.at(t);
-        let (normal, shading_normal, texcoord, material) = match found {
-            Found::Plane(i, n) => {
-                let p = &self.planes[i];
-                (n, n, p.texcoord(position), p.material)
-            }
-            Found::Sphere(i, n) => {
-                let s = &self.spheres[i];
-                (n, n, s.texcoord(position), s.material)
-            }
+        let (normal, shading_normal, surface, material) = match found {
+            Found::Plane(i, n) => (n, n, HitSurface::Plane(i as u32), self.planes[i].material),
+            Found::Sphere(i, n) => (n, n, HitSurface::Sphere(i as u32), self.spheres[i].material),
             Found::Triangle(f, bary, n) => {
-                let (shading, uv) = self.interpolate(f, bary, n);
-                (n, shading, uv, self.mesh.face_materials[f])
+                let shading = self.shading_normal(f, bary, n);
+                let surface = HitSurface::Triangle {
+                    face: f as u32,
+                    barycentrics: bary,
+                };
+                (n, shading, surface, self.mesh.face_materials[f])
             }
         };
         Some(Hit {
@@ -176,7 +174,8 @@ impl Scene {
             position,
             geometric_normal: normal,
             shading_normal,
-            texcoord,
+            texcoord: Vec2::ZERO,
+            surface,
             material,
             trace_depth: 0,
             ior: 1.0,
@@ -210,29 +209,22 @@ impl Scene {
             || triangles(ray)
     }
 
-    /// Shading normal and texture coordinates of face `f` at barycentrics `(β, γ)`: vertex
-    /// attributes interpolated where the mesh has them, the geometric normal otherwise.
-    fn interpolate(&self, f: usize, bary: Vec2, geometric: Vec3) -> (Vec3, Vec2) {
-        let [a, b, c] = self.mesh.faces[f].map(|i| i as usize);
-        let w = [1.0 - bary.x - bary.y, bary.x, bary.y];
+    /// Shading normal of face `f` at barycentrics `(β, γ)`: the vertex normals interpolated
+    /// where the mesh has them, the geometric normal otherwise.
+    fn shading_normal(&self, f: usize, bary: Vec2, geometric: Vec3) -> Vec3 {
         let mesh = &self.mesh;
-        let shading = if mesh.normals.is_empty() {
+        if mesh.normals.is_empty() {
+            return geometric;
+        }
+        let [a, b, c] = mesh.faces[f].map(|i| i as usize);
+        let w = [1.0 - bary.x - bary.y, bary.x, bary.y];
+        let n = w[0] * mesh.normals[a] + w[1] * mesh.normals[b] + w[2] * mesh.normals[c];
+        let n = n.normalize_or_zero();
+        if n == Vec3::ZERO || !n.is_finite() {
             geometric
         } else {
-            let n = w[0] * mesh.normals[a] + w[1] * mesh.normals[b] + w[2] * mesh.normals[c];
-            let n = n.normalize_or_zero();
-            if n == Vec3::ZERO || !n.is_finite() {
-                geometric
-            } else {
-                n
-            }
-        };
-        let uv = if mesh.texcoords.is_empty() {
-            Vec2::ZERO
-        } else {
-            w[0] * mesh.texcoords[a] + w[1] * mesh.texcoords[b] + w[2] * mesh.texcoords[c]
-        };
-        (shading, uv)
+            n
+        }
     }
 }
 

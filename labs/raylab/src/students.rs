@@ -103,6 +103,12 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             reference::lab07::Lab07,
             lab07
         )),
+        9 => visitor.visit(lab_code!(
+            9,
+            Texturing,
+            ::lab09::Student,
+            reference::lab09::Lab09,
+            lab09
         10 => visitor.visit(lab_code!(
             10,
             Fresnel,

@@ -38,11 +38,11 @@ use crate::math::Ray;
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
 use crate::sampling::Rng;
-use crate::scene::Hit;
 use crate::scene::{
     CameraSetup, DirectionalLight, Light, Material, MaterialId, Mesh, Plane, PointLight, Scene,
     SceneDescription, builtin_scene,
 };
+use crate::scene::{Hit, HitSurface};
 
 /// Golden file of Exercise 3.4.
 pub const GOLDEN_AREA_SAMPLE: &str = "area_light_sample.json";
@@ -1144,6 +1144,7 @@ fn irradiance_estimates(pipeline: &Pipeline, scene: &Scene, case: &QuadCase, m: 
         geometric_normal: case.normal,
         shading_normal: case.normal,
         texcoord: Vec2::ZERO,
+        surface: HitSurface::Unknown,
         material: WHITE,
         trace_depth: 0,
         ior: 1.0,

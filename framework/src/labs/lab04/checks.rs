@@ -29,7 +29,7 @@ use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::{RAY_EPSILON, Ray};
 use crate::pipeline::{PartSlot, Pipeline, View};
 use crate::render::{RenderSettings, render};
-use crate::scene::Hit;
+use crate::scene::{Hit, HitSurface};
 use crate::scene::{IllumModel, Light, MaterialId, Scene, builtin_scene, parse_scene_str};
 
 /// Golden file of Exercise 4.1.
@@ -213,6 +213,7 @@ pub fn hit_at(position: Vec3, geometric_normal: Vec3, shading_normal: Vec3, ior:
         geometric_normal,
         shading_normal,
         texcoord: Vec2::ZERO,
+        surface: HitSurface::Unknown,
         material: MaterialId(0),
         trace_depth: 0,
         ior,

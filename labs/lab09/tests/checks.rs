@@ -1,0 +1,34 @@
+//! Lab 09's checks: one test per exercise of the table in `framework::labs::lab09::checks`.
+//!
+//! `cargo test -p lab09` checks your code in `src/lib.rs`, `cargo test -p lab09 exercise_9_6`
+//! just Exercise 9.6.
+//! `cargo test -p lab09 --features reference` checks the reference solution instead, where
+//! the tree holds it. Each exercise runs with `reference::pipeline` for everything else: the
+//! answer key where the tree holds it (so one unfinished exercise does not fail the others),
+//! and in a handout your own code for the labs whose solutions are not released yet — a check
+//! that needs one of those names the exercise it is waiting for.
+
+use std::sync::Arc;
+
+use framework::contracts::lab09::Texturing;
+use framework::grading::harness::{self, LabChecks};
+use framework::labs::lab09::checks;
+
+fn subject() -> Arc<dyn Texturing> {
+    #[cfg(feature = "reference")]
+    return Arc::new(reference::lab09::Lab09);
+    #[cfg(not(feature = "reference"))]
+    return Arc::new(lab09::Student);
+}
+
+fn main() {
+    harness::run(LabChecks {
+        lab: 9,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(9),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
+}
