@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
+use crate::contracts::lab11;
 use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07};
 use crate::math::Ray;
 use crate::sampling::Rng;
@@ -14,6 +15,7 @@ use crate::scene::Hit;
 use crate::scene::{
     AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
 };
+use crate::scene::{EnvironmentMap, ProbeMapping};
 
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -50,9 +52,13 @@ pub struct Pipeline {
     pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// Lab 11, ambient occlusion and light probes.
+    pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
-    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision.
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 11 adds the light
+    /// probe of a scene that has one (the radiance of rays that leave the scene, ambient
+    /// occlusion on Lambertian surfaces).
     pub lab: u32,
     /// What to show.
     pub view: View,
@@ -60,6 +66,8 @@ pub struct Pipeline {
     pub area_light_samples: u32,
     /// Reflected and refracted rays stop after this many bounces (lab 04).
     pub max_depth: u32,
+    /// Rays per shading point of ambient occlusion, and their sampler (lab 11).
+    pub occlusion_rays: (u32, lab11::HemisphereSampler),
 }
 
 /// A lab contract with its slots in the [`Pipeline`]: how a whole lab's code goes in, so that
@@ -87,6 +95,7 @@ one_slot! {
     dyn lab05::Radiometry => radiometry,
     dyn lab06::Radiosity => radiosity,
     dyn lab07::Antialiasing => antialiasing,
+    dyn lab11::AmbientOcclusion => ambient_occlusion,
 }
 
 /// Lab 02's code fills two slots: the intersections and the shading.
@@ -203,7 +212,10 @@ impl Pipeline {
             return Vec3::NAN;
         }
         let Some(mut hit) = self.trace_to_closest(scene, ray) else {
-            return scene.background;
+            return match &scene.environment {
+                Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
+                _ => scene.background,
+            };
         };
         hit.trace_depth = depth;
         hit.ior = ior;
@@ -232,8 +244,44 @@ impl Pipeline {
                     + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
             IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, rng),
-            IllumModel::Lambertian => emitted + self.shade_lambertian(scene, &hit, rng),
+            IllumModel::Lambertian => match &scene.environment {
+                Some(env) if self.lab >= 11 => {
+                    emitted
+                        + self.shade_lambertian(scene, &hit, rng)
+                        + self.shade_ambient(scene, env, &hit, rng)
+                }
+                _ => emitted + self.shade_lambertian(scene, &hit, rng),
+            },
         }
+    }
+
+    /// The probe's radiance from the direction `direction` (unit or not), through lab 11's
+    /// mapping of directions to texture coordinates (Exercises 11.5, 11.7).
+    pub fn environment_radiance(&self, env: &EnvironmentMap, direction: Vec3) -> Vec3 {
+        let d = direction.normalize();
+        let uv = match env.mapping {
+            ProbeMapping::Angular => self.ambient_occlusion.angular_map_uv(d),
+            ProbeMapping::Latlong => self.ambient_occlusion.latlong_uv(d),
+        };
+        env.texel(uv)
+    }
+
+    /// The ambient-occlusion shader at a Lambertian hit lit by the probe (Exercises
+    /// 11.1–11.3, 11.9): the accessibility and bent normal from `occlusion_rays` rays traced
+    /// with `trace_to_any`, the probe looked up along the bent normal.
+    fn shade_ambient(&self, scene: &Scene, env: &EnvironmentMap, hit: &Hit, rng: &mut Rng) -> Vec3 {
+        let ao = self.ambient_occlusion.as_ref();
+        let n = hit.shading_normal;
+        let (rays, sampler) = self.occlusion_rays;
+        let draw = |rng: &mut Rng| match sampler {
+            lab11::HemisphereSampler::Rejection => ao.sample_hemisphere_rejection(n, rng),
+            lab11::HemisphereSampler::Cosine => ao.sample_hemisphere_cosine(n, rng),
+        };
+        let occluded = |ray: &Ray| self.trace_to_any(scene, ray);
+        let occlusion = ao.ambient_occlusion(hit.position, n, rays, &draw, &occluded, rng);
+        let light = self.environment_radiance(env, occlusion.bent_normal);
+        let material = scene.material(hit.material);
+        ao.shade_ambient_occlusion(material.diffuse, &occlusion, light)
     }
 
     /// Radiance along the mirror direction (black past the depth limit).

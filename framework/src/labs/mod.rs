@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab11;
 pub mod strategies;
 
 use crate::grading::{DeniedItem, ExerciseInfo};
@@ -70,6 +71,12 @@ pub const COURSE: &[Lab] = &[
         number: 7,
         title: "Anti-aliasing",
         exercises: || infos(7, &lab07::checks::exercises()),
+        denied: &[],
+    },
+    Lab {
+        number: 11,
+        title: "Ambient occlusion and HDR light probes",
+        exercises: || infos(11, &lab11::checks::exercises()),
         denied: &[],
     },
 ];

@@ -29,6 +29,7 @@ use super::{
     CameraSetup, DirectionalLight, IllumModel, Light, Material, MaterialId, Mesh, Plane,
     PointLight, Scene, SceneDescription, Sphere, Texture,
 };
+use super::{EnvironmentMap, ProbeMapping};
 use crate::Error;
 use crate::film::one_line;
 
@@ -86,6 +87,7 @@ fn position(text: &str, at: usize) -> String {
 struct SceneToml {
     name: Option<String>,
     background: Option<Spanned<[f32; 3]>>,
+    environment: Option<Spanned<EnvironmentToml>>,
     camera: Option<Spanned<CameraToml>>,
     #[serde(default)]
     materials: BTreeMap<String, Spanned<MaterialToml>>,
@@ -97,6 +99,14 @@ struct SceneToml {
     spheres: Vec<Spanned<SphereToml>>,
     #[serde(default)]
     meshes: Vec<Spanned<MeshToml>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentToml {
+    probe: PathBuf,
+    mapping: String,
+    scale: Option<f32>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -231,6 +241,14 @@ impl Builder<'_> {
                 "background is {background}; expected finite numbers"
             )));
         }
+
+        let environment = match &file.environment {
+            Some(env) => {
+                self.entry(env.span());
+                Some(self.environment(env.get_ref())?)
+            }
+            None => None,
+        };
 
         let mut materials = Vec::new();
         let mut ids = HashMap::new();
@@ -376,6 +394,7 @@ impl Builder<'_> {
             name,
             camera: Some(camera),
             background,
+            environment,
             materials,
             lights,
             planes,
@@ -389,6 +408,37 @@ impl Builder<'_> {
                 self.fail(reason)
             }
             other => other,
+        })
+    }
+
+    /// The `[environment]` table: checks the mapping and scale, and loads the probe.
+    fn environment(&self, env: &EnvironmentToml) -> Result<EnvironmentMap, Error> {
+        let mapping = ProbeMapping::from_name(&env.mapping).ok_or_else(|| {
+            self.fail(format!(
+                "environment: mapping is '{}'; expected \"angular\" (a light probe's angular map) or \"latlong\" (a latitude–longitude map)",
+                env.mapping.escape_debug()
+            ))
+        })?;
+        let scale = env.scale.unwrap_or(1.0);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(self.fail(format!(
+                "environment: scale is {scale}; expected a positive number"
+            )));
+        }
+        let path = self.base_dir.join(&env.probe);
+        let named_by = match self.at.get() {
+            Some(at) => format!(
+                "the probe of [environment] at {}, {}",
+                self.path.display(),
+                position(self.text, at)
+            ),
+            None => format!("the probe of [environment] in {}", self.path.display()),
+        };
+        let texture = Texture::load_for(&path, &named_by)?;
+        Ok(EnvironmentMap {
+            texture: Arc::new(texture),
+            mapping,
+            scale,
         })
     }
 

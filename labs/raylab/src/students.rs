@@ -103,6 +103,13 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             reference::lab07::Lab07,
             lab07
         )),
+        11 => visitor.visit(lab_code!(
+            11,
+            AmbientOcclusion,
+            ::lab11::Student,
+            reference::lab11::Lab11,
+            lab11
+        )),
         _ => {
             check_lab(lab)?;
             return Err(Error::Invalid {
