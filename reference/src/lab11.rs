@@ -17,7 +17,7 @@ impl AmbientOcclusion for Lab11 {
             let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
             let r2 = p.length_squared();
             // Points very near the centre have no reliable direction.
-            if r2 > 1.0 || r2 < 1e-6 || p.dot(normal) < 0.0 {
+            if !(1e-6..=1.0).contains(&r2) || p.dot(normal) < 0.0 {
                 continue;
             }
             return HemisphereSample {

@@ -148,3 +148,108 @@ impl ProceduralProbe {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Writes a 32 × 16 OpenEXR file of `(x, y, x + y)` per texel with `encoding`.
+    fn write_exr(path: &Path, encoding: exr::prelude::Encoding) {
+        use exr::prelude::*;
+        let layer = Layer::new(
+            (32, 16),
+            LayerAttributes::named("probe"),
+            encoding,
+            SpecificChannels::rgb(|p: exr::math::Vec2<usize>| {
+                (p.x() as f32, p.y() as f32, (p.x() + p.y()) as f32)
+            }),
+        );
+        Image::from_layer(layer).write().to_file(path).unwrap();
+    }
+
+    #[test]
+    fn loads_scanline_tiled_and_compressed_openexr_probes() {
+        use exr::prelude::{Blocks, Compression, Encoding, LineOrder};
+        let dir = std::env::temp_dir().join(format!("raylab-probe-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let encodings = [
+            ("scanline", Encoding::UNCOMPRESSED),
+            (
+                "tiled-zip",
+                Encoding {
+                    compression: Compression::ZIP16,
+                    blocks: Blocks::Tiles(exr::math::Vec2(8, 8)),
+                    line_order: LineOrder::Increasing,
+                },
+            ),
+            (
+                "scanline-rle",
+                Encoding {
+                    compression: Compression::RLE,
+                    blocks: Blocks::ScanLines,
+                    line_order: LineOrder::Increasing,
+                },
+            ),
+        ];
+        for (name, encoding) in encodings {
+            let path = dir.join(format!("{name}.exr"));
+            write_exr(&path, encoding);
+            let env = EnvironmentMap::load(&path, ProbeMapping::Latlong, 2.0).unwrap();
+            assert_eq!((env.texture.width, env.texture.height), (32, 16), "{name}");
+            // Texel (5, 3) at the centre of its cell; u wraps, v clamps.
+            let uv = Vec2::new(5.5 / 32.0, 3.5 / 16.0);
+            assert_eq!(env.texel(uv), 2.0 * Vec3::new(5.0, 3.0, 8.0), "{name}");
+            assert_eq!(env.texel(uv + Vec2::X), env.texel(uv), "{name}");
+            assert_eq!(env.texel(Vec2::new(uv.x, 7.0)).y, 2.0 * 15.0, "{name}");
+        }
+        // PIZ is refused with a message saying how to re-save the file.
+        let piz = dir.join("piz.exr");
+        write_exr(
+            &piz,
+            Encoding {
+                compression: Compression::PIZ,
+                blocks: Blocks::ScanLines,
+                line_order: LineOrder::Increasing,
+            },
+        );
+        let e = EnvironmentMap::load(&piz, ProbeMapping::Latlong, 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("ZIP"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn angular_maps_are_black_outside_their_disc() {
+        let env = EnvironmentMap {
+            texture: Arc::new(Texture {
+                path: "white".into(),
+                width: 4,
+                height: 4,
+                texels: vec![Vec3::ONE; 16],
+            }),
+            mapping: ProbeMapping::Angular,
+            scale: 1.0,
+        };
+        assert_eq!(env.texel(Vec2::new(0.5, 0.5)), Vec3::ONE);
+        assert_eq!(env.texel(Vec2::new(0.02, 0.02)), Vec3::ZERO);
+        assert_eq!(env.texel(Vec2::NAN), Vec3::ZERO);
+        assert_eq!(
+            ProbeMapping::from_name("latlong"),
+            Some(ProbeMapping::Latlong)
+        );
+        assert_eq!(ProbeMapping::from_name("sphere"), None);
+        for p in ProceduralProbe::ALL {
+            for d in [
+                Vec3::X,
+                Vec3::Y,
+                Vec3::NEG_Y,
+                Vec3::NEG_Z,
+                Vec3::new(0.6, 0.0, 0.8),
+            ] {
+                let l = p.radiance(d);
+                assert!(l.is_finite() && l.min_element() >= 0.0, "{p:?} {d}");
+            }
+        }
+    }
+}

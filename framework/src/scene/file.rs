@@ -573,6 +573,35 @@ up = [0, 1, 0]
 focal_distance = 1.0
 ";
 
+    #[test]
+    fn environment_table_is_checked() {
+        let e = scene_file_error(&format!(
+            "[environment]\nprobe = \"sky.hdr\"\nmapping = \"sphere\"\n{CAMERA}"
+        ));
+        assert!(
+            e.contains("line 1") && e.contains("mapping is 'sphere'") && e.contains("latlong"),
+            "{e}"
+        );
+        let e = scene_file_error(&format!(
+            "[environment]\nprobe = \"sky.hdr\"\nmapping = \"angular\"\nscale = -1\n{CAMERA}"
+        ));
+        assert!(e.contains("scale is -1"), "{e}");
+        let e = parse_scene_str(
+            "bad.toml",
+            &format!("[environment]\nprobe = \"missing.hdr\"\nmapping = \"angular\"\n{CAMERA}"),
+            Path::new("."),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("missing.hdr")
+                && e.contains("the probe of [environment] at bad.toml, line 1"),
+            "{e}"
+        );
+        let scene = parse_scene_str("ok.toml", CAMERA, Path::new(".")).unwrap();
+        assert!(scene.environment.is_none());
+    }
+
     /// The `SceneFile` error message for `text`.
     fn scene_file_error(text: &str) -> String {
         match parse_scene_str("bad.toml", text, Path::new(".")) {
