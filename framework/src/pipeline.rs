@@ -8,13 +8,13 @@ use std::sync::Arc;
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::contracts::lab09::{self, Addressing, TextureFilter};
-use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab10};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab10, lab11};
 use crate::math::Ray;
 use crate::sampling::Rng;
 use crate::scene::{
     AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
 };
-use crate::scene::{Hit, HitSurface, Material};
+use crate::scene::{EnvironmentMap, Hit, HitSurface, Material, ProbeMapping};
 
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -55,11 +55,14 @@ pub struct Pipeline {
     pub texturing: Arc<dyn lab09::Texturing>,
     /// Lab 10, Fresnel reflectance and absorption.
     pub fresnel: Arc<dyn lab10::Fresnel>,
+    /// Lab 11, ambient occlusion and light probes.
+    pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
     /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 9 adds diffuse
     /// textures; 10 weights reflection and refraction by the Fresnel reflectance and absorbs
-    /// light in volumes.
+    /// light in volumes; 11 adds the light probe of a scene that has one (the radiance of rays
+    /// that leave the scene, ambient occlusion on Lambertian surfaces).
     pub lab: u32,
     /// What to show.
     pub view: View,
@@ -67,6 +70,8 @@ pub struct Pipeline {
     pub area_light_samples: u32,
     /// Reflected and refracted rays stop after this many bounces (lab 04).
     pub max_depth: u32,
+    /// Rays per shading point of ambient occlusion, and their sampler (lab 11).
+    pub occlusion_rays: (u32, lab11::HemisphereSampler),
     /// How textures are read between texel centres (lab 09).
     pub texture_filter: TextureFilter,
     /// What textures do outside `[0, 1]` (lab 09).
@@ -100,6 +105,7 @@ one_slot! {
     dyn lab07::Antialiasing => antialiasing,
     dyn lab09::Texturing => texturing,
     dyn lab10::Fresnel => fresnel,
+    dyn lab11::AmbientOcclusion => ambient_occlusion,
 }
 
 /// Lab 02's code fills two slots: the intersections and the shading.
@@ -216,7 +222,10 @@ impl Pipeline {
             return Vec3::NAN;
         }
         let Some(mut hit) = self.trace_to_closest(scene, ray) else {
-            return scene.background;
+            return match &scene.environment {
+                Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
+                _ => scene.background,
+            };
         };
         hit.trace_depth = depth;
         hit.ior = ior;
@@ -254,8 +263,50 @@ impl Pipeline {
                     + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
             IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, diffuse, rng),
-            IllumModel::Lambertian => emitted + self.shade_lambertian(scene, &hit, diffuse, rng),
+            IllumModel::Lambertian => match &scene.environment {
+                Some(env) if self.lab >= 11 => {
+                    emitted
+                        + self.shade_lambertian(scene, &hit, diffuse, rng)
+                        + self.shade_ambient(scene, env, &hit, diffuse, rng)
+                }
+                _ => emitted + self.shade_lambertian(scene, &hit, diffuse, rng),
+            },
         }
+    }
+
+    /// The probe's radiance from the direction `direction` (unit or not), through lab 11's
+    /// mapping of directions to texture coordinates (Exercises 11.5, 11.7).
+    pub fn environment_radiance(&self, env: &EnvironmentMap, direction: Vec3) -> Vec3 {
+        let d = direction.normalize();
+        let uv = match env.mapping {
+            ProbeMapping::Angular => self.ambient_occlusion.angular_map_uv(d),
+            ProbeMapping::Latlong => self.ambient_occlusion.latlong_uv(d),
+        };
+        env.texel(uv)
+    }
+
+    /// The ambient-occlusion shader at a Lambertian hit lit by the probe (Exercises
+    /// 11.1–11.3, 11.9): the accessibility and bent normal from `occlusion_rays` rays traced
+    /// with `trace_to_any`, the probe looked up along the bent normal.
+    fn shade_ambient(
+        &self,
+        scene: &Scene,
+        env: &EnvironmentMap,
+        hit: &Hit,
+        diffuse: Vec3,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let ao = self.ambient_occlusion.as_ref();
+        let n = hit.shading_normal;
+        let (rays, sampler) = self.occlusion_rays;
+        let draw = |rng: &mut Rng| match sampler {
+            lab11::HemisphereSampler::Rejection => ao.sample_hemisphere_rejection(n, rng),
+            lab11::HemisphereSampler::Cosine => ao.sample_hemisphere_cosine(n, rng),
+        };
+        let occluded = |ray: &Ray| self.trace_to_any(scene, ray);
+        let occlusion = ao.ambient_occlusion(hit.position, n, rays, &draw, &occluded, rng);
+        let light = self.environment_radiance(env, occlusion.bent_normal);
+        ao.shade_ambient_occlusion(diffuse, &occlusion, light)
     }
 
     /// Radiance along the mirror direction (black past the depth limit).

@@ -28,6 +28,11 @@ pub mod lab10;
 use std::sync::Arc;
 
 use framework::contracts::lab09::{Addressing, TextureFilter};
+#[cfg(feature = "key-lab11")]
+pub mod lab11;
+
+
+use framework::contracts::lab11::HemisphereSampler;
 use framework::pipeline::{Pipeline, View};
 
 include!(concat!(env!("OUT_DIR"), "/keys.rs"));
@@ -53,6 +58,8 @@ mod slots {
     pub use super::lab09::Lab09;
     #[cfg(feature = "key-lab10")]
     pub use super::lab10::Lab10;
+    #[cfg(feature = "key-lab11")]
+    pub use super::lab11::Lab11;
     #[cfg(not(feature = "key-lab01"))]
     pub use ::lab01::Student as Lab01;
     #[cfg(not(feature = "key-lab02"))]
@@ -71,6 +78,8 @@ mod slots {
     pub use ::lab09::Student as Lab09;
     #[cfg(not(feature = "key-lab10"))]
     pub use ::lab10::Student as Lab10;
+    #[cfg(not(feature = "key-lab11"))]
+    pub use ::lab11::Student as Lab11;
 }
 
 /// The reference pipeline with every lab enabled up to `lab`.
@@ -86,11 +95,13 @@ pub fn pipeline(lab: u32) -> Pipeline {
         antialiasing: Arc::new(slots::Lab07),
         texturing: Arc::new(slots::Lab09),
         fresnel: Arc::new(slots::Lab10),
+        ambient_occlusion: Arc::new(slots::Lab11),
         lab,
         view: View::Shaded,
         area_light_samples: 4,
         max_depth: 10,
         texture_filter: TextureFilter::Bilinear,
         texture_addressing: Addressing::Repeat,
+        occlusion_rays: (64, HemisphereSampler::Cosine),
     }
 }

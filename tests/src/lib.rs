@@ -28,6 +28,7 @@ macro_rules! for_each_lab {
         $each!(7, lab07, Antialiasing, Lab07);
         $each!(9, lab09, Texturing, Lab09);
         $each!(10, lab10, Fresnel, Lab10);
+        $each!(11, lab11, AmbientOcclusion, Lab11);
     };
 }
 

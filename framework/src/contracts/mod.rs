@@ -14,3 +14,4 @@ pub mod lab06;
 pub mod lab07;
 pub mod lab09;
 pub mod lab10;
+pub mod lab11;

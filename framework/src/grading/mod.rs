@@ -2,6 +2,7 @@
 //! snapshot comparison. A lab crate's `cargo test`, the reference's CI run and `raylab grade`
 //! all go through [`run_exercise`], so they judge student code the same way.
 
+pub mod chi2;
 mod denied;
 mod golden;
 pub mod harness;

@@ -11,6 +11,7 @@ pub mod lab06;
 pub mod lab07;
 pub mod lab09;
 pub mod lab10;
+pub mod lab11;
 pub mod strategies;
 
 use crate::grading::{DeniedItem, ExerciseInfo};
@@ -79,10 +80,18 @@ pub const COURSE: &[Lab] = &[
         title: "Texture mapping",
         exercises: || infos(9, &lab09::checks::exercises()),
         denied: LAB09_DENIED,
+    },
+    Lab {
         number: 10,
         title: "Fresnel reflectance and absorption",
         exercises: || infos(10, &lab10::checks::exercises()),
         denied: LAB10_DENIED,
+    },
+    Lab {
+        number: 11,
+        title: "Ambient occlusion and HDR light probes",
+        exercises: || infos(11, &lab11::checks::exercises()),
+        denied: &[],
     },
 ];
 

@@ -29,6 +29,7 @@ use super::{
     CameraSetup, DirectionalLight, IllumModel, Light, Material, MaterialId, Mesh, Plane,
     PointLight, Scene, SceneDescription, Sphere, Texture,
 };
+use super::{EnvironmentMap, ProbeMapping};
 use crate::Error;
 use crate::film::one_line;
 
@@ -86,6 +87,7 @@ fn position(text: &str, at: usize) -> String {
 struct SceneToml {
     name: Option<String>,
     background: Option<Spanned<[f32; 3]>>,
+    environment: Option<Spanned<EnvironmentToml>>,
     camera: Option<Spanned<CameraToml>>,
     #[serde(default)]
     materials: BTreeMap<String, Spanned<MaterialToml>>,
@@ -97,6 +99,14 @@ struct SceneToml {
     spheres: Vec<Spanned<SphereToml>>,
     #[serde(default)]
     meshes: Vec<Spanned<MeshToml>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentToml {
+    probe: PathBuf,
+    mapping: String,
+    scale: Option<f32>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -231,6 +241,14 @@ impl Builder<'_> {
                 "background is {background}; expected finite numbers"
             )));
         }
+
+        let environment = match &file.environment {
+            Some(env) => {
+                self.entry(env.span());
+                Some(self.environment(env.get_ref())?)
+            }
+            None => None,
+        };
 
         let mut materials = Vec::new();
         let mut ids = HashMap::new();
@@ -376,6 +394,7 @@ impl Builder<'_> {
             name,
             camera: Some(camera),
             background,
+            environment,
             materials,
             lights,
             planes,
@@ -389,6 +408,37 @@ impl Builder<'_> {
                 self.fail(reason)
             }
             other => other,
+        })
+    }
+
+    /// The `[environment]` table: checks the mapping and scale, and loads the probe.
+    fn environment(&self, env: &EnvironmentToml) -> Result<EnvironmentMap, Error> {
+        let mapping = ProbeMapping::from_name(&env.mapping).ok_or_else(|| {
+            self.fail(format!(
+                "environment: mapping is '{}'; expected \"angular\" (a light probe's angular map) or \"latlong\" (a latitude–longitude map)",
+                env.mapping.escape_debug()
+            ))
+        })?;
+        let scale = env.scale.unwrap_or(1.0);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(self.fail(format!(
+                "environment: scale is {scale}; expected a positive number"
+            )));
+        }
+        let path = self.base_dir.join(&env.probe);
+        let named_by = match self.at.get() {
+            Some(at) => format!(
+                "the probe of [environment] at {}, {}",
+                self.path.display(),
+                position(self.text, at)
+            ),
+            None => format!("the probe of [environment] in {}", self.path.display()),
+        };
+        let texture = Texture::load_for(&path, &named_by)?;
+        Ok(EnvironmentMap {
+            texture: Arc::new(texture),
+            mapping,
+            scale,
         })
     }
 
@@ -522,6 +572,35 @@ look_at = [0, 0, 0]
 up = [0, 1, 0]
 focal_distance = 1.0
 ";
+
+    #[test]
+    fn environment_table_is_checked() {
+        let e = scene_file_error(&format!(
+            "[environment]\nprobe = \"sky.hdr\"\nmapping = \"sphere\"\n{CAMERA}"
+        ));
+        assert!(
+            e.contains("line 1") && e.contains("mapping is 'sphere'") && e.contains("latlong"),
+            "{e}"
+        );
+        let e = scene_file_error(&format!(
+            "[environment]\nprobe = \"sky.hdr\"\nmapping = \"angular\"\nscale = -1\n{CAMERA}"
+        ));
+        assert!(e.contains("scale is -1"), "{e}");
+        let e = parse_scene_str(
+            "bad.toml",
+            &format!("[environment]\nprobe = \"missing.hdr\"\nmapping = \"angular\"\n{CAMERA}"),
+            Path::new("."),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("missing.hdr")
+                && e.contains("the probe of [environment] at bad.toml, line 1"),
+            "{e}"
+        );
+        let scene = parse_scene_str("ok.toml", CAMERA, Path::new(".")).unwrap();
+        assert!(scene.environment.is_none());
+    }
 
     /// The `SceneFile` error message for `text`.
     fn scene_file_error(text: &str) -> String {

@@ -5,6 +5,7 @@
 
 mod builtin;
 mod camera;
+mod environment;
 mod file;
 mod hit;
 mod light;
@@ -16,6 +17,7 @@ mod trace;
 
 pub use builtin::{BUILTIN_SCENES, builtin_scene};
 pub use camera::CameraSetup;
+pub use environment::{EnvironmentMap, ProbeMapping, ProceduralProbe};
 pub use file::{load_scene_file, parse_scene_str};
 pub use hit::{Hit, HitSurface};
 pub use light::{AreaLight, DirectionalLight, Light, PointLight};
@@ -40,6 +42,9 @@ pub struct Scene {
     pub camera: CameraSetup,
     /// Colour of rays that hit nothing.
     pub background: Vec3,
+    /// The light probe around the scene, if any: from lab 11 on the radiance of rays that hit
+    /// nothing, and the light of ambient occlusion.
+    pub environment: Option<EnvironmentMap>,
     /// All materials; geometry refers to them by [`MaterialId`].
     pub materials: Vec<Material>,
     /// Light sources, including one [`AreaLight`] for all emissive triangles.
@@ -63,6 +68,8 @@ pub struct SceneDescription {
     pub camera: Option<CameraSetup>,
     /// Colour of rays that hit nothing.
     pub background: Vec3,
+    /// The light probe around the scene, if any (lab 11).
+    pub environment: Option<EnvironmentMap>,
     /// Materials.
     pub materials: Vec<Material>,
     /// Point and directional lights (area lights are found from emissive materials).
@@ -83,6 +90,7 @@ impl Scene {
             name,
             camera,
             background,
+            environment,
             materials,
             mut lights,
             planes,
@@ -119,6 +127,7 @@ impl Scene {
             name,
             camera,
             background,
+            environment,
             materials,
             lights,
             planes,

@@ -109,12 +109,20 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             ::lab09::Student,
             reference::lab09::Lab09,
             lab09
+        )),
         10 => visitor.visit(lab_code!(
             10,
             Fresnel,
             ::lab10::Student,
             reference::lab10::Lab10,
             lab10
+        )),
+        11 => visitor.visit(lab_code!(
+            11,
+            AmbientOcclusion,
+            ::lab11::Student,
+            reference::lab11::Lab11,
+            lab11
         )),
         _ => {
             check_lab(lab)?;

@@ -11,6 +11,7 @@ pub mod lab06;
 pub mod lab07;
 pub mod lab09;
 pub mod lab10;
+pub mod lab11;
 
 /// Whether a variant is a mistake or a legitimate alternative.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

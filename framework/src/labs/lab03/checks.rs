@@ -286,6 +286,7 @@ fn test_scene(planes: &[(Vec3, Vec3)], quads: &[([Vec3; 4], bool)], lights: Vec<
             focal_distance: 1.0,
         }),
         background: Vec3::ZERO,
+        environment: None,
         materials: vec![Material::lambertian("white", Vec3::splat(0.8)), lamp],
         lights,
         planes: planes

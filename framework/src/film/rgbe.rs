@@ -1,0 +1,199 @@
+//! The raw pixels of a Radiance RGBE (`.hdr`) file: its header and run-length-encoded
+//! scanlines read byte for byte, without converting a pixel to floats — what lab 11's
+//! RGBE exercise converts, and what its check compares with the `image` crate's decoder.
+
+use std::path::Path;
+
+use super::image_io::{LoadBudget, read_bounded};
+use crate::Error;
+
+/// The pixels of a Radiance file as stored: `[r, g, b, e]` per pixel, row by row from the top.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RgbeImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The pixels, `width · height` of them.
+    pub pixels: Vec<[u8; 4]>,
+}
+
+impl RgbeImage {
+    /// Reads the Radiance file `path` under the [`LoadBudget::current`] budget: a
+    /// `#?RADIANCE` or `#?RGBE` header in `32-bit_rle_rgbe` format, the standard orientation
+    /// `-Y height +X width`, and flat or (new-style) run-length-encoded scanlines.
+    pub fn read(path: &Path) -> Result<Self, Error> {
+        let fail = |reason: String| Error::Texture {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let budget = LoadBudget::current();
+        let bytes = read_bounded(path, &budget).map_err(|e| fail(e.to_string()))?;
+        Self::parse(&bytes, &budget).map_err(fail)
+    }
+
+    /// Parses the bytes of a Radiance file (see [`RgbeImage::read`]).
+    pub fn parse(bytes: &[u8], budget: &LoadBudget) -> Result<Self, String> {
+        let mut at = 0;
+        let line = |at: &mut usize| -> Result<String, String> {
+            let rest = &bytes[*at..];
+            let end = rest
+                .iter()
+                .position(|&b| b == b'\n')
+                .ok_or("the header ends before the resolution line")?;
+            *at += end + 1;
+            Ok(String::from_utf8_lossy(&rest[..end]).into_owned())
+        };
+        let magic = line(&mut at)?;
+        if !(magic.starts_with("#?RADIANCE") || magic.starts_with("#?RGBE")) {
+            return Err(format!(
+                "not a Radiance file: it starts with {:?}, expected \"#?RADIANCE\"",
+                magic.chars().take(16).collect::<String>()
+            ));
+        }
+        loop {
+            let l = line(&mut at)?;
+            if l.is_empty() {
+                break;
+            }
+            if let Some(format) = l.strip_prefix("FORMAT=") {
+                if format.trim() != "32-bit_rle_rgbe" {
+                    return Err(format!(
+                        "FORMAT={format}: only 32-bit_rle_rgbe is read (not XYZE)"
+                    ));
+                }
+            }
+        }
+        let resolution = line(&mut at)?;
+        let parts: Vec<&str> = resolution.split_whitespace().collect();
+        let (height, width) = match parts.as_slice() {
+            ["-Y", h, "+X", w] => (
+                h.parse::<u32>().map_err(|e| format!("height {h:?}: {e}"))?,
+                w.parse::<u32>().map_err(|e| format!("width {w:?}: {e}"))?,
+            ),
+            _ => {
+                return Err(format!(
+                    "resolution line {resolution:?}: only the standard orientation \"-Y height +X width\" is read"
+                ));
+            }
+        };
+        let pixels = u64::from(width) * u64::from(height);
+        if pixels == 0 || pixels > budget.max_pixels {
+            return Err(format!(
+                "the image is {width} × {height} pixels; expected 1 to {} pixels",
+                budget.max_pixels
+            ));
+        }
+        let mut out = Vec::with_capacity(pixels as usize);
+        let w = width as usize;
+        let take = |at: &mut usize, n: usize| -> Result<&[u8], String> {
+            let s = bytes
+                .get(*at..*at + n)
+                .ok_or_else(|| format!("the pixel data ends early (at byte {})", *at))?;
+            *at += n;
+            Ok(s)
+        };
+        let mut channels = vec![0u8; 4 * w];
+        for row in 0..height {
+            let head = bytes.get(at..at + 4).unwrap_or(&[]);
+            let rle = (8..0x8000).contains(&w)
+                && head.len() == 4
+                && head[0] == 2
+                && head[1] == 2
+                && (usize::from(head[2]) << 8 | usize::from(head[3])) == w;
+            if !rle {
+                for p in take(&mut at, 4 * w)?.chunks_exact(4) {
+                    out.push([p[0], p[1], p[2], p[3]]);
+                }
+                continue;
+            }
+            at += 4;
+            for c in 0..4 {
+                let mut x = 0;
+                while x < w {
+                    let count = take(&mut at, 1)?[0] as usize;
+                    let (n, run) = if count > 128 {
+                        (count - 128, true)
+                    } else {
+                        (count, false)
+                    };
+                    if n == 0 || x + n > w {
+                        return Err(format!(
+                            "row {row}: a run of {n} pixels at column {x} does not fit the width {w}"
+                        ));
+                    }
+                    if run {
+                        let v = take(&mut at, 1)?[0];
+                        channels[c * w + x..c * w + x + n].fill(v);
+                    } else {
+                        channels[c * w + x..c * w + x + n].copy_from_slice(take(&mut at, n)?);
+                    }
+                    x += n;
+                }
+            }
+            out.extend((0..w).map(|x| {
+                [
+                    channels[x],
+                    channels[w + x],
+                    channels[2 * w + x],
+                    channels[3 * w + x],
+                ]
+            }));
+        }
+        Ok(Self {
+            width,
+            height,
+            pixels: out,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_flat_and_run_length_encoded_rows() {
+        // Row 0 of 8 pixels run-length encoded, row 1 flat, both holding pixel k = [k, 2k, 200, 130]
+        // (with k = 7 for the last four of row 0, a run).
+        let mut bytes = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n".to_vec();
+        let row0: Vec<[u8; 4]> = (0..8u8)
+            .map(|k| k.min(7))
+            .map(|k| if k >= 4 { 7 } else { k })
+            .map(|k| [k, 2 * k, 200, 130])
+            .collect();
+        bytes.extend([2, 2, 0, 8]);
+        for c in 0..4 {
+            let v: Vec<u8> = row0.iter().map(|p| p[c]).collect();
+            bytes.push(4);
+            bytes.extend(&v[..4]);
+            bytes.extend([128 + 4, v[4]]);
+        }
+        let row1: Vec<[u8; 4]> = (0..8u8).map(|k| [k, 2 * k, 200, 130]).collect();
+        bytes.extend(row1.iter().flatten());
+        let img = RgbeImage::parse(&bytes, &LoadBudget::DEFAULT).unwrap();
+        assert_eq!((img.width, img.height), (8, 2));
+        assert_eq!(img.pixels[..8], row0[..]);
+        assert_eq!(img.pixels[8..], row1[..]);
+        // The image crate's encoder writes the same format.
+        let rgb = vec![image::Rgb([0.5f32, 2.0, 1e-3]); 16 * 3];
+        let mut encoded = Vec::new();
+        image::codecs::hdr::HdrEncoder::new(&mut encoded)
+            .encode(&rgb, 16, 3)
+            .unwrap();
+        let img = RgbeImage::parse(&encoded, &LoadBudget::DEFAULT).unwrap();
+        assert_eq!(img.pixels.len(), 48);
+        assert!(img.pixels.iter().all(|p| *p == img.pixels[0]));
+
+        assert!(RgbeImage::parse(b"P6\n", &LoadBudget::DEFAULT).is_err());
+        let e = RgbeImage::parse(
+            b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 2 +X 2\n",
+            &LoadBudget::DEFAULT,
+        )
+        .unwrap_err();
+        assert!(e.contains("orientation"), "{e}");
+        let e = RgbeImage::parse(b"#?RADIANCE\n\n-Y 2 +X 2\n\x01\x02", &LoadBudget::DEFAULT)
+            .unwrap_err();
+        assert!(e.contains("ends early"), "{e}");
+    }
+}

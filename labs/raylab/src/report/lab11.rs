@@ -1,0 +1,138 @@
+//! Lab 11's figures, the hand-in's Figures 4.1 and 4.3: ambient occlusion with rejection
+//! against cosine-weighted sampling at 100, 200 and 300 rays per shading point, under a
+//! uniform white environment (the image is the accessibility times the reflectance); and the
+//! scene lit by the lab's two light probes — the sky (an angular map in Radiance RGBE) and the
+//! studio (a latitude–longitude map in OpenEXR) — with the probe behind it and in the mirror.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use framework::Error;
+use framework::contracts::lab11::HemisphereSampler;
+use framework::film::ToneMap;
+use framework::glam::Vec3;
+use framework::labs::lab11::checks::{SKY_PROBE, STUDIO_PROBE};
+use framework::pipeline::Pipeline;
+use framework::scene::{EnvironmentMap, ProbeMapping, Scene, Texture, load_scene_file};
+
+use super::{Figure, ReportContext, montage, settings};
+
+/// The rays per shading point of Figure 4.1.
+const RAYS: [u32; 3] = [100, 200, 300];
+
+fn lab_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../lab11")
+}
+
+/// The lab's scene, lit by the probe file `probe` of `labs/lab11/probes/`.
+pub fn probe_scene(probe: Option<(&str, ProbeMapping)>) -> Result<Scene, Error> {
+    let mut scene = load_scene_file(&lab_dir().join("scenes/probe-spheres.toml"))?;
+    scene.environment = Some(match probe {
+        Some((file, mapping)) => {
+            EnvironmentMap::load(&lab_dir().join("probes").join(file), mapping, 1.0)?
+        }
+        // A uniform white environment of radiance 1: the render is ρ·A.
+        None => EnvironmentMap {
+            texture: Arc::new(Texture {
+                path: PathBuf::from("uniform white"),
+                width: 1,
+                height: 1,
+                texels: vec![Vec3::ONE],
+            }),
+            mapping: ProbeMapping::Latlong,
+            scale: 1.0,
+        },
+    });
+    Ok(scene)
+}
+
+/// The figures of lab 11.
+pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let (w, h) = ctx.size(320, 240);
+    let with = |rays: u32, sampler: HemisphereSampler| Pipeline {
+        occlusion_rays: (if ctx.quick { rays / 10 } else { rays }, sampler),
+        ..ctx.pipeline.clone()
+    };
+    let white = probe_scene(None)?;
+    // Start the worker threads before the first timed render.
+    ctx.render_timed(
+        &white,
+        &with(4, HemisphereSampler::Cosine),
+        &settings(32, 24, 1),
+    )?;
+
+    let mut rows = Vec::new();
+    let mut times = Vec::new();
+    let mut total = 0.0;
+    for sampler in [HemisphereSampler::Rejection, HemisphereSampler::Cosine] {
+        let mut films = Vec::new();
+        for rays in RAYS {
+            let (film, t) = ctx.render_timed(&white, &with(rays, sampler), &settings(w, h, 1))?;
+            films.push(film);
+            times.push(format!("{sampler:?} {rays}: {t:.2} s"));
+            total += t;
+        }
+        rows.push(montage(&films, 4));
+    }
+    // The two rows one above the other.
+    let (top, bottom) = (&rows[0], &rows[1]);
+    let mut grid = framework::film::Film::new(top.width, top.height + 4 + bottom.height);
+    grid.pixels.fill(Vec3::ONE);
+    for y in 0..top.height {
+        for x in 0..top.width {
+            grid.set(x, y, top.get(x, y));
+            grid.set(x, y + top.height + 4, bottom.get(x, y));
+        }
+    }
+    let file = "ao-rejection-vs-cosine.png";
+    ctx.save(&grid, file, ToneMap::default())?;
+    let mut figures = vec![Figure {
+        file: file.into(),
+        caption: "Figure 4.1: ambient occlusion, rejection sampling (top) against cosine-weighted sampling (bottom), 100, 200 and 300 rays per shading point (left to right)".into(),
+        parameters: format!(
+            "The lab's scene (labs/lab11/scenes/probe-spheres.toml) under a uniform white environment of radiance 1, so each pixel is ρ·A (reflectance times accessibility) plus the mirror's reflection of it; {w}×{h}, one camera ray per pixel, seed 0. The same estimator (Exercise 11.3) weights each free ray by cos θ/(π·pdf): both samplers converge to the same image, the cosine-weighted one with less noise at the same number of rays. Times: {}",
+            times.join(", ")
+        ),
+        seconds: Some(total),
+    }];
+
+    let (w, h) = ctx.size(480, 360);
+    let rays = if ctx.quick { 16 } else { 200 };
+    for (probe, mapping, caption, file) in [
+        (
+            SKY_PROBE,
+            ProbeMapping::Angular,
+            "Figure 4.3a: lit by the sky probe (angular map, Radiance RGBE)",
+            "probe-sky.png",
+        ),
+        (
+            STUDIO_PROBE,
+            ProbeMapping::Latlong,
+            "Figure 4.3b: lit by the studio probe (latitude–longitude map, OpenEXR)",
+            "probe-studio.png",
+        ),
+    ] {
+        let scene = probe_scene(Some((probe, mapping)))?;
+        let pipeline = with(rays, HemisphereSampler::Cosine);
+        let spp = if ctx.quick { 1 } else { 4 };
+        let (film, t) = ctx.render_timed(&scene, &pipeline, &settings(w, h, spp))?;
+        ctx.save(
+            &film,
+            file,
+            ToneMap::Reinhard {
+                key: 0.18,
+                white: 4.0,
+            },
+        )?;
+        figures.push(Figure {
+            file: file.into(),
+            caption: caption.into(),
+            parameters: format!(
+                "labs/lab11/probes/{probe} ({} mapping) behind the scene and in the mirror sphere; the diffuse surfaces by the ambient-occlusion shader (Exercise 11.9): ρ·A·L(bent normal), {rays} cosine-weighted rays per shading point; {w}×{h}, {spp} rays per pixel, seed 0; Reinhard's operator, key 0.18, L_white = 4",
+                mapping.name()
+            ),
+            seconds: Some(t),
+        });
+    }
+    Ok(figures)
+}
