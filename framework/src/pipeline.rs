@@ -7,8 +7,9 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08};
 use crate::math::Ray;
+use crate::photon::{PhotonMap, PhotonSettings};
 use crate::sampling::Rng;
 use crate::scene::Hit;
 use crate::scene::{
@@ -25,6 +26,9 @@ pub enum View {
     BaseColour,
     /// The shading normal mapped from `[−1, 1]` to `[0, 1]`.
     Normals,
+    /// Only the caustics (lab 08): the photon map's radiance estimate at diffuse surfaces,
+    /// seen through mirrors and glass, without the direct lighting.
+    Caustics,
 }
 
 /// The components of a render, one slot per lab contract, and the integrator that calls them
@@ -50,9 +54,18 @@ pub struct Pipeline {
     pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// Lab 08, photon-mapped caustics: the emission of photons, the roulette at glass and the
+    /// radiance estimate.
+    pub photon_mapping: Arc<dyn lab08::PhotonMapping>,
+    /// Lab 08: the caustic photon map diffuse surfaces gather from (from lab 8 on); `None`
+    /// (no caustics) until [`crate::photon::with_caustics`] traces one for a scene.
+    pub caustics: Option<Arc<PhotonMap>>,
+    /// Lab 08: how many photons to trace, and the radiance estimate's `k` and maximum radius.
+    pub photons: PhotonSettings,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
-    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision.
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 8 adds caustics
+    /// from the photon map.
     pub lab: u32,
     /// What to show.
     pub view: View,
@@ -87,6 +100,7 @@ one_slot! {
     dyn lab05::Radiometry => radiometry,
     dyn lab06::Radiosity => radiosity,
     dyn lab07::Antialiasing => antialiasing,
+    dyn lab08::PhotonMapping => photon_mapping,
 }
 
 /// Lab 02's code fills two slots: the intersections and the shading.
@@ -212,7 +226,7 @@ impl Pipeline {
             View::Normals => return 0.5 * (hit.shading_normal + Vec3::ONE),
             View::BaseColour => return material.diffuse,
             View::Shaded if self.lab < 2 => return material.diffuse,
-            View::Shaded => {}
+            View::Shaded | View::Caustics => {}
         }
         let emitted = material.emission;
         if self.lab < 4 {
@@ -231,9 +245,56 @@ impl Pipeline {
                     + 0.1 * self.trace_reflected(scene, ray, &hit, rng)
                     + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
-            IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, rng),
-            IllumModel::Lambertian => emitted + self.shade_lambertian(scene, &hit, rng),
+            IllumModel::Phong => {
+                emitted + self.direct(|| self.shade_phong(scene, ray, &hit, rng)) + self.caustic(scene, &hit)
+            }
+            IllumModel::Lambertian => {
+                emitted + self.direct(|| self.shade_lambertian(scene, &hit, rng)) + self.caustic(scene, &hit)
+            }
         }
+    }
+
+    /// The direct lighting `shade` computes, or none in the caustics-only view.
+    fn direct(&self, shade: impl FnOnce() -> Vec3) -> Vec3 {
+        if self.view == View::Caustics {
+            Vec3::ZERO
+        } else {
+            shade()
+        }
+    }
+
+    /// The caustic radiance at a diffuse hit (from lab 8 on, with a photon map): the photons
+    /// nearest to it through the lab 08 slot's estimate (Exercise 8.4).
+    fn caustic(&self, scene: &Scene, hit: &Hit) -> Vec3 {
+        match &self.caustics {
+            Some(map) if self.lab >= 8 => {
+                let (k, r) = (self.photons.k as usize, self.photons.max_radius);
+                let nearby = map.nearest(hit.position, k, r);
+                let diffuse = scene.material(hit.material).diffuse;
+                self.photon_mapping
+                    .caustic_radiance(diffuse, hit.shading_normal, &nearby, k, r)
+            }
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// The reflectance of a dielectric surface for light arriving at `cos_i` (the cosine of
+    /// the angle of incidence) from a medium of index `eta_i` into one of `eta_t`: Schlick's
+    /// approximation, 1 under total internal reflection. The photon tracer's roulette at glass
+    /// takes it (lab 08).
+    pub(crate) fn dielectric_reflectance(&self, cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+        let cos_i = cos_i.abs().min(1.0);
+        let r0 = ((eta_i - eta_t) / (eta_i + eta_t)).powi(2);
+        let cos = if eta_i > eta_t {
+            let sin2_t = (eta_i / eta_t).powi(2) * (1.0 - cos_i * cos_i);
+            if sin2_t >= 1.0 {
+                return 1.0;
+            }
+            (1.0 - sin2_t).sqrt()
+        } else {
+            cos_i
+        };
+        (r0 + (1.0 - r0) * (1.0 - cos).powi(5)).clamp(0.0, 1.0)
     }
 
     /// Radiance along the mirror direction (black past the depth limit).

@@ -20,9 +20,12 @@ pub mod lab05;
 pub mod lab06;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
+#[cfg(feature = "key-lab08")]
+pub mod lab08;
 
 use std::sync::Arc;
 
+use framework::photon::PhotonSettings;
 use framework::pipeline::{Pipeline, View};
 
 include!(concat!(env!("OUT_DIR"), "/keys.rs"));
@@ -44,6 +47,8 @@ mod slots {
     pub use super::lab06::Lab06;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
+    #[cfg(feature = "key-lab08")]
+    pub use super::lab08::Lab08;
     #[cfg(not(feature = "key-lab01"))]
     pub use ::lab01::Student as Lab01;
     #[cfg(not(feature = "key-lab02"))]
@@ -58,6 +63,8 @@ mod slots {
     pub use ::lab06::Student as Lab06;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
+    #[cfg(not(feature = "key-lab08"))]
+    pub use ::lab08::Student as Lab08;
 }
 
 /// The reference pipeline with every lab enabled up to `lab`.
@@ -71,6 +78,9 @@ pub fn pipeline(lab: u32) -> Pipeline {
         radiometry: Arc::new(slots::Lab05),
         radiosity: Arc::new(slots::Lab06),
         antialiasing: Arc::new(slots::Lab07),
+        photon_mapping: Arc::new(slots::Lab08),
+        caustics: None,
+        photons: PhotonSettings::DEFAULT,
         lab,
         view: View::Shaded,
         area_light_samples: 4,

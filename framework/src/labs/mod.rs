@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab08;
 pub mod strategies;
 
 use crate::grading::{DeniedItem, ExerciseInfo};
@@ -70,6 +71,12 @@ pub const COURSE: &[Lab] = &[
         number: 7,
         title: "Anti-aliasing",
         exercises: || infos(7, &lab07::checks::exercises()),
+        denied: &[],
+    },
+    Lab {
+        number: 8,
+        title: "Photon-mapped caustics",
+        exercises: || infos(8, &lab08::checks::exercises()),
         denied: &[],
     },
 ];

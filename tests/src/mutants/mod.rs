@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab08;
 
 /// Whether a variant is a mistake or a legitimate alternative.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

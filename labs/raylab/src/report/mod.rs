@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab08;
 pub mod plot;
 
 use std::cell::RefCell;
