@@ -246,10 +246,14 @@ impl Pipeline {
                     + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
             IllumModel::Phong => {
-                emitted + self.direct(|| self.shade_phong(scene, ray, &hit, rng)) + self.caustic(scene, &hit)
+                emitted
+                    + self.direct(|| self.shade_phong(scene, ray, &hit, rng))
+                    + self.caustic(scene, &hit)
             }
             IllumModel::Lambertian => {
-                emitted + self.direct(|| self.shade_lambertian(scene, &hit, rng)) + self.caustic(scene, &hit)
+                emitted
+                    + self.direct(|| self.shade_lambertian(scene, &hit, rng))
+                    + self.caustic(scene, &hit)
             }
         }
     }
@@ -283,18 +287,7 @@ impl Pipeline {
     /// approximation, 1 under total internal reflection. The photon tracer's roulette at glass
     /// takes it (lab 08).
     pub(crate) fn dielectric_reflectance(&self, cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
-        let cos_i = cos_i.abs().min(1.0);
-        let r0 = ((eta_i - eta_t) / (eta_i + eta_t)).powi(2);
-        let cos = if eta_i > eta_t {
-            let sin2_t = (eta_i / eta_t).powi(2) * (1.0 - cos_i * cos_i);
-            if sin2_t >= 1.0 {
-                return 1.0;
-            }
-            (1.0 - sin2_t).sqrt()
-        } else {
-            cos_i
-        };
-        (r0 + (1.0 - r0) * (1.0 - cos).powi(5)).clamp(0.0, 1.0)
+        schlick_reflectance(cos_i, eta_i, eta_t)
     }
 
     /// Radiance along the mirror direction (black past the depth limit).
@@ -444,5 +437,45 @@ fn surface_hit(t: f32, normal: Vec3) -> PrimitiveHit {
         t,
         normal,
         barycentrics: Vec2::ZERO,
+    }
+}
+
+/// Schlick's approximation of the reflectance of a dielectric surface, 1 under total internal
+/// reflection (see [`Pipeline::dielectric_reflectance`]).
+fn schlick_reflectance(cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+    let cos_i = cos_i.abs().min(1.0);
+    let r0 = ((eta_i - eta_t) / (eta_i + eta_t)).powi(2);
+    let cos = if eta_i > eta_t {
+        let sin2_t = (eta_i / eta_t).powi(2) * (1.0 - cos_i * cos_i);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        (1.0 - sin2_t).sqrt()
+    } else {
+        cos_i
+    };
+    (r0 + (1.0 - r0) * (1.0 - cos).powi(5)).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::schlick_reflectance;
+
+    #[test]
+    fn schlick_reflectance_of_glass() {
+        // Normal incidence: ((n₁ − n₂)/(n₁ + n₂))² = 0.04 from either side.
+        assert!((schlick_reflectance(1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((schlick_reflectance(1.0, 1.5, 1.0) - 0.04).abs() < 1e-6);
+        // Grazing incidence reflects everything.
+        assert!((schlick_reflectance(0.0, 1.0, 1.5) - 1.0).abs() < 1e-6);
+        // Beyond the critical angle inside glass (sin θ > 1/1.5): total internal reflection.
+        assert_eq!(schlick_reflectance(0.7, 1.5, 1.0), 1.0);
+        // Rising with the angle of incidence.
+        let mut last = 0.0;
+        for i in (0..=100).rev() {
+            let r = schlick_reflectance(i as f32 / 100.0, 1.0, 1.5);
+            assert!(r >= last && (0.0..=1.0).contains(&r), "{r} after {last}");
+            last = r;
+        }
     }
 }

@@ -38,9 +38,9 @@ pub struct PhotonSettings {
 
 impl PhotonSettings {
     /// A good caustic of the built-in Cornell box with the glass sphere in about a second on
-    /// two cores: 200 000 photons, `k = 50` within 2.5 cm (docs/lab08.md measures it).
+    /// two cores: a million photons, `k = 50` within 2.5 cm (docs/lab08.md measures it).
     pub const DEFAULT: PhotonSettings = PhotonSettings {
-        emitted: 200_000,
+        emitted: 1_000_000,
         k: 50,
         max_radius: 0.025,
         seed: 0,
@@ -133,12 +133,9 @@ impl PhotonMap {
             return Vec::new();
         }
         let r2 = max_radius * max_radius;
-        let mut found = self.tree.nearest_n_within::<SquaredEuclidean>(
-            &point.to_array(),
-            r2,
-            k,
-            true,
-        );
+        let mut found =
+            self.tree
+                .nearest_n_within::<SquaredEuclidean>(&point.to_array(), r2, k, true);
         found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
         found
             .into_iter()
@@ -223,7 +220,12 @@ mod tests {
             max_radius: f32::NAN,
             ..PhotonSettings::DEFAULT
         };
-        assert!(bad.validate().unwrap_err().to_string().contains("radius NaN"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("radius NaN")
+        );
         assert!(PhotonSettings::DEFAULT.validate().is_ok());
     }
 }

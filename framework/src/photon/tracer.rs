@@ -80,7 +80,10 @@ fn shares(pipeline: &Pipeline, scene: &Scene, emitted: u32) -> Vec<Share> {
         let power = match light {
             Light::Point(p) => {
                 let mut rng = Rng::new(0, u64::MAX);
-                pipeline.photon_mapping.emit_point_light(p, 1, &mut rng).power
+                pipeline
+                    .photon_mapping
+                    .emit_point_light(p, 1, &mut rng)
+                    .power
             }
             Light::Area(area) if !area.faces.is_empty() => {
                 let mut rng = Rng::new(0, u64::MAX);
@@ -197,9 +200,7 @@ pub fn trace_photon(
                                 .russian_roulette(reflectance, power, rng);
                         power = carried;
                         match scatter {
-                            Scatter::Reflect => {
-                                ray = pipeline.reflection.reflected_ray(&ray, &hit)
-                            }
+                            Scatter::Reflect => ray = pipeline.reflection.reflected_ray(&ray, &hit),
                             Scatter::Refract => {
                                 ray = refracted;
                                 ior = ior_t;

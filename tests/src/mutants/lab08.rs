@@ -143,31 +143,49 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "point light: the photon carries the light's whole power",
             verdict: Verdict::Reject("8.1"),
-            point: Some(|l, _, rng| point_photon(l, in_ball(rng).normalize(), 4.0 * PI * l.intensity)),
+            point: Some(|l, _, rng| {
+                point_photon(l, in_ball(rng).normalize(), 4.0 * PI * l.intensity)
+            }),
             ..NONE
         },
         Variant {
             name: "point light: power I/N (the 4π of the sphere forgotten)",
             verdict: Verdict::Reject("8.1"),
-            point: Some(|l, n, rng| point_photon(l, in_ball(rng).normalize(), l.intensity / n as f32)),
+            point: Some(|l, n, rng| {
+                point_photon(l, in_ball(rng).normalize(), l.intensity / n as f32)
+            }),
             ..NONE
         },
         Variant {
             name: "point light: power 2πI/N (a hemisphere's solid angle)",
             verdict: Verdict::Reject("8.1"),
-            point: Some(|l, n, rng| point_photon(l, in_ball(rng).normalize(), 2.0 * PI * l.intensity / n as f32)),
+            point: Some(|l, n, rng| {
+                point_photon(
+                    l,
+                    in_ball(rng).normalize(),
+                    2.0 * PI * l.intensity / n as f32,
+                )
+            }),
             ..NONE
         },
         Variant {
             name: "point light: a point of the cube normalised without rejecting the corners",
             verdict: Verdict::Reject("8.1"),
-            point: Some(|l, n, rng| point_photon(l, in_cube(rng).normalize(), 4.0 * PI * l.intensity / n as f32)),
+            point: Some(|l, n, rng| {
+                point_photon(
+                    l,
+                    in_cube(rng).normalize(),
+                    4.0 * PI * l.intensity / n as f32,
+                )
+            }),
             ..NONE
         },
         Variant {
             name: "point light: the point in the ball is not normalised",
             verdict: Verdict::Reject("8.1"),
-            point: Some(|l, n, rng| point_photon(l, in_ball(rng), 4.0 * PI * l.intensity / n as f32)),
+            point: Some(|l, n, rng| {
+                point_photon(l, in_ball(rng), 4.0 * PI * l.intensity / n as f32)
+            }),
             ..NONE
         },
         Variant {
@@ -175,7 +193,11 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.1"),
             point: Some(|l, n, rng| {
                 let (theta, phi) = (PI * rng.next_f32(), 2.0 * PI * rng.next_f32());
-                let d = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+                let d = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
                 point_photon(l, d, 4.0 * PI * l.intensity / n as f32)
             }),
             ..NONE
@@ -185,7 +207,11 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.1"),
             point: Some(|l, n, rng| {
                 let d = in_ball(rng).normalize();
-                point_photon(l, Vec3::new(d.x, d.y, d.z.abs()), 4.0 * PI * l.intensity / n as f32)
+                point_photon(
+                    l,
+                    Vec3::new(d.x, d.y, d.z.abs()),
+                    4.0 * PI * l.intensity / n as f32,
+                )
             }),
             ..NONE
         },
@@ -194,7 +220,11 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.1"),
             point: Some(|l, n, rng| {
                 let mut copy = rng.clone();
-                point_photon(l, in_ball(&mut copy).normalize(), 4.0 * PI * l.intensity / n as f32)
+                point_photon(
+                    l,
+                    in_ball(&mut copy).normalize(),
+                    4.0 * PI * l.intensity / n as f32,
+                )
             }),
             ..NONE
         },
@@ -205,7 +235,12 @@ pub fn variants() -> Vec<Variant> {
             area: Some(|p, nrm, le, a, n, rng| {
                 let (z, phi) = (rng.next_f32(), 2.0 * PI * rng.next_f32());
                 let r = (1.0 - z * z).max(0.0).sqrt();
-                area_photon(p, nrm, Vec3::new(r * phi.cos(), r * phi.sin(), z), PI * le * a / n as f32)
+                area_photon(
+                    p,
+                    nrm,
+                    Vec3::new(r * phi.cos(), r * phi.sin(), z),
+                    PI * le * a / n as f32,
+                )
             }),
             ..NONE
         },
@@ -215,7 +250,12 @@ pub fn variants() -> Vec<Variant> {
             area: Some(|p, nrm, le, a, n, rng| {
                 let (r, phi) = (rng.next_f32(), 2.0 * PI * rng.next_f32());
                 let z = (1.0 - r * r).max(0.0).sqrt();
-                area_photon(p, nrm, Vec3::new(r * phi.cos(), r * phi.sin(), z), PI * le * a / n as f32)
+                area_photon(
+                    p,
+                    nrm,
+                    Vec3::new(r * phi.cos(), r * phi.sin(), z),
+                    PI * le * a / n as f32,
+                )
             }),
             ..NONE
         },
@@ -270,7 +310,11 @@ pub fn variants() -> Vec<Variant> {
             name: "roulette: reflects with probability 1 − R",
             verdict: Verdict::Reject("8.3"),
             roulette: Some(|r, power, rng| {
-                if rng.next_f32() < r { (Scatter::Refract, power) } else { (Scatter::Reflect, power) }
+                if rng.next_f32() < r {
+                    (Scatter::Refract, power)
+                } else {
+                    (Scatter::Reflect, power)
+                }
             }),
             ..NONE
         },
@@ -278,7 +322,11 @@ pub fn variants() -> Vec<Variant> {
             name: "roulette: also weights the power by R or 1 − R",
             verdict: Verdict::Reject("8.3"),
             roulette: Some(|r, power, rng| {
-                if rng.next_f32() < r { (Scatter::Reflect, power * r) } else { (Scatter::Refract, power * (1.0 - r)) }
+                if rng.next_f32() < r {
+                    (Scatter::Reflect, power * r)
+                } else {
+                    (Scatter::Refract, power * (1.0 - r))
+                }
             }),
             ..NONE
         },
@@ -286,7 +334,11 @@ pub fn variants() -> Vec<Variant> {
             name: "roulette: always refracts unless R > ½ (no random number)",
             verdict: Verdict::Reject("8.3"),
             roulette: Some(|r, power, _| {
-                if r > 0.5 { (Scatter::Reflect, power) } else { (Scatter::Refract, power) }
+                if r > 0.5 {
+                    (Scatter::Reflect, power)
+                } else {
+                    (Scatter::Refract, power)
+                }
             }),
             ..NONE
         },
@@ -294,7 +346,11 @@ pub fn variants() -> Vec<Variant> {
             name: "roulette: reflects with probability R², a second draw",
             verdict: Verdict::Reject("8.3"),
             roulette: Some(|r, power, rng| {
-                if rng.next_f32() < r && rng.next_f32() < r { (Scatter::Reflect, power) } else { (Scatter::Refract, power) }
+                if rng.next_f32() < r && rng.next_f32() < r {
+                    (Scatter::Reflect, power)
+                } else {
+                    (Scatter::Refract, power)
+                }
             }),
             ..NONE
         },
@@ -304,7 +360,11 @@ pub fn variants() -> Vec<Variant> {
             roulette: Some(|r, power, rng| {
                 let _ = rng.next_u32();
                 let mut own = Rng::new(1, 1);
-                if own.next_f32() < r { (Scatter::Reflect, power) } else { (Scatter::Refract, power) }
+                if own.next_f32() < r {
+                    (Scatter::Reflect, power)
+                } else {
+                    (Scatter::Refract, power)
+                }
             }),
             ..NONE
         },
@@ -324,7 +384,9 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "estimate: divides by πr instead of πr²",
             verdict: Verdict::Reject("8.4"),
-            radiance: Some(|d, n, ps, k, r| d / PI * front_flux(ps, n) / (PI * radius2(ps, k, r).sqrt())),
+            radiance: Some(|d, n, ps, k, r| {
+                d / PI * front_flux(ps, n) / (PI * radius2(ps, k, r).sqrt())
+            }),
             ..NONE
         },
         Variant {
@@ -337,8 +399,14 @@ pub fn variants() -> Vec<Variant> {
             name: "estimate: the nearest photon's distance as the disc's radius",
             verdict: Verdict::Reject("8.4"),
             radiance: Some(|d, n, ps, k, r| {
-                let r2 = if ps.len() >= k { ps.first().map_or(0.0, |p| p.distance_squared) } else { r * r };
-                if r2 <= 0.0 { return Vec3::ZERO; }
+                let r2 = if ps.len() >= k {
+                    ps.first().map_or(0.0, |p| p.distance_squared)
+                } else {
+                    r * r
+                };
+                if r2 <= 0.0 {
+                    return Vec3::ZERO;
+                }
                 d / PI * front_flux(ps, n) / (PI * r2)
             }),
             ..NONE
@@ -348,7 +416,9 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.4"),
             radiance: Some(|d, _, ps, k, r| {
                 let r2 = radius2(ps, k, r);
-                if r2 <= 0.0 { return Vec3::ZERO; }
+                if r2 <= 0.0 {
+                    return Vec3::ZERO;
+                }
                 d / PI * ps.iter().map(|p| p.power).sum::<Vec3>() / (PI * r2)
             }),
             ..NONE
@@ -358,7 +428,9 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.4"),
             radiance: Some(|d, n, ps, k, r| {
                 let r2 = radius2(ps, k, r);
-                if r2 <= 0.0 || ps.is_empty() { return Vec3::ZERO; }
+                if r2 <= 0.0 || ps.is_empty() {
+                    return Vec3::ZERO;
+                }
                 d / PI * front_flux(ps, n) / ps.len() as f32 / (PI * r2)
             }),
             ..NONE
@@ -368,7 +440,9 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.4"),
             radiance: Some(|d, n, ps, k, r| {
                 let r2 = radius2(ps, k, r);
-                if r2 <= 0.0 { return Vec3::ZERO; }
+                if r2 <= 0.0 {
+                    return Vec3::ZERO;
+                }
                 Vec3::splat((d.x + d.y + d.z) / 3.0) / PI * front_flux(ps, n) / (PI * r2)
             }),
             ..NONE
@@ -378,8 +452,13 @@ pub fn variants() -> Vec<Variant> {
             verdict: Verdict::Reject("8.4"),
             radiance: Some(|d, n, ps, k, r| {
                 let r2 = radius2(ps, k, r);
-                if r2 <= 0.0 { return Vec3::ZERO; }
-                let flux: Vec3 = ps.iter().map(|p| p.power * (-p.direction.dot(n)).max(0.0)).sum();
+                if r2 <= 0.0 {
+                    return Vec3::ZERO;
+                }
+                let flux: Vec3 = ps
+                    .iter()
+                    .map(|p| p.power * (-p.direction.dot(n)).max(0.0))
+                    .sum();
                 d / PI * flux / (PI * r2)
             }),
             ..NONE
@@ -391,7 +470,11 @@ pub fn variants() -> Vec<Variant> {
             point: Some(|l, n, rng| {
                 let (z, phi) = (1.0 - 2.0 * rng.next_f32(), 2.0 * PI * rng.next_f32());
                 let s = (1.0 - z * z).max(0.0).sqrt();
-                point_photon(l, Vec3::new(s * phi.cos(), s * phi.sin(), z), l.intensity * (4.0 * PI / n as f32))
+                point_photon(
+                    l,
+                    Vec3::new(s * phi.cos(), s * phi.sin(), z),
+                    l.intensity * (4.0 * PI / n as f32),
+                )
             }),
             area: Some(|p, nrm, le, a, n, rng| {
                 let (u1, u2) = (rng.next_f32(), rng.next_f32());
@@ -399,14 +482,20 @@ pub fn variants() -> Vec<Variant> {
                 let b1 = nrm.cross(t).normalize();
                 let b2 = nrm.cross(b1);
                 let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
-                let d = (r * phi.cos() * b1 + r * phi.sin() * b2 + (1.0 - u1).max(0.0).sqrt() * nrm).normalize();
+                let d =
+                    (r * phi.cos() * b1 + r * phi.sin() * b2 + (1.0 - u1).max(0.0).sqrt() * nrm)
+                        .normalize();
                 EmittedPhoton {
                     ray: Ray::unbounded(p, d, RAY_EPSILON),
                     power: le * (a * PI) / n as f32,
                 }
             }),
             roulette: Some(|r, power, rng| {
-                if 1.0 - rng.next_f32() <= r { (Scatter::Reflect, power) } else { (Scatter::Refract, power) }
+                if 1.0 - rng.next_f32() <= r {
+                    (Scatter::Reflect, power)
+                } else {
+                    (Scatter::Refract, power)
+                }
             }),
             ..NONE
         },
@@ -426,8 +515,14 @@ pub fn variants() -> Vec<Variant> {
                 point_photon(l, d, 4.0 * PI * l.intensity / n as f32)
             }),
             radiance: Some(|d, n, ps, k, r| {
-                let r2 = if ps.len() < k { r * r } else { ps.iter().fold(0.0f32, |m, p| m.max(p.distance_squared)) };
-                if r2 <= 0.0 { return Vec3::ZERO; }
+                let r2 = if ps.len() < k {
+                    r * r
+                } else {
+                    ps.iter().fold(0.0f32, |m, p| m.max(p.distance_squared))
+                };
+                if r2 <= 0.0 {
+                    return Vec3::ZERO;
+                }
                 let mut flux = Vec3::ZERO;
                 for p in ps.iter().rev() {
                     if n.dot(p.direction) < 0.0 {

@@ -232,7 +232,12 @@ fn close(a: Vec3, b: Vec3) -> bool {
 }
 
 /// The checks of an emitted photon's ray common to both lights.
-fn check_ray(call: &str, photon: &EmittedPhoton, origin: Vec3, min_tmin: bool) -> Result<(), String> {
+fn check_ray(
+    call: &str,
+    photon: &EmittedPhoton,
+    origin: Vec3,
+    min_tmin: bool,
+) -> Result<(), String> {
     let ray = &photon.ray;
     if !(ray.origin.is_finite() && ray.direction.is_finite() && photon.power.is_finite()) {
         return Err(format!("{call} = {photon:?} is not finite"));
@@ -252,11 +257,18 @@ fn check_ray(call: &str, photon: &EmittedPhoton, origin: Vec3, min_tmin: bool) -
         ));
     }
     if !(ray.tmin >= 0.0 && ray.tmin <= RAY_EPSILON) || (min_tmin && ray.tmin <= 0.0) {
-        let expected = if min_tmin { "in (0, RAY_EPSILON]: it starts on the light's surface" } else { "in [0, RAY_EPSILON]" };
+        let expected = if min_tmin {
+            "in (0, RAY_EPSILON]: it starts on the light's surface"
+        } else {
+            "in [0, RAY_EPSILON]"
+        };
         return Err(format!("{call}: tmin = {}, expected {expected}", ray.tmin));
     }
     if ray.tmax < 1e30 {
-        return Err(format!("{call}: tmax = {}, expected an unbounded ray", ray.tmax));
+        return Err(format!(
+            "{call}: tmax = {}, expected an unbounded ray",
+            ray.tmax
+        ));
     }
     if photon.power.min_element() < 0.0 {
         return Err(format!("{call}: negative power {}", photon.power));
@@ -272,7 +284,12 @@ pub type PointInput = (Vec3, Vec3, u32);
 
 /// Inputs of Exercise 8.1 over every scale.
 pub fn point_input() -> impl Strategy<Value = PointInput> + Clone {
-    (point(1.0), scale(), (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0), 1u32..1_000_000)
+    (
+        point(1.0),
+        scale(),
+        (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0),
+        1u32..1_000_000,
+    )
         .prop_map(|(p, s, (r, g, b), n)| (p * s, Vec3::new(r, g, b), n))
 }
 
@@ -285,41 +302,71 @@ fn point_light(position: Vec3, intensity: Vec3) -> PointLight {
 
 fn exercise_8_1(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.photon_mapping.clone());
-    for_all(300, (point_input(), any::<u64>()), |((position, intensity, n), seed)| {
-        let light = point_light(position, intensity);
-        let call = format!("emit_point_light({light:?}, emitted = {n}, rng)");
-        let mut rng = Rng::new(seed, 1);
-        let before = rng.clone();
-        let photon = s.emit_point_light(&light, n, &mut rng);
-        check_ray(&call, &photon, position, false)?;
-        if !advanced(&rng, &before) {
-            return Err(format!("{call}: the generator passed in did not move on; draw the direction's numbers from it"));
-        }
-        let again = s.emit_point_light(&light, n, &mut Rng::new(seed ^ 0x5555, 2));
-        if !close(again.power, photon.power) {
-            return Err(format!("{call}: the power {} changes with the direction drawn (another gives {}); every photon carries the same share", photon.power, again.power));
-        }
-        let n2 = if n > 1 { n / 2 } else { 7 };
-        let other = s.emit_point_light(&light, n2, &mut Rng::new(seed, 3));
-        if !close(photon.power * n as f32, other.power * n2 as f32) {
-            return Err(format!("{call}: power {} but {} with emitted = {n2}: the light's power must be shared equally among the photons emitted (N·Φ_p the same for every N)", photon.power, other.power));
-        }
-        let doubled = s.emit_point_light(&point_light(position, 2.0 * intensity), n, &mut Rng::new(seed, 4));
-        if !close(doubled.power, 2.0 * photon.power) {
-            return Err(format!("{call}: power {} but {} for twice the intensity: the power is proportional to the intensity", photon.power, doubled.power));
-        }
-        if let Some(key) = &key {
-            let expected = key.emit_point_light(&light, n, &mut Rng::new(seed, 1)).power;
-            compare_vec3(&format!("{call}: the photon's power"), photon.power, expected, 1e-30, REL_TOL)?;
-        }
-        Ok(())
-    })?;
-    let golden: GoldenFile<PointInput, Vec3> = GoldenFile::load(&ctx.golden_path(GOLDEN_POINT)).map_err(|e| e.to_string())?;
+    for_all(
+        300,
+        (point_input(), any::<u64>()),
+        |((position, intensity, n), seed)| {
+            let light = point_light(position, intensity);
+            let call = format!("emit_point_light({light:?}, emitted = {n}, rng)");
+            let mut rng = Rng::new(seed, 1);
+            let before = rng.clone();
+            let photon = s.emit_point_light(&light, n, &mut rng);
+            check_ray(&call, &photon, position, false)?;
+            if !advanced(&rng, &before) {
+                return Err(format!(
+                    "{call}: the generator passed in did not move on; draw the direction's numbers from it"
+                ));
+            }
+            let again = s.emit_point_light(&light, n, &mut Rng::new(seed ^ 0x5555, 2));
+            if !close(again.power, photon.power) {
+                return Err(format!(
+                    "{call}: the power {} changes with the direction drawn (another gives {}); every photon carries the same share",
+                    photon.power, again.power
+                ));
+            }
+            let n2 = if n > 1 { n / 2 } else { 7 };
+            let other = s.emit_point_light(&light, n2, &mut Rng::new(seed, 3));
+            if !close(photon.power * n as f32, other.power * n2 as f32) {
+                return Err(format!(
+                    "{call}: power {} but {} with emitted = {n2}: the light's power must be shared equally among the photons emitted (N·Φ_p the same for every N)",
+                    photon.power, other.power
+                ));
+            }
+            let doubled = s.emit_point_light(
+                &point_light(position, 2.0 * intensity),
+                n,
+                &mut Rng::new(seed, 4),
+            );
+            if !close(doubled.power, 2.0 * photon.power) {
+                return Err(format!(
+                    "{call}: power {} but {} for twice the intensity: the power is proportional to the intensity",
+                    photon.power, doubled.power
+                ));
+            }
+            if let Some(key) = &key {
+                let expected = key
+                    .emit_point_light(&light, n, &mut Rng::new(seed, 1))
+                    .power;
+                compare_vec3(
+                    &format!("{call}: the photon's power"),
+                    photon.power,
+                    expected,
+                    1e-30,
+                    REL_TOL,
+                )?;
+            }
+            Ok(())
+        },
+    )?;
+    let golden: GoldenFile<PointInput, Vec3> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_POINT)).map_err(|e| e.to_string())?;
     for case in &golden.cases {
         let (position, intensity, n) = case.input;
         let photon = s.emit_point_light(&point_light(position, intensity), n, &mut Rng::new(11, 0));
         compare_vec3(
-            &format!("emit_point_light(position {position}, intensity {intensity}, emitted = {n}): the power (recorded case)"),
+            &format!(
+                "emit_point_light(position {position}, intensity {intensity}, emitted = {n}): the power (recorded case)"
+            ),
             photon.power,
             case.expected,
             1e-30,
@@ -332,7 +379,11 @@ fn exercise_8_1(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
     let mut cells = vec![0u32; 8 * 16];
     let mut sum = DVec3::ZERO;
     for _ in 0..DIRECTIONS {
-        let d = s.emit_point_light(&light, 1000, &mut rng).ray.direction.normalize();
+        let d = s
+            .emit_point_light(&light, 1000, &mut rng)
+            .ray
+            .direction
+            .normalize();
         let band = (((d.z + 1.0) * 4.0) as usize).min(7);
         let sector = ((((d.y.atan2(d.x) / (2.0 * PI)) + 0.5) * 16.0) as usize).min(15);
         cells[band * 16 + sector] += 1;
@@ -349,7 +400,10 @@ fn exercise_8_1(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
     let sigma = (1.0 / (3.0 * DIRECTIONS as f64)).sqrt();
     for (axis, m) in ["x", "y", "z"].iter().zip(mean.to_array()) {
         if (m / sigma).abs() > z_max {
-            return Err(format!("the mean direction of {DIRECTIONS} photons has {axis} = {m:.4}, expected 0 (z = {:.1}, limit {z_max:.2}): the directions favour one side", m / sigma));
+            return Err(format!(
+                "the mean direction of {DIRECTIONS} photons has {axis} = {m:.4}, expected 0 (z = {:.1}, limit {z_max:.2}): the directions favour one side",
+                m / sigma
+            ));
         }
     }
     Ok(())
@@ -368,7 +422,14 @@ pub fn area_input() -> impl Strategy<Value = AreaInput> + Clone {
         scale(),
         prop_oneof![
             unit_vector(),
-            prop::sample::select(vec![Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z]),
+            prop::sample::select(vec![
+                Vec3::X,
+                Vec3::NEG_X,
+                Vec3::Y,
+                Vec3::NEG_Y,
+                Vec3::Z,
+                Vec3::NEG_Z
+            ]),
         ],
         (0.0f32..50.0, 0.0f32..50.0, 0.0f32..50.0),
         0.01f32..1.0,
@@ -379,57 +440,115 @@ pub fn area_input() -> impl Strategy<Value = AreaInput> + Clone {
 
 fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.photon_mapping.clone());
-    for_all(300, (area_input(), any::<u64>()), |((position, normal, radiance, area, n), seed)| {
-        let call = format!("emit_area_light(position {position}, normal {normal}, radiance {radiance}, area {area}, emitted = {n}, rng)");
-        let mut rng = Rng::new(seed, 1);
-        let before = rng.clone();
-        let photon = s.emit_area_light(position, normal, radiance, area, n, &mut rng);
-        check_ray(&call, &photon, position, true)?;
-        if photon.ray.direction.dot(normal) < -1e-6 {
-            return Err(format!("{call}: the direction {} leaves the light's back (cos θ = {}); the light emits about its normal", photon.ray.direction, photon.ray.direction.dot(normal)));
-        }
-        if !advanced(&rng, &before) {
-            return Err(format!("{call}: the generator passed in did not move on; draw the direction's numbers from it"));
-        }
-        let emit = |radiance: Vec3, area: f32, n: u32, stream: u64| {
-            s.emit_area_light(position, normal, radiance, area, n, &mut Rng::new(seed, stream)).power
-        };
-        let again = s.emit_area_light(position, normal, radiance, area, n, &mut Rng::new(seed ^ 0x5555, 2)).power;
-        if !close(again, photon.power) {
-            return Err(format!("{call}: the power {} changes with the direction drawn (another gives {again}); every photon carries the same share", photon.power));
-        }
-        let n2 = if n > 1 { n / 2 } else { 7 };
-        let other = emit(radiance, area, n2, 3);
-        if !close(photon.power * n as f32, other * n2 as f32) {
-            return Err(format!("{call}: power {} but {other} with emitted = {n2}: the light's power must be shared equally among the photons emitted", photon.power));
-        }
-        let doubled = emit(2.0 * radiance, area, n, 4);
-        if !close(doubled, 2.0 * photon.power) {
-            return Err(format!("{call}: power {} but {doubled} for twice the radiance: the power is proportional to the radiance", photon.power));
-        }
-        let larger = emit(radiance, 3.0 * area, n, 5);
-        if !close(larger, 3.0 * photon.power) {
-            return Err(format!("{call}: power {} but {larger} for three times the area: the power is proportional to the light's area", photon.power));
-        }
-        if let Some(key) = &key {
-            let expected = key.emit_area_light(position, normal, radiance, area, n, &mut Rng::new(seed, 1)).power;
-            compare_vec3(&format!("{call}: the photon's power"), photon.power, expected, 1e-30, REL_TOL)?;
-        }
-        Ok(())
-    })?;
-    let golden: GoldenFile<AreaInput, Vec3> = GoldenFile::load(&ctx.golden_path(GOLDEN_AREA)).map_err(|e| e.to_string())?;
+    for_all(
+        300,
+        (area_input(), any::<u64>()),
+        |((position, normal, radiance, area, n), seed)| {
+            let call = format!(
+                "emit_area_light(position {position}, normal {normal}, radiance {radiance}, area {area}, emitted = {n}, rng)"
+            );
+            let mut rng = Rng::new(seed, 1);
+            let before = rng.clone();
+            let photon = s.emit_area_light(position, normal, radiance, area, n, &mut rng);
+            check_ray(&call, &photon, position, true)?;
+            if photon.ray.direction.dot(normal) < -1e-6 {
+                return Err(format!(
+                    "{call}: the direction {} leaves the light's back (cos θ = {}); the light emits about its normal",
+                    photon.ray.direction,
+                    photon.ray.direction.dot(normal)
+                ));
+            }
+            if !advanced(&rng, &before) {
+                return Err(format!(
+                    "{call}: the generator passed in did not move on; draw the direction's numbers from it"
+                ));
+            }
+            let emit = |radiance: Vec3, area: f32, n: u32, stream: u64| {
+                s.emit_area_light(
+                    position,
+                    normal,
+                    radiance,
+                    area,
+                    n,
+                    &mut Rng::new(seed, stream),
+                )
+                .power
+            };
+            let again = s
+                .emit_area_light(
+                    position,
+                    normal,
+                    radiance,
+                    area,
+                    n,
+                    &mut Rng::new(seed ^ 0x5555, 2),
+                )
+                .power;
+            if !close(again, photon.power) {
+                return Err(format!(
+                    "{call}: the power {} changes with the direction drawn (another gives {again}); every photon carries the same share",
+                    photon.power
+                ));
+            }
+            let n2 = if n > 1 { n / 2 } else { 7 };
+            let other = emit(radiance, area, n2, 3);
+            if !close(photon.power * n as f32, other * n2 as f32) {
+                return Err(format!(
+                    "{call}: power {} but {other} with emitted = {n2}: the light's power must be shared equally among the photons emitted",
+                    photon.power
+                ));
+            }
+            let doubled = emit(2.0 * radiance, area, n, 4);
+            if !close(doubled, 2.0 * photon.power) {
+                return Err(format!(
+                    "{call}: power {} but {doubled} for twice the radiance: the power is proportional to the radiance",
+                    photon.power
+                ));
+            }
+            let larger = emit(radiance, 3.0 * area, n, 5);
+            if !close(larger, 3.0 * photon.power) {
+                return Err(format!(
+                    "{call}: power {} but {larger} for three times the area: the power is proportional to the light's area",
+                    photon.power
+                ));
+            }
+            if let Some(key) = &key {
+                let expected = key
+                    .emit_area_light(position, normal, radiance, area, n, &mut Rng::new(seed, 1))
+                    .power;
+                compare_vec3(
+                    &format!("{call}: the photon's power"),
+                    photon.power,
+                    expected,
+                    1e-30,
+                    REL_TOL,
+                )?;
+            }
+            Ok(())
+        },
+    )?;
+    let golden: GoldenFile<AreaInput, Vec3> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_AREA)).map_err(|e| e.to_string())?;
     for case in &golden.cases {
         let (position, normal, radiance, area, n) = case.input;
         let photon = s.emit_area_light(position, normal, radiance, area, n, &mut Rng::new(11, 0));
         compare_vec3(
-            &format!("emit_area_light(position {position}, normal {normal}, radiance {radiance}, area {area}, emitted = {n}): the power (recorded case)"),
+            &format!(
+                "emit_area_light(position {position}, normal {normal}, radiance {radiance}, area {area}, emitted = {n}): the power (recorded case)"
+            ),
             photon.power,
             case.expected,
             1e-30,
             REL_TOL,
         )?;
     }
-    let normals = [Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z, Vec3::new(0.48, -0.6, 0.64)];
+    let normals = [
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+        Vec3::new(0.48, -0.6, 0.64),
+    ];
     let z_max = z_limit(2 * normals.len());
     for (i, normal) in normals.into_iter().enumerate() {
         let mut rng = Rng::new(82, i as u64);
@@ -550,30 +669,51 @@ pub fn glass_caustic(pipeline: &Pipeline, seed: u64) -> Result<PhotonTrace, Stri
         seed,
         ..PhotonSettings::DEFAULT
     };
-    Ok(trace_photons(pipeline, &scene, &settings, StoreRule::Caustic))
+    Ok(trace_photons(
+        pipeline,
+        &scene,
+        &settings,
+        StoreRule::Caustic,
+    ))
 }
 
 fn exercise_8_3(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
-    for_all(300, (0.0f32..=1.0, (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0), scale(), any::<u64>()), |(r, (a, b, c), sc, seed)| {
-        let power = Vec3::new(a, b, c) * sc;
-        let call = format!("russian_roulette(reflectance = {r}, power = {power}, rng)");
-        let mut rng = Rng::new(seed, 1);
-        let before = rng.clone();
-        let (_, carried) = s.russian_roulette(r, power, &mut rng);
-        if !close(carried, power) {
-            return Err(format!("{call}: the photon carries {carried} on; Russian roulette keeps its power (the choice itself does the weighting by R)"));
-        }
-        if !advanced(&rng, &before) {
-            return Err(format!("{call}: the generator passed in did not move on; draw the roulette's number from it"));
-        }
-        Ok(())
-    })?;
+    for_all(
+        300,
+        (
+            0.0f32..=1.0,
+            (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0),
+            scale(),
+            any::<u64>(),
+        ),
+        |(r, (a, b, c), sc, seed)| {
+            let power = Vec3::new(a, b, c) * sc;
+            let call = format!("russian_roulette(reflectance = {r}, power = {power}, rng)");
+            let mut rng = Rng::new(seed, 1);
+            let before = rng.clone();
+            let (_, carried) = s.russian_roulette(r, power, &mut rng);
+            if !close(carried, power) {
+                return Err(format!(
+                    "{call}: the photon carries {carried} on; Russian roulette keeps its power (the choice itself does the weighting by R)"
+                ));
+            }
+            if !advanced(&rng, &before) {
+                return Err(format!(
+                    "{call}: the generator passed in did not move on; draw the roulette's number from it"
+                ));
+            }
+            Ok(())
+        },
+    )?;
     let mut rng = Rng::new(83, 0);
     for (r, expected) in [(0.0, Scatter::Refract), (1.0, Scatter::Reflect)] {
         for _ in 0..200 {
             let (got, _) = s.russian_roulette(r, Vec3::ONE, &mut rng);
             if got != expected {
-                return Err(format!("russian_roulette(reflectance = {r}) chose {got:?}; with R = {r} the photon is always {}", if r == 0.0 { "refracted" } else { "reflected" }));
+                return Err(format!(
+                    "russian_roulette(reflectance = {r}) chose {got:?}; with R = {r} the photon is always {}",
+                    if r == 0.0 { "refracted" } else { "reflected" }
+                ));
             }
         }
     }
@@ -584,7 +724,8 @@ fn exercise_8_3(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             .filter(|_| s.russian_roulette(r, Vec3::ONE, &mut rng).0 == Scatter::Reflect)
             .count();
         let p = r as f64;
-        let z = (reflected as f64 - p * DECISIONS as f64) / (DECISIONS as f64 * p * (1.0 - p)).sqrt();
+        let z =
+            (reflected as f64 - p * DECISIONS as f64) / (DECISIONS as f64 * p * (1.0 - p)).sqrt();
         if z.abs() > z_max {
             return Err(format!(
                 "russian_roulette(reflectance = {r}) reflected {reflected} of {DECISIONS} photons drawn one after another ({:.4}), expected a share of R = {r} (z = {z:.1}, limit {z_max:.2})",
@@ -595,7 +736,11 @@ fn exercise_8_3(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
     // Whole traces with the student's roulette.
     let pipeline = part_pipeline(Part::Roulette, s, &ctx.base);
     let scene = check_scene("mirror-box", MIRROR_BOX)?;
-    let settings = PhotonSettings { emitted: 20_000, seed: 3, ..PhotonSettings::DEFAULT };
+    let settings = PhotonSettings {
+        emitted: 20_000,
+        seed: 3,
+        ..PhotonSettings::DEFAULT
+    };
     let trace = trace_photons(&pipeline, &scene, &settings, StoreRule::Caustic);
     let lost = trace.emitted_power - trace.stored_power - trace.truncated_power;
     if lost.abs().max_element() > 1e-4 * trace.emitted_power.max_element()
@@ -606,10 +751,19 @@ fn exercise_8_3(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             trace.stored_power, trace.truncated_power, trace.emitted_power
         ));
     }
-    let golden: GoldenFile<u64, [u32; 3]> = GoldenFile::load(&ctx.golden_path(GOLDEN_CAUSTIC)).map_err(|e| e.to_string())?;
-    let expected = golden.cases.first().ok_or("golden/glass_caustic.json holds no case")?.expected;
+    let golden: GoldenFile<u64, [u32; 3]> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_CAUSTIC)).map_err(|e| e.to_string())?;
+    let expected = golden
+        .cases
+        .first()
+        .ok_or("golden/glass_caustic.json holds no case")?
+        .expected;
     let got = caustic_counts(&glass_caustic(&pipeline, CAUSTIC_SEED)?);
-    let names = ["in the disc of the caustic under the glass sphere", "in the ring around it", "in all"];
+    let names = [
+        "in the disc of the caustic under the glass sphere",
+        "in the ring around it",
+        "in all",
+    ];
     for ((name, g), e) in names.iter().zip(got).zip(expected) {
         let z = (g as f64 - e as f64) / ((g + e) as f64).max(1.0).sqrt();
         if z.abs() > z_max {
@@ -630,10 +784,23 @@ pub type RadianceInput = (Vec3, Vec3, Vec<NearbyPhoton>, usize, f32);
 /// Inputs of Exercise 8.4 over every scale: up to `k` photons sorted by distance, about
 /// half of the sets with exactly `k`, a few photons from behind the surface.
 pub fn radiance_input() -> impl Strategy<Value = RadianceInput> + Clone {
-    (1usize..40, any::<bool>(), scale(), 0.05f32..1.0, unit_vector())
+    (
+        1usize..40,
+        any::<bool>(),
+        scale(),
+        0.05f32..1.0,
+        unit_vector(),
+    )
         .prop_flat_map(|(k, full, sc, r, normal)| {
             let n = if full { k..k + 1 } else { 0..k };
-            let photon = (0.0f32..1.0, 0.0f32..1e-2, 0.0f32..1e-2, 0.0f32..1e-2, unit_vector(), 0u8..10);
+            let photon = (
+                0.0f32..1.0,
+                0.0f32..1e-2,
+                0.0f32..1e-2,
+                0.0f32..1e-2,
+                unit_vector(),
+                0u8..10,
+            );
             (
                 (0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0),
                 Just(normal),
@@ -664,46 +831,72 @@ pub fn radiance_input() -> impl Strategy<Value = RadianceInput> + Clone {
 
 fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.photon_mapping.clone());
-    let radiance = |(diffuse, normal, photons, k, r): &RadianceInput| s.caustic_radiance(*diffuse, *normal, photons, *k, *r);
+    let radiance = |(diffuse, normal, photons, k, r): &RadianceInput| {
+        s.caustic_radiance(*diffuse, *normal, photons, *k, *r)
+    };
     for_all(500, radiance_input(), |input| {
         let (diffuse, normal, photons, k, r) = &input;
         let (k, r) = (*k, *r);
-        let call = format!("caustic_radiance(diffuse {diffuse}, normal {normal}, {} photons, k = {k}, max_radius = {r})", photons.len());
+        let call = format!(
+            "caustic_radiance(diffuse {diffuse}, normal {normal}, {} photons, k = {k}, max_radius = {r})",
+            photons.len()
+        );
         let l = radiance(&input);
         if !l.is_finite() || l.min_element() < 0.0 {
-            return Err(format!("{call} = {l}: expected a finite, non-negative radiance"));
+            return Err(format!(
+                "{call} = {l}: expected a finite, non-negative radiance"
+            ));
         }
         if photons.is_empty() && l != Vec3::ZERO {
             return Err(format!("{call} = {l} without any photon"));
         }
         let doubled = s.caustic_radiance(2.0 * *diffuse, *normal, photons, k, r);
         if !close(doubled, 2.0 * l) {
-            return Err(format!("{call} = {l}, but {doubled} for twice the reflectance: the reflected radiance is proportional to it"));
+            return Err(format!(
+                "{call} = {l}, but {doubled} for twice the reflectance: the reflected radiance is proportional to it"
+            ));
         }
-        let front: Vec<NearbyPhoton> = photons.iter().copied().filter(|p| p.direction.dot(*normal) < 0.0).collect();
+        let front: Vec<NearbyPhoton> = photons
+            .iter()
+            .copied()
+            .filter(|p| p.direction.dot(*normal) < 0.0)
+            .collect();
         if photons.len() < k {
             let only_front = s.caustic_radiance(*diffuse, *normal, &front, k, r);
             if !close(only_front, l) {
-                return Err(format!("{call} = {l}, but {only_front} without the photons that arrived from behind the surface (travelling along the normal): those do not light this side"));
+                return Err(format!(
+                    "{call} = {l}, but {only_front} without the photons that arrived from behind the surface (travelling along the normal): those do not light this side"
+                ));
             }
-            let sum: Vec3 = front.iter().map(|p| s.caustic_radiance(*diffuse, *normal, std::slice::from_ref(p), k, r)).sum();
+            let sum: Vec3 = front
+                .iter()
+                .map(|p| s.caustic_radiance(*diffuse, *normal, std::slice::from_ref(p), k, r))
+                .sum();
             if !close(sum, l) {
-                return Err(format!("{call} = {l}, but the estimates of its photons one by one add up to {sum}: with fewer than k photons found, each adds its own power over the same disc"));
+                return Err(format!(
+                    "{call} = {l}, but the estimates of its photons one by one add up to {sum}: with fewer than k photons found, each adds its own power over the same disc"
+                ));
             }
             let wider = s.caustic_radiance(*diffuse, *normal, photons, k, 2.0 * r);
             if !close(4.0 * wider, l) {
-                return Err(format!("{call} = {l}, but {wider} with twice the maximum radius (the same photons, fewer than k): the photons' power is spread over the disc's area, so doubling its radius quarters the estimate"));
+                return Err(format!(
+                    "{call} = {l}, but {wider} with twice the maximum radius (the same photons, fewer than k): the photons' power is spread over the disc's area, so doubling its radius quarters the estimate"
+                ));
             }
         } else if let Some(farthest) = photons.last() {
             let r_k = farthest.distance_squared.sqrt();
             if r_k > 0.0 {
                 let wider = s.caustic_radiance(*diffuse, *normal, photons, k, 3.0 * r);
                 if !close(wider, l) {
-                    return Err(format!("{call} = {l}, but {wider} with three times the maximum radius: with k photons found the disc is the one that just holds them, whatever the maximum radius"));
+                    return Err(format!(
+                        "{call} = {l}, but {wider} with three times the maximum radius: with k photons found the disc is the one that just holds them, whatever the maximum radius"
+                    ));
                 }
                 let as_max = s.caustic_radiance(*diffuse, *normal, photons, k + 1, r_k);
                 if !close(as_max, l) {
-                    return Err(format!("{call} = {l}, but {as_max} for the same photons found with the farthest one's distance {r_k} as maximum radius (and k + 1): with k found the disc's radius is the farthest photon's distance"));
+                    return Err(format!(
+                        "{call} = {l}, but {as_max} for the same photons found with the farthest one's distance {r_k} as maximum radius (and k + 1): with k found the disc's radius is the farthest photon's distance"
+                    ));
                 }
             }
         }
@@ -713,11 +906,15 @@ fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
         }
         Ok(())
     })?;
-    let golden: GoldenFile<RadianceInput, Vec3> = GoldenFile::load(&ctx.golden_path(GOLDEN_RADIANCE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<RadianceInput, Vec3> =
+        GoldenFile::load(&ctx.golden_path(GOLDEN_RADIANCE)).map_err(|e| e.to_string())?;
     for case in &golden.cases {
         let (diffuse, normal, photons, k, r) = &case.input;
         compare_vec3(
-            &format!("caustic_radiance(diffuse {diffuse}, normal {normal}, {} photons, k = {k}, max_radius = {r}) (recorded case)", photons.len()),
+            &format!(
+                "caustic_radiance(diffuse {diffuse}, normal {normal}, {} photons, k = {k}, max_radius = {r}) (recorded case)",
+                photons.len()
+            ),
             radiance(&case.input),
             case.expected,
             1e-30,
@@ -769,12 +966,21 @@ fn plane_errors(
     k: usize,
     max_radius: f32,
 ) -> Result<Vec<(Vec3, f32, f32)>, String> {
-    let settings = PhotonSettings { emitted: photons, seed: 4, ..PhotonSettings::DEFAULT };
+    let settings = PhotonSettings {
+        emitted: photons,
+        seed: 4,
+        ..PhotonSettings::DEFAULT
+    };
     let trace = trace_photons(base, scene, &settings, StoreRule::FirstDiffuse);
     let Some(Light::Point(light)) = scene.lights.first() else {
         return Err("the lit plane has no point light".into());
     };
-    let diffuse = scene.materials.iter().find(|m| m.name == "white").map(|m| m.diffuse).unwrap_or(Vec3::ONE);
+    let diffuse = scene
+        .materials
+        .iter()
+        .find(|m| m.name == "white")
+        .map(|m| m.diffuse)
+        .unwrap_or(Vec3::ONE);
     let mut out = Vec::new();
     for p in plane_points() {
         let sample = base.shading.sample_point_light(light, p);
@@ -790,7 +996,10 @@ fn plane_errors(
 /// The density estimate against the exact irradiance, and its consistency.
 fn check_density(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
     let scene = check_scene("lit-plane", LIT_PLANE)?;
-    let base = Pipeline { lab: 8, ..ctx.base.clone() };
+    let base = Pipeline {
+        lab: 8,
+        ..ctx.base.clone()
+    };
     let ratios = plane_errors(s, &base, &scene, PLANE_PHOTONS, PLANE_K, PLANE_MAX_RADIUS)?;
     // k photons give a relative standard deviation of 1/√k = 5 %.
     let sigma = 1.0 / (PLANE_K as f32).sqrt();
@@ -812,7 +1021,12 @@ fn check_density(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Str
     let mut errors = Vec::new();
     for (photons, radius) in CONSISTENCY_STEPS {
         let ratios = plane_errors(s, &base, &scene, photons, 100_000, radius)?;
-        let rms = (ratios.iter().map(|(_, r, _)| (r - 1.0).powi(2)).sum::<f32>() / ratios.len() as f32).sqrt();
+        let rms = (ratios
+            .iter()
+            .map(|(_, r, _)| (r - 1.0).powi(2))
+            .sum::<f32>()
+            / ratios.len() as f32)
+            .sqrt();
         errors.push((photons, radius, rms));
     }
     let (first, last) = (errors[0].2, errors[errors.len() - 1].2);

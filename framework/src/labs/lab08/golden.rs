@@ -40,19 +40,23 @@ pub fn generate_golden(
 
     let inputs: Vec<RadianceInput> = samples(radiance_input(), 32, 84);
     let path = ctx.golden_path(GOLDEN_RADIANCE);
-    GoldenFile::record("8.4", &inputs, |(diffuse, normal, photons, k, max_radius)| {
-        r.caustic_radiance(*diffuse, *normal, photons, *k, *max_radius)
-    })
+    GoldenFile::record(
+        "8.4",
+        &inputs,
+        |(diffuse, normal, photons, k, max_radius)| {
+            r.caustic_radiance(*diffuse, *normal, photons, *k, *max_radius)
+        },
+    )
     .save(&path)?;
     written.push(path);
 
     let pipeline = part_pipeline(Part::Roulette, reference, &ctx.base);
-    let counts = caustic_counts(
-        &glass_caustic(&pipeline, CAUSTIC_GOLDEN_SEED).map_err(|reason| Error::Invalid {
+    let counts = caustic_counts(&glass_caustic(&pipeline, CAUSTIC_GOLDEN_SEED).map_err(
+        |reason| Error::Invalid {
             what: "the glass caustic".into(),
             reason,
-        })?,
-    );
+        },
+    )?);
     let path = ctx.golden_path(GOLDEN_CAUSTIC);
     GoldenFile::record("8.3", &[CAUSTIC_GOLDEN_SEED], |_| counts).save(&path)?;
     written.push(path);

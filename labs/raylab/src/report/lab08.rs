@@ -126,7 +126,10 @@ fn photon_preview(
         }
         let x_ip = camera.focal_distance * d.dot(camera.basis.ip_xaxis) / depth;
         let y_ip = camera.focal_distance * d.dot(camera.basis.ip_yaxis) / depth;
-        let (x, y) = (x_ip * h as f32 + w as f32 / 2.0, h as f32 / 2.0 - y_ip * h as f32);
+        let (x, y) = (
+            x_ip * h as f32 + w as f32 / 2.0,
+            h as f32 / 2.0 - y_ip * h as f32,
+        );
         if !(x >= 0.0 && y >= 0.0 && x < w as f32 && y < h as f32) {
             continue;
         }
