@@ -17,6 +17,7 @@ pub mod grading;
 pub mod labs;
 pub mod math;
 mod panic;
+pub mod photon;
 pub mod pipeline;
 pub mod radiosity;
 pub mod render;

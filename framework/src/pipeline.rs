@@ -8,8 +8,9 @@ use std::sync::Arc;
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::contracts::lab09::{self, Addressing, TextureFilter};
-use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab10, lab11};
+use crate::contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11};
 use crate::math::Ray;
+use crate::photon::{PhotonMap, PhotonSettings};
 use crate::sampling::Rng;
 use crate::scene::{
     AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
@@ -26,6 +27,9 @@ pub enum View {
     BaseColour,
     /// The shading normal mapped from `[−1, 1]` to `[0, 1]`.
     Normals,
+    /// Only the caustics (lab 08): the photon map's radiance estimate at diffuse surfaces,
+    /// seen through mirrors and glass, without the direct lighting.
+    Caustics,
 }
 
 /// The components of a render, one slot per lab contract, and the integrator that calls them
@@ -51,6 +55,14 @@ pub struct Pipeline {
     pub radiosity: Arc<dyn lab06::Radiosity>,
     /// Lab 07, pixel subdivision.
     pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// Lab 08, photon-mapped caustics: the emission of photons, the roulette at glass and the
+    /// radiance estimate.
+    pub photon_mapping: Arc<dyn lab08::PhotonMapping>,
+    /// Lab 08: the caustic photon map diffuse surfaces gather from (from lab 8 on); `None`
+    /// (no caustics) until [`crate::photon::with_caustics`] traces one for a scene.
+    pub caustics: Option<Arc<PhotonMap>>,
+    /// Lab 08: how many photons to trace, and the radiance estimate's `k` and maximum radius.
+    pub photons: PhotonSettings,
     /// Lab 09, texture coordinates, addressing and lookups.
     pub texturing: Arc<dyn lab09::Texturing>,
     /// Lab 10, Fresnel reflectance and absorption.
@@ -59,10 +71,11 @@ pub struct Pipeline {
     pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
-    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 9 adds diffuse
-    /// textures; 10 weights reflection and refraction by the Fresnel reflectance and absorbs
-    /// light in volumes; 11 adds the light probe of a scene that has one (the radiance of rays
-    /// that leave the scene, ambient occlusion on Lambertian surfaces).
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 8 adds caustics
+    /// from the photon map; 9 adds diffuse textures; 10 weights reflection and refraction by
+    /// the Fresnel reflectance and absorbs light in volumes; 11 adds the light probe of a scene
+    /// that has one (the radiance of rays that leave the scene, ambient occlusion on Lambertian
+    /// surfaces).
     pub lab: u32,
     /// What to show.
     pub view: View,
@@ -103,6 +116,7 @@ one_slot! {
     dyn lab05::Radiometry => radiometry,
     dyn lab06::Radiosity => radiosity,
     dyn lab07::Antialiasing => antialiasing,
+    dyn lab08::PhotonMapping => photon_mapping,
     dyn lab09::Texturing => texturing,
     dyn lab10::Fresnel => fresnel,
     dyn lab11::AmbientOcclusion => ambient_occlusion,
@@ -235,7 +249,7 @@ impl Pipeline {
             View::Normals => return 0.5 * (hit.shading_normal + Vec3::ONE),
             View::BaseColour => return diffuse,
             View::Shaded if self.lab < 2 => return diffuse,
-            View::Shaded => {}
+            View::Shaded | View::Caustics => {}
         }
         let emitted = material.emission;
         if self.lab < 4 {
@@ -262,15 +276,23 @@ impl Pipeline {
                     + 0.1 * self.trace_reflected(scene, ray, &hit, rng)
                     + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
             }
-            IllumModel::Phong => emitted + self.shade_phong(scene, ray, &hit, diffuse, rng),
-            IllumModel::Lambertian => match &scene.environment {
-                Some(env) if self.lab >= 11 => {
-                    emitted
-                        + self.shade_lambertian(scene, &hit, diffuse, rng)
-                        + self.shade_ambient(scene, env, &hit, diffuse, rng)
-                }
-                _ => emitted + self.shade_lambertian(scene, &hit, diffuse, rng),
-            },
+            IllumModel::Phong => {
+                emitted
+                    + self.direct(|| self.shade_phong(scene, ray, &hit, diffuse, rng))
+                    + self.caustic(&hit, diffuse)
+            }
+            IllumModel::Lambertian => {
+                let ambient = match &scene.environment {
+                    Some(env) if self.lab >= 11 => {
+                        self.direct(|| self.shade_ambient(scene, env, &hit, diffuse, rng))
+                    }
+                    _ => Vec3::ZERO,
+                };
+                emitted
+                    + self.direct(|| self.shade_lambertian(scene, &hit, diffuse, rng))
+                    + ambient
+                    + self.caustic(&hit, diffuse)
+            }
         }
     }
 
@@ -307,6 +329,40 @@ impl Pipeline {
         let occlusion = ao.ambient_occlusion(hit.position, n, rays, &draw, &occluded, rng);
         let light = self.environment_radiance(env, occlusion.bent_normal);
         ao.shade_ambient_occlusion(diffuse, &occlusion, light)
+
+    /// The direct lighting `shade` computes, or none in the caustics-only view.
+    fn direct(&self, shade: impl FnOnce() -> Vec3) -> Vec3 {
+        if self.view == View::Caustics {
+            Vec3::ZERO
+        } else {
+            shade()
+        }
+    }
+
+    /// The caustic radiance at a diffuse hit (from lab 8 on, with a photon map): the photons
+    /// nearest to it through the lab 08 slot's estimate (Exercise 8.4).
+    fn caustic(&self, hit: &Hit, diffuse: Vec3) -> Vec3 {
+        match &self.caustics {
+            Some(map) if self.lab >= 8 => {
+                let (k, r) = (self.photons.k as usize, self.photons.max_radius);
+                let nearby = map.nearest(hit.position, k, r);
+                self.photon_mapping
+                    .caustic_radiance(diffuse, hit.shading_normal, &nearby, k, r)
+            }
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// The reflectance of a dielectric surface for light arriving at `cos_i` (the cosine of
+    /// the angle of incidence) from a medium of index `eta_i` into one of `eta_t`: Schlick's
+    /// approximation below lab 10 (1 under total internal reflection), lab 10's Fresnel
+    /// reflectance from lab 10 on. The photon tracer's roulette at glass takes it (lab 08).
+    pub(crate) fn dielectric_reflectance(&self, cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+        if self.lab >= 10 {
+            self.fresnel.fresnel_reflectance(cos_i, eta_i, eta_t)
+        } else {
+            schlick_reflectance(cos_i, eta_i, eta_t)
+        }
     }
 
     /// Radiance along the mirror direction (black past the depth limit).
@@ -585,5 +641,45 @@ fn surface_hit(t: f32, normal: Vec3) -> PrimitiveHit {
         t,
         normal,
         barycentrics: Vec2::ZERO,
+    }
+}
+
+/// Schlick's approximation of the reflectance of a dielectric surface, 1 under total internal
+/// reflection (see [`Pipeline::dielectric_reflectance`]).
+fn schlick_reflectance(cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+    let cos_i = cos_i.abs().min(1.0);
+    let r0 = ((eta_i - eta_t) / (eta_i + eta_t)).powi(2);
+    let cos = if eta_i > eta_t {
+        let sin2_t = (eta_i / eta_t).powi(2) * (1.0 - cos_i * cos_i);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        (1.0 - sin2_t).sqrt()
+    } else {
+        cos_i
+    };
+    (r0 + (1.0 - r0) * (1.0 - cos).powi(5)).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::schlick_reflectance;
+
+    #[test]
+    fn schlick_reflectance_of_glass() {
+        // Normal incidence: ((n₁ − n₂)/(n₁ + n₂))² = 0.04 from either side.
+        assert!((schlick_reflectance(1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((schlick_reflectance(1.0, 1.5, 1.0) - 0.04).abs() < 1e-6);
+        // Grazing incidence reflects everything.
+        assert!((schlick_reflectance(0.0, 1.0, 1.5) - 1.0).abs() < 1e-6);
+        // Beyond the critical angle inside glass (sin θ > 1/1.5): total internal reflection.
+        assert_eq!(schlick_reflectance(0.7, 1.5, 1.0), 1.0);
+        // Rising with the angle of incidence.
+        let mut last = 0.0;
+        for i in (0..=100).rev() {
+            let r = schlick_reflectance(i as f32 / 100.0, 1.0, 1.5);
+            assert!(r >= last && (0.0..=1.0).contains(&r), "{r} after {last}");
+            last = r;
+        }
     }
 }

@@ -20,12 +20,17 @@ pub mod lab05;
 pub mod lab06;
 #[cfg(feature = "key-lab07")]
 pub mod lab07;
+#[cfg(feature = "key-lab08")]
+pub mod lab08;
+
+use std::sync::Arc;
+
+use framework::photon::PhotonSettings;
 #[cfg(feature = "key-lab09")]
 pub mod lab09;
 #[cfg(feature = "key-lab10")]
 pub mod lab10;
 
-use std::sync::Arc;
 
 use framework::contracts::lab09::{Addressing, TextureFilter};
 #[cfg(feature = "key-lab11")]
@@ -54,6 +59,8 @@ mod slots {
     pub use super::lab06::Lab06;
     #[cfg(feature = "key-lab07")]
     pub use super::lab07::Lab07;
+    #[cfg(feature = "key-lab08")]
+    pub use super::lab08::Lab08;
     #[cfg(feature = "key-lab09")]
     pub use super::lab09::Lab09;
     #[cfg(feature = "key-lab10")]
@@ -74,6 +81,8 @@ mod slots {
     pub use ::lab06::Student as Lab06;
     #[cfg(not(feature = "key-lab07"))]
     pub use ::lab07::Student as Lab07;
+    #[cfg(not(feature = "key-lab08"))]
+    pub use ::lab08::Student as Lab08;
     #[cfg(not(feature = "key-lab09"))]
     pub use ::lab09::Student as Lab09;
     #[cfg(not(feature = "key-lab10"))]
@@ -93,6 +102,9 @@ pub fn pipeline(lab: u32) -> Pipeline {
         radiometry: Arc::new(slots::Lab05),
         radiosity: Arc::new(slots::Lab06),
         antialiasing: Arc::new(slots::Lab07),
+        photon_mapping: Arc::new(slots::Lab08),
+        caustics: None,
+        photons: PhotonSettings::DEFAULT,
         texturing: Arc::new(slots::Lab09),
         fresnel: Arc::new(slots::Lab10),
         ambient_occlusion: Arc::new(slots::Lab11),

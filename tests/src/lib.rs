@@ -26,6 +26,7 @@ macro_rules! for_each_lab {
         $each!(5, lab05, Radiometry, Lab05);
         $each!(6, lab06, Radiosity, Lab06);
         $each!(7, lab07, Antialiasing, Lab07);
+        $each!(8, lab08, PhotonMapping, Lab08);
         $each!(9, lab09, Texturing, Lab09);
         $each!(10, lab10, Fresnel, Lab10);
         $each!(11, lab11, AmbientOcclusion, Lab11);

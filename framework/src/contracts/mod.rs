@@ -12,6 +12,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab08;
 pub mod lab09;
 pub mod lab10;
 pub mod lab11;

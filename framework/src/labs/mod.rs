@@ -9,6 +9,7 @@ pub mod lab04;
 pub mod lab05;
 pub mod lab06;
 pub mod lab07;
+pub mod lab08;
 pub mod lab09;
 pub mod lab10;
 pub mod lab11;
@@ -74,6 +75,11 @@ pub const COURSE: &[Lab] = &[
         title: "Anti-aliasing",
         exercises: || infos(7, &lab07::checks::exercises()),
         denied: &[],
+    },
+    Lab {
+        number: 8,
+        title: "Photon-mapped caustics",
+        exercises: || infos(8, &lab08::checks::exercises()),
     },
     Lab {
         number: 9,

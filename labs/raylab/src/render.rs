@@ -8,6 +8,7 @@ use framework::Error;
 use framework::film::{ToneMap, write_exr, write_png};
 use framework::glam::Vec3;
 use framework::math::Aabb;
+use framework::photon::{PhotonSettings, with_caustics};
 use framework::pipeline::View;
 use framework::render::{PartialRender, PixelFailures, RenderSettings, render_partial};
 use framework::scene::{
@@ -36,6 +37,8 @@ pub enum ViewChoice {
     BaseColour,
     /// Shading normals as colours.
     Normals,
+    /// Only the caustics of the photon map (lab 8 on).
+    Caustics,
 }
 
 /// Options of `raylab render`.
@@ -80,6 +83,15 @@ pub struct RenderArgs {
     /// What the image shows.
     #[arg(long, value_enum, default_value_t = ViewChoice::Shaded)]
     pub view: ViewChoice,
+    /// Photons emitted for the caustic photon map (lab 8 on).
+    #[arg(long, default_value_t = PhotonSettings::DEFAULT.emitted)]
+    pub photons: u32,
+    /// The caustic estimate gathers the k nearest photons (lab 8 on) …
+    #[arg(long, default_value_t = PhotonSettings::DEFAULT.k)]
+    pub photon_k: u32,
+    /// … within this radius, in scene units (lab 8 on).
+    #[arg(long, default_value_t = PhotonSettings::DEFAULT.max_radius)]
+    pub photon_radius: f32,
 }
 
 impl Default for RenderArgs {
@@ -97,6 +109,9 @@ impl Default for RenderArgs {
             pipeline: PipelineChoice::Reference,
             lab: None,
             view: ViewChoice::Shaded,
+            photons: PhotonSettings::DEFAULT.emitted,
+            photon_k: PhotonSettings::DEFAULT.k,
+            photon_radius: PhotonSettings::DEFAULT.max_radius,
         }
     }
 }
@@ -250,11 +265,33 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         ViewChoice::Shaded => View::Shaded,
         ViewChoice::BaseColour => View::BaseColour,
         ViewChoice::Normals => View::Normals,
+        ViewChoice::Caustics => View::Caustics,
+    };
+    pipeline.photons = PhotonSettings {
+        emitted: args.photons,
+        k: args.photon_k,
+        max_radius: args.photon_radius,
+        seed: args.seed,
     };
     if let Some(note) = student_code_note(args.pipeline, lab) {
         eprintln!("note: {note}");
     }
     let start = Instant::now();
+    if lab >= 8 {
+        pipeline.photons.validate()?;
+        match with_caustics(&pipeline, &scene) {
+            Ok(traced) => {
+                let stored = traced.caustics.as_ref().map_or(0, |m| m.len());
+                eprintln!(
+                    "traced {} photons ({stored} stored in the caustic map) in {:.2} s",
+                    args.photons,
+                    start.elapsed().as_secs_f64()
+                );
+                pipeline = traced;
+            }
+            Err(e) => eprintln!("warning: no caustics: {e}"),
+        }
+    }
     let rendered = render_partial(&scene, &pipeline, &settings)?;
     let seconds = start.elapsed().as_secs_f64();
     let exr = ext.as_deref() == Some("exr");

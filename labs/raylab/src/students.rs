@@ -103,6 +103,13 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
             reference::lab07::Lab07,
             lab07
         )),
+        8 => visitor.visit(lab_code!(
+            8,
+            PhotonMapping,
+            ::lab08::Student,
+            reference::lab08::Lab08,
+            lab08
+        )),
         9 => visitor.visit(lab_code!(
             9,
             Texturing,

@@ -1,0 +1,34 @@
+//! Lab 08's checks: one test per exercise of the table in `framework::labs::lab08::checks`.
+//!
+//! `cargo test -p lab08` checks your code in `src/lib.rs`, `cargo test -p lab08 exercise_8_4`
+//! just Exercise 8.4.
+//! `cargo test -p lab08 --features reference` checks the reference solution instead, where
+//! the tree holds it. Each exercise runs with `reference::pipeline` for everything else: the
+//! answer key where the tree holds it (so one unfinished exercise does not fail the others),
+//! and in a handout your own code for the labs whose solutions are not released yet — a check
+//! that needs one of those names the exercise it is waiting for.
+
+use std::sync::Arc;
+
+use framework::contracts::lab08::PhotonMapping;
+use framework::grading::harness::{self, LabChecks};
+use framework::labs::lab08::checks;
+
+fn subject() -> Arc<dyn PhotonMapping> {
+    #[cfg(feature = "reference")]
+    return Arc::new(reference::lab08::Lab08);
+    #[cfg(not(feature = "reference"))]
+    return Arc::new(lab08::Student);
+}
+
+fn main() {
+    harness::run(LabChecks {
+        lab: 8,
+        lab_dir: env!("CARGO_MANIFEST_DIR"),
+        exercises: checks::exercises(),
+        subject: subject(),
+        base: reference::pipeline(8),
+        key_labs: reference::KEYS,
+        hidden: cfg!(feature = "hidden-exercises"),
+    })
+}

@@ -1,0 +1,145 @@
+//! Lab 08's figures (the Weeks 8–9 report's Figures 3.1, 4.1 and 4.2): the caustic photon map
+//! of the Cornell box with the glass sphere drawn as points over the scene, the caustics
+//! alone, and the full render (direct lighting plus caustics), each with the photon count and
+//! the times of tracing and rendering.
+
+use std::time::Instant;
+
+use framework::Error;
+use framework::film::{Film, ToneMap};
+use framework::photon::{PhotonMap, PhotonSettings, trace_caustic_photons};
+use framework::pipeline::{Pipeline, View};
+use framework::scene::{Scene, builtin_scene};
+
+use super::{Figure, ReportContext, settings};
+
+/// The scene of the figures.
+const SCENE: &str = "cornell-spheres";
+
+/// The figures of lab 08.
+pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let scene = builtin_scene(SCENE)?;
+    let photons = PhotonSettings {
+        emitted: if ctx.quick {
+            20_000
+        } else {
+            PhotonSettings::DEFAULT.emitted
+        },
+        ..PhotonSettings::DEFAULT
+    };
+    let base = Pipeline {
+        lab: ctx.lab.max(8),
+        photons,
+        ..ctx.pipeline.clone()
+    };
+    let start = Instant::now();
+    let trace = framework::catch_quietly("tracing photons", || {
+        trace_caustic_photons(&base, &scene, &photons)
+    })?;
+    let trace_seconds = start.elapsed().as_secs_f64();
+    let stored = trace.map.len();
+    let map = std::sync::Arc::new(trace.map);
+    let with_map = Pipeline {
+        caustics: Some(map.clone()),
+        ..base.clone()
+    };
+    let (w, h) = ctx.size(512, 512);
+    let about = format!(
+        "{} photons emitted from the point light and the ceiling light (by power), {stored} stored in the caustic map (at the first diffuse surface after a mirror or glass), traced in {trace_seconds:.2} s",
+        trace.emitted
+    );
+    let estimate = format!(
+        "the k = {} photons nearest to each shading point within {} m",
+        photons.k, photons.max_radius
+    );
+    let spp = if ctx.quick { 1 } else { 4 };
+
+    let preview = photon_preview(ctx, &scene, &base, &map, w, h)?;
+    ctx.save(&preview.0, "photon-map.png", ToneMap::default())?;
+    let caustics_only = Pipeline {
+        view: View::Caustics,
+        ..with_map.clone()
+    };
+    let (film, caustic_seconds) = ctx.render_timed(&scene, &caustics_only, &settings(w, h, spp))?;
+    ctx.save(&film, "caustics-only.png", ToneMap::default())?;
+    let (film, full_seconds) = ctx.render_timed(&scene, &with_map, &settings(w, h, spp))?;
+    ctx.save(&film, "full-render.png", ToneMap::default())?;
+
+    Ok(vec![
+        Figure {
+            file: "photon-map.png".into(),
+            caption: "The caustic photon map: each stored photon as a point over the scene (Figure 3.1)".into(),
+            parameters: format!(
+                "{SCENE} at {w}×{h}: the direct lighting at a third of its brightness, and over it every stored photon visible from the eye as one pixel coloured by its power (scaled so the brightest is white); {about}; {} photons drawn, drawing",
+                preview.1
+            ),
+            seconds: Some(trace_seconds + preview.2),
+        },
+        Figure {
+            file: "caustics-only.png".into(),
+            caption: "Caustics only: the photon map's radiance estimate at diffuse surfaces, seen directly and through the mirror and the glass (Figure 4.1)".into(),
+            parameters: format!(
+                "{SCENE} at {w}×{h}, {spp} samples per pixel, clamp tone map; {estimate}, L = ρ/π · ΣΦ/(πr²); {about}; render"
+            ),
+            seconds: Some(caustic_seconds),
+        },
+        Figure {
+            file: "full-render.png".into(),
+            caption: "The full render: direct lighting (point and area light, shadows, mirror and glass) plus the caustics (Figure 4.2)".into(),
+            parameters: format!(
+                "{SCENE} at {w}×{h}, {spp} samples per pixel, {} × {} area-light samples, clamp tone map; {estimate}; {about}; render",
+                with_map.area_light_samples, with_map.area_light_samples
+            ),
+            seconds: Some(full_seconds),
+        },
+    ])
+}
+
+/// The scene's direct lighting at a third, with the photons of `map` that the eye sees drawn
+/// over it; the image, the number of photons drawn and the seconds it took.
+fn photon_preview(
+    ctx: &ReportContext,
+    scene: &Scene,
+    pipeline: &Pipeline,
+    map: &PhotonMap,
+    w: u32,
+    h: u32,
+) -> Result<(Film, usize, f64), Error> {
+    let (mut film, seconds) = ctx.render_timed(scene, pipeline, &settings(w, h, 1))?;
+    let start = Instant::now();
+    for p in &mut film.pixels {
+        *p /= 3.0;
+    }
+    let camera = pipeline.prepare_camera(scene, framework::glam::UVec2::new(w, h));
+    let brightest = map
+        .photons()
+        .iter()
+        .map(|p| p.power.max_element())
+        .fold(0.0f32, f32::max)
+        .max(f32::MIN_POSITIVE);
+    let mut drawn = 0;
+    for photon in map.photons() {
+        let d = photon.position - camera.eye;
+        let depth = d.dot(camera.basis.ip_normal);
+        if depth <= 0.0 {
+            continue;
+        }
+        let x_ip = camera.focal_distance * d.dot(camera.basis.ip_xaxis) / depth;
+        let y_ip = camera.focal_distance * d.dot(camera.basis.ip_yaxis) / depth;
+        let (x, y) = (
+            x_ip * h as f32 + w as f32 / 2.0,
+            h as f32 / 2.0 - y_ip * h as f32,
+        );
+        if !(x >= 0.0 && y >= 0.0 && x < w as f32 && y < h as f32) {
+            continue;
+        }
+        let distance = d.length();
+        let ray = framework::math::Ray::new(camera.eye, d / distance, 0.0, distance * (1.0 - 1e-3));
+        if pipeline.trace_to_any(scene, &ray) {
+            continue;
+        }
+        film.set(x as u32, y as u32, photon.power / brightest);
+        drawn += 1;
+    }
+    Ok((film, drawn, seconds + start.elapsed().as_secs_f64()))
+}
