@@ -329,6 +329,7 @@ impl Pipeline {
         let occlusion = ao.ambient_occlusion(hit.position, n, rays, &draw, &occluded, rng);
         let light = self.environment_radiance(env, occlusion.bent_normal);
         ao.shade_ambient_occlusion(diffuse, &occlusion, light)
+    }
 
     /// The direct lighting `shade` computes, or none in the caustics-only view.
     fn direct(&self, shade: impl FnOnce() -> Vec3) -> Vec3 {
@@ -477,12 +478,6 @@ impl Pipeline {
         }
     }
 
-    /// Lambertian reflection of every light at a hit (labs 02 and 03).
-    fn shade_lambertian(&self, scene: &Scene, hit: &Hit, rng: &mut Rng) -> Vec3 {
-        let lights = self.light_samples(scene, hit, rng);
-        let material = scene.material(hit.material);
-        self.shading
-            .shade_lambertian(material.diffuse, hit.shading_normal, &lights)
     /// The diffuse reflectance at a hit: the material's, times its diffuse texture at the hit's
     /// texture coordinates from lab 09 on (which it stores in `hit.texcoord`); projector,
     /// corresponder and lookup all through the lab 09 slot.

@@ -31,11 +31,9 @@ pub mod lab09;
 #[cfg(feature = "key-lab10")]
 pub mod lab10;
 
-
 use framework::contracts::lab09::{Addressing, TextureFilter};
 #[cfg(feature = "key-lab11")]
 pub mod lab11;
-
 
 use framework::contracts::lab11::HemisphereSampler;
 use framework::pipeline::{Pipeline, View};

@@ -80,6 +80,7 @@ pub const COURSE: &[Lab] = &[
         number: 8,
         title: "Photon-mapped caustics",
         exercises: || infos(8, &lab08::checks::exercises()),
+        denied: &[],
     },
     Lab {
         number: 9,
