@@ -35,8 +35,8 @@
 //! as for those photons found with the farthest one's distance as maximum radius; the key's
 //! where present, and the golden cases (`golden/caustic_radiance.json`). Then the density
 //! estimate itself: a plane lit by a point light, every photon stored where it first lands
-//! (not only after a specular bounce), gives at 25 points the radiance of the irradiance the
-//! base's lab 02 code computes, and with the radius shrinking as the photons grow the error
+//! (not only after a specular bounce), gives at 25 points the radiance the base's lab 02 code
+//! shades there from the light (its irradiance), and with the radius shrinking as the photons grow the error
 //! falls (the estimate is consistent).
 //!
 //! Each statistic is a z-score (the χ² through the Wilson–Hilferty transform) compared with
@@ -955,9 +955,9 @@ pub fn plane_points() -> Vec<Vec3> {
     points
 }
 
-/// The relative errors of the student's estimates at [`plane_points`] from a map of the lit
-/// plane (every photon stored where it lands), against the radiance of the irradiance the
-/// base's lab 02 code gives.
+/// The ratios of the student's estimates at [`plane_points`] from a map of the lit plane
+/// (every photon stored where it lands) to the radiance the base's lab 02 code shades there
+/// from the light (red and blue channels).
 fn plane_errors(
     s: &Arc<dyn PhotonMapping>,
     base: &Pipeline,
@@ -983,9 +983,9 @@ fn plane_errors(
         .unwrap_or(Vec3::ONE);
     let mut out = Vec::new();
     for p in plane_points() {
+        // What a diffuse surface reflects of the light it receives directly: lab 02's shader.
         let sample = base.shading.sample_point_light(light, p);
-        let irradiance = sample.radiance * sample.direction.dot(Vec3::Y).max(0.0);
-        let expected = diffuse * irradiance / PI;
+        let expected = base.shading.shade_lambertian(diffuse, Vec3::Y, &[sample]);
         let nearby = trace.map.nearest(p, k, max_radius);
         let got = s.caustic_radiance(diffuse, Vec3::Y, &nearby, k, max_radius);
         out.push((p, (got / expected).x, (got / expected).z));
