@@ -223,6 +223,7 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             build_memory: memory.max(8 << 30),
             processes: 256,
             file_size: 64 << 20,
+            build_file_size: 4 << 30,
             // Two threads may each use the whole wall-clock limit.
             cpu_seconds: 2 * args.timeout + 5,
         },

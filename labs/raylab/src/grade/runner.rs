@@ -694,6 +694,7 @@ mod tests {
             build_memory: 8 << 30,
             processes: 256,
             file_size: 64 << 20,
+            build_file_size: 4 << 30,
             cpu_seconds: 300,
         };
         let workspace = Workspace {

@@ -37,8 +37,11 @@ pub struct Limits {
     pub build_memory: u64,
     /// Processes (and threads) at once.
     pub processes: u64,
-    /// Largest file a process may write, bytes.
+    /// Largest file an exercise's process may write, bytes.
     pub file_size: u64,
+    /// Largest file a build may write, bytes: the framework's library with its checks for
+    /// every lab is larger than anything an exercise needs to write.
+    pub build_file_size: u64,
     /// CPU seconds of an exercise's process.
     pub cpu_seconds: u64,
 }
@@ -122,10 +125,11 @@ impl Sandbox {
             format!("{} processes (RLIMIT_NPROC)", l.processes)
         };
         let limits = format!(
-            "{} MiB of address space, {} CPU seconds, files up to {} MiB, {processes}",
+            "{} MiB of address space, {} CPU seconds, files up to {} MiB (builds {} MiB), {processes}",
             l.memory >> 20,
             l.cpu_seconds,
-            l.file_size >> 20
+            l.file_size >> 20,
+            l.build_file_size >> 20
         );
         match self.bwrap {
             Some(_) => format!(
@@ -143,7 +147,12 @@ impl Sandbox {
         let cargo = self.sysroot.join("bin/cargo");
         let path = format!("{}:/usr/bin:/bin", self.sysroot.join("bin").display());
         let Some(bwrap) = &self.bwrap else {
-            let mut command = self.limited(&cargo, self.limits.build_memory, None);
+            let mut command = self.limited(
+                &cargo,
+                self.limits.build_memory,
+                self.limits.build_file_size,
+                None,
+            );
             command
                 .args(args)
                 .current_dir(tree)
@@ -153,7 +162,12 @@ impl Sandbox {
                 .stdin(Stdio::null());
             return command;
         };
-        let mut command = self.limited(bwrap, self.limits.build_memory, None);
+        let mut command = self.limited(
+            bwrap,
+            self.limits.build_memory,
+            self.limits.build_file_size,
+            None,
+        );
         base_arguments(&mut command);
         command.args(["--proc", "/proc"]);
         for etc in SYSTEM_ETC {
@@ -212,7 +226,8 @@ impl Sandbox {
     ) -> Command {
         let cpu = Some(self.limits.cpu_seconds);
         let Some(bwrap) = &self.bwrap else {
-            let mut command = self.limited(executable, self.limits.memory, cpu);
+            let mut command =
+                self.limited(executable, self.limits.memory, self.limits.file_size, cpu);
             command
                 .args(args)
                 .current_dir(scratch)
@@ -222,7 +237,7 @@ impl Sandbox {
                 .envs(env.iter().copied());
             return command;
         };
-        let mut command = self.limited(bwrap, self.limits.memory, cpu);
+        let mut command = self.limited(bwrap, self.limits.memory, self.limits.file_size, cpu);
         base_arguments(&mut command);
         command
             .arg("--ro-bind")
@@ -260,11 +275,12 @@ impl Sandbox {
         command
     }
 
-    /// `program` under `prlimit` with the limits (and in the pids control group, if any).
-    fn limited(&self, program: &Path, memory: u64, cpu: Option<u64>) -> Command {
+    /// `program` under `prlimit` with the limits, at most `memory` bytes of address space and
+    /// files of `file_size` bytes (and in the pids control group, if any).
+    fn limited(&self, program: &Path, memory: u64, file_size: u64, cpu: Option<u64>) -> Command {
         let mut limits = vec![
             format!("--as={memory}"),
-            format!("--fsize={}", self.limits.file_size),
+            format!("--fsize={file_size}"),
             "--core=0".to_string(),
             "--nofile=1024".to_string(),
         ];
