@@ -57,10 +57,19 @@ fn time(f: &mut impl FnMut()) -> f64 {
     start.elapsed().as_secs_f64()
 }
 
-/// The median of `xs` (not empty).
-fn median(mut xs: Vec<f64>) -> f64 {
-    xs.sort_by(f64::total_cmp);
-    xs[xs.len() / 2]
+/// The median of `values` (the mean of the middle two for an even count; 0 for none), which
+/// it sorts.
+pub fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
 }
 
 /// Builds every engine over the scene's triangles, timing each build (median of `runs`).
@@ -78,7 +87,7 @@ fn engines<'a>(scene: &'a Scene, tris: &[[Vec3; 3]], runs: usize) -> Result<Vec<
         entries.push(Entry {
             name,
             engine: engine.expect("at least one run"),
-            build_seconds: Some(median(times)),
+            build_seconds: Some(median(&mut times)),
         });
         Ok::<_, Error>(())
     };
@@ -223,7 +232,7 @@ fn throughput(entries: &[Entry<'_>], rays: &[Ray], runs: usize) -> Vec<(f64, f64
             }));
         }
     }
-    let rate = |t: Vec<f64>| rays.len() as f64 / median(t) / 1e6;
+    let rate = |mut t: Vec<f64>| rays.len() as f64 / median(&mut t) / 1e6;
     times
         .into_iter()
         .map(|(closest, any)| (rate(closest), rate(any)))

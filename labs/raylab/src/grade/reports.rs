@@ -10,6 +10,8 @@ use framework::Error;
 use framework::grading::Visibility;
 use maud::{DOCTYPE, Markup, PreEscaped, html};
 
+use crate::bench::median;
+
 use super::{ExerciseGrade, Status, StudentGrade};
 use crate::handout::io;
 
@@ -475,20 +477,6 @@ fn utc_time(seconds: u64) -> String {
     let month = if mp < 10 { mp + 3 } else { mp - 9 };
     let year = yoe + era * 400 + i64::from(month <= 2);
     format!("{year:04}-{month:02}-{day:02} {hour:02}:{minute:02} UTC")
-}
-
-/// The median of `values` (0 for none).
-fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    }
 }
 
 /// Mean and median of `values`, as table cells.
