@@ -21,16 +21,72 @@ where
     };
     let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]);
     let mut runner = TestRunner::new_with_rng(config, rng);
-    runner
-        .run(&strategy, |input| {
-            property(input).map_err(TestCaseError::fail)
-        })
-        .map_err(|e| match e {
-            proptest::test_runner::TestError::Fail(reason, input) => {
-                format!("for input {input:?}:\n  {}", reason.message())
+    // A panic of the student's code is caught here rather than by proptest, so that the
+    // message keeps where it was raised and the exercise counts as crashed, not wrong.
+    let panicked = std::cell::RefCell::new(None::<String>);
+    let result = runner.run(&strategy, |input| {
+        match crate::panic::catch_panic(|| property(input)) {
+            Ok(outcome) => outcome.map_err(TestCaseError::fail),
+            Err(panic) => {
+                let place = match &panic.location {
+                    Some(at) => format!("panicked at {at}: "),
+                    None => "panicked: ".to_string(),
+                };
+                let reason = format!("{place}{}", panic.message);
+                *panicked.borrow_mut() = Some(reason.clone());
+                Err(TestCaseError::fail(reason))
             }
-            proptest::test_runner::TestError::Abort(reason) => {
-                format!("property check aborted: {reason}")
+        }
+    });
+    result.map_err(|e| match e {
+        proptest::test_runner::TestError::Fail(reason, input) => {
+            let reason = reason.message();
+            // The smallest failing input panicked: the message leads with the panic.
+            if panicked.borrow().as_deref() == Some(reason) && reason.starts_with("panicked") {
+                format!("{reason}\n  for input {input:?}")
+            } else {
+                format!("for input {input:?}:\n  {reason}")
+            }
+        }
+        proptest::test_runner::TestError::Abort(reason) => {
+            format!("property check aborted: {reason}")
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_is_reported_as_a_panic_with_its_place_and_the_smallest_input() {
+        let message = crate::panic::quietly(|| {
+            for_all(64, 0u32..1000, |x| {
+                let v: Vec<u32> = Vec::new();
+                if x >= 10 {
+                    Ok(v[x as usize]).map(|_| ())
+                } else {
+                    Ok(())
+                }
+            })
+        })
+        .unwrap_err();
+        assert!(message.starts_with("panicked at "), "{message}");
+        assert!(message.contains("property.rs:"), "{message}");
+        assert!(message.contains("index out of bounds"), "{message}");
+        assert!(message.ends_with("for input 10"), "{message}");
+    }
+
+    #[test]
+    fn a_wrong_answer_names_the_input_first() {
+        let message = for_all(64, 0u32..1000, |x| {
+            if x >= 10 {
+                Err(format!("{x} is too big"))
+            } else {
+                Ok(())
             }
         })
+        .unwrap_err();
+        assert_eq!(message, "for input 10:\n  10 is too big");
+    }
 }
