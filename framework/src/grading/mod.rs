@@ -37,6 +37,9 @@ pub struct Exercise<S: ?Sized> {
     pub points: u32,
     /// Whether students see the exercise's test before grading.
     pub visibility: Visibility,
+    /// The next step for a student who is stuck, shown by `raylab hint N.M`: where to look
+    /// or what to try, without the formula (the stub and the docs state that).
+    pub hint: &'static str,
     /// The check: `Ok` when the student's code is right, otherwise what is wrong.
     pub check: fn(&Arc<S>, &LabContext) -> Result<(), String>,
 }
@@ -66,6 +69,8 @@ pub struct ExerciseInfo {
     pub points: u32,
     /// Whether students see it before grading.
     pub visibility: Visibility,
+    /// The next step for a student who is stuck.
+    pub hint: &'static str,
 }
 
 impl ExerciseInfo {
@@ -86,6 +91,7 @@ impl<S: ?Sized> Exercise<S> {
             title: self.title,
             points: self.points,
             visibility: self.visibility,
+            hint: self.hint,
         }
     }
 }

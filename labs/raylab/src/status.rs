@@ -118,7 +118,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
             println!("  {id:<5} {mark} {function:<26} {points} pt{detail}");
             if next.is_none() && !matches!(state, State::Passed) {
                 next = Some(format!(
-                    "Exercise {id} (`{function}` in labs/lab{lab:02}/src/lib.rs, docs/lab{lab:02}.md); check it with `cargo test -p lab{lab:02} exercise_{}`",
+                    "Exercise {id} (`{function}` in labs/lab{lab:02}/src/lib.rs, docs/lab{lab:02}.md); check it with `cargo test -p lab{lab:02} exercise_{}`; stuck? `raylab hint {id}`",
                     id.replace('.', "_")
                 ));
             }

@@ -172,8 +172,8 @@ fn check_once(root: &Path, lab: u32) -> Result<(), Error> {
     }
     match run.failures.first() {
         Some((name, message)) => println!(
-            "\nnext: Exercise {} (`cargo test -p {package} {name}`)\n\n{message}",
-            exercise_of(name)
+            "\nnext: Exercise {id} (`cargo test -p {package} {name}`; stuck? `raylab hint {id}`)\n\n{message}",
+            id = exercise_of(name)
         ),
         None => println!("\nevery exercise of {package} passes"),
     }

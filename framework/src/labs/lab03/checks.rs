@@ -94,6 +94,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             title: "shadow rays and hard shadows",
             points: 3,
             visibility: Visibility::Visible,
+            hint: "Start the ray exactly at `position` with `light.direction` unchanged, and put both offsets into the interval with `framework::math::RAY_EPSILON`: the check rejects an origin moved along the normal. The usual failure is `tmax`: it must stop just short of `light.distance` (`f32::INFINITY` lets the ceiling above the lamp shadow the whole room, exactly `light.distance` lets an area light shadow itself), while for a directional light the same expression stays infinite, as it should.",
             check: exercise_3_1,
         },
         Exercise {
@@ -102,6 +103,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             title: "stratified jittered samples",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Loop over rows and columns and call `rng.next_vec2()` inside the inner loop, so that every cell gets its own fresh offset; cell centres, one offset drawn before the loop, or one number used for both x and y all fail the χ² test of the positions within the cells. Convert `i`, `j` and `n` to `f32` before dividing, and return exactly n² points.",
             check: exercise_3_2,
         },
         Exercise {
@@ -110,6 +112,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             title: "uniform sampling of a triangle",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "The check counts 12 800 samples in 16 equal sub-triangles, so a χ² in the thousands means your points are not uniform by area: usually the square root of `u.x` is missing (points pile up near `v0`) or is applied to both numbers. Make sure the three weights add up to 1 and are never negative; taking (1 − u.x − u.y, u.x, u.y) without folding the square puts half the points outside the triangle.",
             check: exercise_3_3,
         },
         Exercise {
@@ -118,6 +121,7 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
             title: "area-light sample and soft shadows",
             points: 3,
             visibility: Visibility::Visible,
+            hint: "Compute the vector from `position` to `light_point` first: its length is the distance, and dividing by that length gives the direction. The cosine at the light uses the negated `light_normal` and is clamped at zero (points behind the lamp get black), and the radiance is divided by both r² and `pdf_area`; do not clamp r² or drop close samples, because the check repeats every case at scales down to 10⁻⁴.",
             check: exercise_3_4,
         },
     ]

@@ -98,6 +98,7 @@ pub fn exercises() -> Vec<Exercise<dyn Antialiasing>> {
             title: "jittered subpixel offsets",
             points: 3,
             visibility: Visibility::Visible,
+            hint: "Loop over subpixel rows `j` and columns `i` (as `f32`), calling `rng.next_vec2()` inside the inner loop, and add the subpixel index before dividing by s: the random offset divided by s alone puts every jitter in the top-left subpixel. Draw from the `rng` you are given, not from `Rng::new` or `rng.clone()`: the check tests that the generator has moved on and that what it gives next is uncorrelated with your jitters.",
             check: exercise_7_1,
         },
         Exercise {
@@ -106,6 +107,7 @@ pub fn exercises() -> Vec<Exercise<dyn Antialiasing>> {
             title: "the average over the subpixel rays",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Turn the pixel into a `Vec2` with `pixel.as_vec2()`, call `radiance` exactly once per jitter at that corner plus the jitter, and sum the results. Divide by the number of jitters (`jitters.len()` as `f32`, which is s², not s) so that a constant radiance comes back unchanged; an image burnt out white in `raylab render --lab 7 --pipeline student --subdivisions 4` means you returned the sum.",
             check: exercise_7_2,
         },
     ]

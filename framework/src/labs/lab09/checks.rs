@@ -76,6 +76,7 @@ pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
             title: "texture coordinates on a plane",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Subtract the plane's point closest to the origin, `−plane.d · plane.normal`, from `position`, then take the dot products with `plane.tangent` and `plane.bitangent` and divide both by `plane.tex_scale` (dividing, not multiplying: a larger scale stretches the texture). Use the frame stored in the plane rather than one built from the normal: the check turns it about the normal by a random angle.",
             check: exercise_9_1,
         },
         Exercise {
@@ -84,6 +85,7 @@ pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
             title: "spherical texture coordinates",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Normalise `position − sphere.center` first (divide by `sphere.radius`), then get the longitude from `atan2` and the latitude from `asin` of the y component clamped into [−1, 1], so that rounding at the poles gives no NaN. Mind the argument order of Rust's `y.atan2(x)`: with the components swapped the texture comes out rotated or mirrored, which the check reports as a wrong direction.",
             check: exercise_9_2,
         },
         Exercise {
@@ -92,6 +94,7 @@ pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
             title: "interpolated texture coordinates on a triangle",
             points: 1,
             visibility: Visibility::Visible,
+            hint: "Take β and γ from `barycentrics.x` and `barycentrics.y`, and give vertex 0 the weight that is left over. Test the corners by hand: (0, 0), (1, 0) and (0, 1) must return `uvs[0]`, `uvs[1]` and `uvs[2]`; giving `uvs[0]` the weight β is the usual slip.",
             check: exercise_9_3,
         },
         Exercise {
@@ -100,6 +103,7 @@ pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
             title: "repeat, mirror and clamp addressing",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Write repeat first with `f32::floor` (not `%` or `fract`, which keep the sign of a negative `t`, and not glam's `fract_gl`, which the grader rejects), then build mirror on it by testing whether the floor is odd, remembering that `%` of a negative odd number is −1, not 1. Try t = −0.25 by hand: repeat must give 0.75, mirror 0.25 and clamp 0.",
             check: exercise_9_4,
         },
         Exercise {
@@ -108,6 +112,7 @@ pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
             title: "nearest-texel lookup",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Call the `address` closure you are given on both coordinates (the check also passes one that is none of the three modes), then turn u into a column by scaling with `texture.width` and flooring, and v into a row counted from the top, so flip it first. Clamp both indices to the last column and row because `address` may return exactly 1 (or v = 0), and avoid the hand-in's rounding over w − 1 steps, which drifts by up to half a texel at the edges.",
             check: exercise_9_5,
         },
         Exercise {
@@ -116,6 +121,7 @@ pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
             title: "bilinear lookup",
             points: 3,
             visibility: Visibility::Visible,
+            hint: "Work in texel-centre coordinates: scale by the width and height, subtract half a texel, floor for the lower neighbours and keep the fractional parts as the blend weights, counting rows from the bottom and converting to `texture.texel`'s rows from the top only when you read a texel. Find each of the four neighbours by applying `address` to its centre coordinate, as in 9.5; a texel's centre must return that texel exactly, which is the first thing to test.",
             check: exercise_9_6,
         },
     ]

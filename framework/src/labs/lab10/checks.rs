@@ -70,6 +70,7 @@ pub fn exercises() -> Vec<Exercise<dyn Fresnel>> {
             title: "the perpendicular (s) reflection coefficient",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Pair each index with its own side's cosine (η₁ with `cos_theta_i`, η₂ with `cos_theta_t`) and keep the result signed, with no square and no `abs`: the check expects a negative value whenever light enters a denser medium and exactly −1 at `cos_theta_i = 0`. Check normal incidence by hand: from 1 into 1.5 the result must be −0.2.",
             check: exercise_10_1,
         },
         Exercise {
@@ -78,6 +79,7 @@ pub fn exercises() -> Vec<Exercise<dyn Fresnel>> {
             title: "the parallel (p) reflection coefficient",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Start from your 10.1 and swap only which cosine goes with which index, keeping the order of the numerator so that the sign convention holds: at normal incidence from 1 into 1.5 the result must be +0.2, the negative of `r_s`. Then check Brewster's angle: for 1 into 1.5 at θ₁ = 56.31°, where cos θ₂ = sin θ₁, the result must be about 0.",
             check: exercise_10_2,
         },
         Exercise {
@@ -86,6 +88,7 @@ pub fn exercises() -> Vec<Exercise<dyn Fresnel>> {
             title: "the reflectance of unpolarised light",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "Call `self.fresnel_r_s` and `self.fresnel_r_p` with the same four arguments, square each amplitude, and average the squares; squaring the average instead gives 0 at normal incidence, where the two amplitudes cancel. Head-on glass in air must give 0.04, grazing incidence into a denser medium 1.",
             check: exercise_10_3,
         },
         Exercise {
@@ -94,6 +97,7 @@ pub fn exercises() -> Vec<Exercise<dyn Fresnel>> {
             title: "the reflectance at an interface, with total internal reflection",
             points: 3,
             visibility: Visibility::Visible,
+            hint: "Compute sin²θ₂ from Snell's law first, with the ratio `eta_i / eta_t` squared, and return exactly 1 when it is 1 or more, before any square root; only then take cos θ₂ and pass it on to `self.fresnel_R`. Schlick's approximation is rejected (the check compares with the Fresnel equations to 2·10⁻⁵), and `raylab render --lab 10 --pipeline student` should show the glass sphere's rim mirroring the sky.",
             check: exercise_10_4,
         },
         Exercise {
@@ -102,6 +106,7 @@ pub fn exercises() -> Vec<Exercise<dyn Fresnel>> {
             title: "the Bouguer–Lambert–Beer transmittance",
             points: 3,
             visibility: Visibility::Visible,
+            hint: "Handle each channel of `material.diffuse` on its own (`Vec3::map` helps): find its absorption coefficient by the DTU convention, substituting 10⁷ for a channel below 10⁻⁶ instead of dividing by zero, then apply the Bouguer–Lambert–Beer law. Multiply the coefficient by the distance inside the exponential rather than raising `exp(−σ)` to the power `distance`, which underflows for dark channels; the check wants exactly 1 at distance 0, even for a black material.",
             check: exercise_10_5,
         },
     ]

@@ -351,6 +351,16 @@ fn exercise_output(e: &ExerciseGrade) -> String {
 }
 
 /// Gradescope's autograder `results.json` of one submission.
+/// Gradescope results for a submission that could not be graded at all: 0 points and why.
+pub fn ungraded_results(why: &str) -> String {
+    let results = serde_json::json!({
+        "score": 0,
+        "output": format!("The autograder could not grade this submission: {why}\n{}", stamp()),
+        "tests": [],
+    });
+    serde_json::to_string_pretty(&results).unwrap_or_default()
+}
+
 fn gradescope(grade: &StudentGrade) -> serde_json::Value {
     let tests: Vec<serde_json::Value> = grade
         .exercises
@@ -630,6 +640,7 @@ mod tests {
             title: "pixel to image plane",
             points: 2,
             visibility: Visibility::Visible,
+            hint: "",
         };
         StudentGrade {
             student: student.into(),

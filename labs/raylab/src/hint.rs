@@ -1,0 +1,89 @@
+//! `raylab hint N.M`: the next step of an exercise, for a student who is stuck. The hints are
+//! data in each lab's exercise table (`framework::labs`), beside the exercise's title and
+//! points; the stub says what to compute and the docs give the formula.
+
+use clap::Args;
+use framework::Error;
+use framework::grading::ExerciseInfo;
+
+/// Options of `raylab hint`.
+#[derive(Args, Debug)]
+pub struct HintArgs {
+    /// The exercise, numbered as in the docs and the stubs (e.g. `2.3`).
+    pub exercise: String,
+}
+
+/// Runs `raylab hint`.
+pub fn run(args: &HintArgs) -> Result<(), Error> {
+    println!("{}", hint(&args.exercise)?);
+    Ok(())
+}
+
+/// The hint of exercise `id` with where to find the exercise, or an error naming the
+/// exercises there are.
+pub fn hint(id: &str) -> Result<String, Error> {
+    let exercise = find(id)?;
+    let lab = exercise.lab;
+    Ok(format!(
+        "Exercise {id} — {title} (`{function}` in labs/lab{lab:02}/src/lib.rs)\n\n\
+         {hint}\n\n\
+         The exercise is in docs/lab{lab:02}.md, Exercise {id}; check your code with \
+         `cargo test -p lab{lab:02} exercise_{test}`.",
+        id = exercise.id,
+        title = exercise.title,
+        function = exercise.function,
+        hint = exercise.hint,
+        test = exercise.id.replace('.', "_"),
+    ))
+}
+
+/// The exercise numbered `id` in the course.
+fn find(id: &str) -> Result<ExerciseInfo, Error> {
+    let invalid = |reason: String| Error::Invalid {
+        what: format!("exercise '{id}'"),
+        reason,
+    };
+    let lab: u32 = id
+        .split_once('.')
+        .and_then(|(lab, _)| lab.parse().ok())
+        .ok_or_else(|| invalid("expected an exercise number N.M, such as 2.3".into()))?;
+    crate::students::check_lab(lab)?;
+    let exercises = framework::labs::exercise_infos(lab).unwrap_or_default();
+    let ids: Vec<&str> = exercises.iter().map(|e| e.id).collect();
+    exercises
+        .iter()
+        .find(|e| e.id == id)
+        .cloned()
+        .ok_or_else(|| invalid(format!("lab {lab} has the exercises {}", ids.join(", "))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_exercise_of_every_lab_has_a_hint_of_its_own() {
+        let mut seen = std::collections::HashSet::new();
+        for &lab in crate::students::labs() {
+            for e in framework::labs::exercise_infos(lab).unwrap() {
+                let text = hint(e.id).unwrap();
+                assert!(e.hint.len() >= 40, "Exercise {}'s hint is too short", e.id);
+                assert!(text.contains(e.hint) && text.contains(e.function));
+                assert!(seen.insert(e.hint), "Exercise {} repeats a hint", e.id);
+            }
+        }
+    }
+
+    #[test]
+    fn an_unknown_exercise_is_named_with_the_ones_there_are() {
+        let error = hint("2.9").unwrap_err().to_string();
+        assert!(
+            error.contains("'2.9'") && error.contains("2.1, 2.2"),
+            "{error}"
+        );
+        let error = hint("two").unwrap_err().to_string();
+        assert!(error.contains("N.M"), "{error}");
+        let error = hint("99.1").unwrap_err().to_string();
+        assert!(error.contains("lab 99"), "{error}");
+    }
+}
