@@ -71,25 +71,7 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
         });
     }
     let root = repository_root();
-    match uncommitted_files(&root) {
-        Some(files) if !files.is_empty() => {
-            let list = files.join(", ");
-            if !args.allow_dirty {
-                return Err(Error::Invalid {
-                    what: format!("the repository {}", root.display()),
-                    reason: format!(
-                        "these files that go into the handout differ from the last commit: {list}; commit them, or pass --allow-dirty to hand them out as they are"
-                    ),
-                });
-            }
-            eprintln!("warning: --allow-dirty: the handout holds uncommitted changes: {list}");
-        }
-        Some(_) => {}
-        None => eprintln!(
-            "note: {} is not a git work tree (or git is not installed): the handout is a copy of the files as they are",
-            root.display()
-        ),
-    }
+    check_clean(&root, args.allow_dirty)?;
     let options = TreeOptions {
         released: args.release_solutions.iter().copied().collect(),
         answer_key: false,
@@ -205,6 +187,33 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
     }
 }
 
+/// Refuses a repository `root` whose files differ from the last commit, unless `allow_dirty`
+/// (then they are named on stderr): what is handed out or uploaded should be a commit.
+pub fn check_clean(root: &Path, allow_dirty: bool) -> Result<(), Error> {
+    match uncommitted_files(root) {
+        Some(files) if !files.is_empty() => {
+            let list = files.join(", ");
+            if !allow_dirty {
+                return Err(Error::Invalid {
+                    what: format!("the repository {}", root.display()),
+                    reason: format!(
+                        "these files differ from the last commit: {list}; commit them, or pass --allow-dirty to take them as they are"
+                    ),
+                });
+            }
+            eprintln!(
+                "warning: --allow-dirty: these uncommitted changes go in as they are: {list}"
+            );
+        }
+        Some(_) => {}
+        None => eprintln!(
+            "note: {} is not a git work tree (or git is not installed): the copy takes the files as they are",
+            root.display()
+        ),
+    }
+    Ok(())
+}
+
 /// A released lab's solution may use another lab's solution (`crate::labNN`); that lab must
 /// be released too.
 fn check_releasable(root: &Path, released: &BTreeSet<u32>) -> Result<(), Error> {
@@ -285,6 +294,8 @@ formula comes from) and run that lab's checks. You need a Rust toolchain (1.87 o
 cargo test -p lab01                   # one test per exercise
 cargo test -p lab01 exercise_1_2      # just Exercise 1.2
 cargo run -p raylab -- status         # which exercises pass, and which one is next
+cargo run -p raylab -- hint 1.2       # the next step when you are stuck on Exercise 1.2
+cargo run -p raylab -- watch --lab 1  # re-run lab 1's checks each time you save
 cargo run -p raylab -- render --lab 1 --pipeline student   # the image your code makes
 cargo run -p raylab -- report --lab 1 --pipeline student   # the figures of your report
 ```
@@ -315,7 +326,7 @@ limits. Some exercises have tests that run only at grading.
 
 /// Copies the directory `from` to `to`, leaving out build output (`target/`, `out/`) and
 /// version control.
-fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
+pub fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
     fs::create_dir_all(to).map_err(io(to))?;
     for entry in fs::read_dir(from).map_err(io(from))? {
         let entry = entry.map_err(io(from))?;
@@ -333,12 +344,21 @@ fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
     Ok(())
 }
 
-/// Copies one file, creating the directories above it.
+/// Copies one file, creating the directories above it. The copy keeps the file's modification
+/// time, so that cargo, which judges a path crate's sources by their dates, finds an unchanged
+/// tree built again (by the next `raylab grade` in the same directory) up to date.
 pub fn copy_file(from: &Path, to: &Path) -> Result<(), Error> {
     if let Some(parent) = to.parent() {
         fs::create_dir_all(parent).map_err(io(parent))?;
     }
     fs::copy(from, to).map_err(io(from))?;
+    if let Ok(modified) = fs::metadata(from).and_then(|m| m.modified()) {
+        fs::File::options()
+            .write(true)
+            .open(to)
+            .and_then(|f| f.set_modified(modified))
+            .map_err(io(to))?;
+    }
     Ok(())
 }
 

@@ -7,7 +7,10 @@ mod golden;
 #[cfg(feature = "instructor")]
 mod grade;
 #[cfg(feature = "instructor")]
+mod gradescope;
+#[cfg(feature = "instructor")]
 mod handout;
+mod hint;
 mod render;
 mod report;
 mod status;
@@ -34,6 +37,8 @@ enum Command {
     Report(report::ReportArgs),
     /// Show which exercises pass with your code, lab by lab, and which one is next.
     Status(status::StatusArgs),
+    /// Show the next step of an exercise you are stuck on (e.g. `raylab hint 2.3`).
+    Hint(hint::HintArgs),
     /// Re-run a lab's checks whenever its sources change, and show the next exercise to do.
     Watch(watch::WatchArgs),
     /// Measure the ray-tracing core: rays per second and BVH build time (docs/performance.md).
@@ -47,6 +52,9 @@ enum Command {
     /// Grade submissions: each exercise built and run in isolation, reports and gradebooks.
     #[cfg(feature = "instructor")]
     Grade(grade::GradeArgs),
+    /// Write the Gradescope autograder (setup.sh, run_autograder) that grades as `grade` does.
+    #[cfg(feature = "instructor")]
+    Gradescope(gradescope::GradescopeArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +64,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Report(args)) => report::run(&args),
         Some(Command::Status(args)) => status::run(&args),
+        Some(Command::Hint(args)) => hint::run(&args),
         Some(Command::Watch(args)) => watch::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         #[cfg(feature = "instructor")]
@@ -64,6 +73,8 @@ fn main() -> ExitCode {
         Some(Command::Handout(args)) => handout::run(&args),
         #[cfg(feature = "instructor")]
         Some(Command::Grade(args)) => grade::run(&args),
+        #[cfg(feature = "instructor")]
+        Some(Command::Gradescope(args)) => gradescope::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -31,7 +31,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::handout::{TreeOptions, build_tree, io, repository_root};
 use runner::{ExerciseRun, Workspace};
-use sandbox::{Limits, Sandbox};
+use sandbox::{Limits, RunAs, Sandbox};
 use tree::Manifest;
 
 /// Options of `raylab grade`.
@@ -69,6 +69,16 @@ pub struct GradeArgs {
     /// code then runs as your user, able to read and write what you can; every report says so.
     #[arg(long)]
     pub unsandboxed: bool,
+    /// Run each exercise as this unprivileged user (a name or a user id) instead of in
+    /// bubblewrap, for machines whose containers cannot make user namespaces (Gradescope's):
+    /// needs root; builds run as root, exercises cannot write the grader's files.
+    #[arg(long, value_name = "USER", conflicts_with = "unsandboxed")]
+    pub run_as: Option<String>,
+    /// Also write the one submission's Gradescope results to this file — and, should the
+    /// submission not be graded at all, a result of 0 points that says why (Gradescope's
+    /// `run_autograder`, written by `raylab gradescope`).
+    #[arg(long, value_name = "FILE")]
+    pub results_json: Option<PathBuf>,
 }
 
 /// What became of one exercise in grading.
@@ -213,11 +223,52 @@ impl ExerciseGrade {
 
 /// Runs `raylab grade`.
 pub fn run(args: &GradeArgs) -> Result<(), Error> {
+    let Some(results) = &args.results_json else {
+        return grade_class(args);
+    };
+    if args.submissions.len() != 1 {
+        return Err(Error::Invalid {
+            what: format!("--results-json {}", results.display()),
+            reason: format!(
+                "expected one submission to write the results of, not {}",
+                args.submissions.len()
+            ),
+        });
+    }
+    let outcome = grade_class(args);
+    let graded = student_names(&args.submissions)
+        .ok()
+        .map(|names| args.out.join(&names[0]).join("results.json"))
+        .filter(|path| outcome.is_ok() && path.is_file());
+    match graded {
+        Some(path) => crate::handout::copy_file(&path, results)?,
+        None => {
+            let why = outcome.as_ref().err().map_or_else(
+                || "the grader wrote no results".to_string(),
+                ToString::to_string,
+            );
+            let mut redactions = reports::Redactions::default();
+            redactions.add(&repository_root(), "<course>");
+            redactions.add(&args.out, "<grades>");
+            let text = redactions.apply(&reports::ungraded_results(&why));
+            if let Some(dir) = results.parent() {
+                fs::create_dir_all(dir).map_err(io(dir))?;
+            }
+            fs::write(results, text).map_err(io(results))?;
+        }
+    }
+    outcome
+}
+
+/// Grades the class of `args`: reports per student and for the class.
+fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     let labs = graded_labs(&args.labs)?;
     let students = student_names(&args.submissions)?;
     let memory = args.memory_limit << 20;
+    let run_as = args.run_as.as_deref().map(RunAs::resolve).transpose()?;
     let sandbox = Sandbox::new(
         args.unsandboxed,
+        run_as,
         Limits {
             memory,
             build_memory: memory.max(8 << 30),

@@ -57,6 +57,13 @@ impl Workspace {
                 reason: String::from_utf8_lossy(&output.stderr).trim().to_string(),
             });
         }
+        // Under `--run-as`, the exercises' user cannot read the answer key's source.
+        for secret in ["reference", "tests"] {
+            let dir = self.tree.join(secret);
+            if dir.exists() {
+                self.sandbox.hide_from_exercises(&dir)?;
+            }
+        }
         fs::create_dir_all(&self.target).map_err(io(&self.target))
     }
 
@@ -390,6 +397,7 @@ pub fn list_tests(
     scratch: &Path,
 ) -> Result<Vec<String>, Error> {
     fs::create_dir_all(scratch).map_err(io(scratch))?;
+    sandbox.give_scratch(scratch)?;
     let command = sandbox.exercise(
         executable,
         lab_dir,
@@ -397,7 +405,9 @@ pub fn list_tests(
         &["--list", "--format", "terse"],
         &[],
     );
-    let run = run_captured(command, None, Duration::from_secs(60), OUTPUT_LIMIT)?;
+    let run = run_captured(command, None, Duration::from_secs(60), OUTPUT_LIMIT);
+    sandbox.end_exercise();
+    let run = run?;
     Ok(run
         .text()
         .lines()
@@ -426,6 +436,7 @@ pub struct ExerciseRun<'a> {
 /// when the output holds the check's verdict record, with this run's secret, saying so.
 pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Result<Run, Error> {
     fs::create_dir_all(how.scratch).map_err(io(how.scratch))?;
+    how.sandbox.give_scratch(how.scratch)?;
     let secret = verdict::new_secret().map_err(io(Path::new("/dev/urandom")))?;
     let scratch = how.scratch.to_string_lossy();
     let command = how.sandbox.exercise(
@@ -439,7 +450,9 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
             (verdict::CHANNEL_VAR, "stdin"),
         ],
     );
-    let run = run_captured(command, Some(&secret), how.timeout, OUTPUT_LIMIT)?;
+    let run = run_captured(command, Some(&secret), how.timeout, OUTPUT_LIMIT);
+    how.sandbox.end_exercise();
+    let run = run?;
     let images = failure_images(
         &how.scratch
             .join("raylab-failures")
@@ -700,7 +713,7 @@ mod tests {
         let workspace = Workspace {
             target: tree.join("target"),
             runs: tree.join("runs"),
-            sandbox: Sandbox::new(false, limits).expect("bubblewrap is installed"),
+            sandbox: Sandbox::new(false, None, limits).expect("bubblewrap is installed"),
             build_timeout: Duration::from_secs(300),
             tree: tree.clone(),
         };

@@ -18,7 +18,14 @@
 //! `--unshare-pid` and `--die-with-parent`, the whole sandbox — every process the student's
 //! code started, detached or not — ends when its first process does or is killed.
 //!
-//! Without bubblewrap, `raylab grade` refuses to run unless told `--unsandboxed`; then the
+//! Where bubblewrap cannot make its namespaces (a container without user namespaces, such as
+//! Gradescope's), a grader running as root can use `--run-as USER` instead: the builds run as
+//! root, and each exercise as that unprivileged user, under the same limits, in a scratch
+//! directory it owns. It cannot write the grader's files (the test executables, the reports,
+//! the results), nor read the answer key's source (made readable by root alone); when the
+//! exercise has ended, every process of that user is killed.
+//!
+//! Without either, `raylab grade` refuses to run unless told `--unsandboxed`; then the
 //! limits still apply, processes run in a process group of their own that is killed at the
 //! end, and every report says that the run was not sandboxed.
 
@@ -46,10 +53,71 @@ pub struct Limits {
     pub cpu_seconds: u64,
 }
 
+/// The unprivileged account exercises run as under `--run-as`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunAs {
+    /// The name it was given by (a user name, or a number).
+    pub name: String,
+    /// Its user id.
+    pub uid: u32,
+    /// Its primary group id.
+    pub gid: u32,
+}
+
+impl RunAs {
+    /// The account `user` (a name, or a numeric user id; a number's group is the same
+    /// number), which must not be root.
+    pub fn resolve(user: &str) -> Result<Self, Error> {
+        let invalid = |reason: String| Error::Invalid {
+            what: format!("--run-as {user}"),
+            reason,
+        };
+        let (uid, gid) = match user.parse::<u32>() {
+            Ok(uid) => (uid, uid),
+            Err(_) => {
+                let id = |flag: &str| -> Result<u32, Error> {
+                    let out = Command::new("id")
+                        .args([flag, user])
+                        .stdin(Stdio::null())
+                        .output()
+                        .map_err(|e| Error::io(Path::new("id"), e))?;
+                    String::from_utf8_lossy(&out.stdout)
+                        .trim()
+                        .parse()
+                        .map_err(|_| invalid("no such user on this machine".into()))
+                };
+                (id("-u")?, id("-g")?)
+            }
+        };
+        if uid == 0 || gid == 0 {
+            return Err(invalid(
+                "expected an unprivileged user, not root or the root group".into(),
+            ));
+        }
+        Ok(Self {
+            name: user.to_string(),
+            uid,
+            gid,
+        })
+    }
+
+    /// `setpriv` arguments that become this user, with no supplementary groups.
+    fn setpriv_args(&self) -> [String; 4] {
+        [
+            format!("--reuid={}", self.uid),
+            format!("--regid={}", self.gid),
+            "--clear-groups".to_string(),
+            "--".to_string(),
+        ]
+    }
+}
+
 /// How student code is isolated.
 pub struct Sandbox {
-    /// `bwrap`, or `None` when grading unsandboxed.
+    /// `bwrap`, or `None` when grading unsandboxed or as another user.
     bwrap: Option<PathBuf>,
+    /// The user exercises run as, without bubblewrap (`--run-as`).
+    run_as: Option<RunAs>,
     /// The toolchain's sysroot (`rustc --print sysroot`): its `bin/cargo` runs the builds.
     sysroot: PathBuf,
     /// Cargo's home, whose `registry/` the builds read.
@@ -74,10 +142,17 @@ const SYSTEM_ETC: &[&str] = &[
 ];
 
 impl Sandbox {
-    /// The sandbox of this machine: bubblewrap, checked to start; `unsandboxed` only when the
-    /// instructor asked for it. An error says what is missing and how to get it.
-    pub fn new(unsandboxed: bool, limits: Limits) -> Result<Self, Error> {
-        let bwrap = if unsandboxed {
+    /// The sandbox of this machine: bubblewrap, checked to start; exercises as the user
+    /// `run_as` instead, or `unsandboxed`, only when the instructor asked for it. An error says
+    /// what is missing and how to get it.
+    pub fn new(unsandboxed: bool, run_as: Option<RunAs>, limits: Limits) -> Result<Self, Error> {
+        if run_as.is_some() && !is_root() {
+            return Err(Error::Invalid {
+                what: "--run-as".into(),
+                reason: "running exercises as another user needs the grader to run as root".into(),
+            });
+        }
+        let bwrap = if unsandboxed || run_as.is_some() {
             None
         } else {
             Some(find_bwrap()?)
@@ -93,12 +168,13 @@ impl Sandbox {
         let pids_cgroup = pids_cgroup(limits.processes);
         let sandbox = Self {
             bwrap,
+            run_as,
             sysroot,
             cargo_home,
             pids_cgroup,
             limits,
         };
-        if sandbox.bwrap.is_some() {
+        if sandbox.bwrap.is_some() || sandbox.run_as.is_some() {
             sandbox.check_it_starts()?;
         }
         Ok(sandbox)
@@ -109,9 +185,44 @@ impl Sandbox {
         self.limits.memory
     }
 
-    /// Whether student code runs in bubblewrap.
+    /// Whether student code runs isolated: in bubblewrap, or as another user.
     pub fn is_sandboxed(&self) -> bool {
-        self.bwrap.is_some()
+        self.bwrap.is_some() || self.run_as.is_some()
+    }
+
+    /// Makes `dir` (an exercise's scratch directory, just made) the exercise's own: under
+    /// `--run-as`, owned by that user; otherwise nothing to do.
+    pub fn give_scratch(&self, dir: &Path) -> Result<(), Error> {
+        match &self.run_as {
+            Some(user) => std::os::unix::fs::chown(dir, Some(user.uid), Some(user.gid))
+                .map_err(|e| Error::io(dir, e)),
+            None => Ok(()),
+        }
+    }
+
+    /// Makes `dir` (the answer key's source in the grading tree) readable by the grader alone
+    /// under `--run-as`; the builds, which read it, run as the grader.
+    pub fn hide_from_exercises(&self, dir: &Path) -> Result<(), Error> {
+        use std::os::unix::fs::PermissionsExt;
+        match &self.run_as {
+            Some(_) => fs::set_permissions(dir, fs::Permissions::from_mode(0o700))
+                .map_err(|e| Error::io(dir, e)),
+            None => Ok(()),
+        }
+    }
+
+    /// Under `--run-as`, kills every process of that user: what an exercise left running.
+    pub fn end_exercise(&self) {
+        if let Some(user) = &self.run_as {
+            // `kill -1` as that user signals all its processes but the one sending.
+            let _ = Command::new("setpriv")
+                .args(user.setpriv_args())
+                .args(["kill", "-KILL", "-1"])
+                .stdin(Stdio::null())
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status();
+        }
     }
 
     /// One line for the reports: how the code was isolated and limited.
@@ -131,6 +242,12 @@ impl Sandbox {
             l.file_size >> 20,
             l.build_file_size >> 20
         );
+        if let Some(user) = &self.run_as {
+            return format!(
+                "run as the unprivileged user {} (uid {}; not in bubblewrap, which this machine cannot start): could not write the grader's files nor read the answer key's source; {limits}",
+                user.name, user.uid
+            );
+        }
         match self.bwrap {
             Some(_) => format!(
                 "sandboxed with bubblewrap (no network, no /proc, nothing writable but a scratch directory; answer key, repository and other submissions not visible); {limits}"
@@ -152,6 +269,7 @@ impl Sandbox {
                 self.limits.build_memory,
                 self.limits.build_file_size,
                 None,
+                false,
             );
             command
                 .args(args)
@@ -167,6 +285,7 @@ impl Sandbox {
             self.limits.build_memory,
             self.limits.build_file_size,
             None,
+            false,
         );
         base_arguments(&mut command);
         command.args(["--proc", "/proc"]);
@@ -226,8 +345,13 @@ impl Sandbox {
     ) -> Command {
         let cpu = Some(self.limits.cpu_seconds);
         let Some(bwrap) = &self.bwrap else {
-            let mut command =
-                self.limited(executable, self.limits.memory, self.limits.file_size, cpu);
+            let mut command = self.limited(
+                executable,
+                self.limits.memory,
+                self.limits.file_size,
+                cpu,
+                true,
+            );
             command
                 .args(args)
                 .current_dir(scratch)
@@ -237,7 +361,8 @@ impl Sandbox {
                 .envs(env.iter().copied());
             return command;
         };
-        let mut command = self.limited(bwrap, self.limits.memory, self.limits.file_size, cpu);
+        let mut command =
+            self.limited(bwrap, self.limits.memory, self.limits.file_size, cpu, false);
         base_arguments(&mut command);
         command
             .arg("--ro-bind")
@@ -276,8 +401,17 @@ impl Sandbox {
     }
 
     /// `program` under `prlimit` with the limits, at most `memory` bytes of address space and
-    /// files of `file_size` bytes (and in the pids control group, if any).
-    fn limited(&self, program: &Path, memory: u64, file_size: u64, cpu: Option<u64>) -> Command {
+    /// files of `file_size` bytes (and in the pids control group, if any); for student code
+    /// (`student`) under `--run-as`, as that user.
+    fn limited(
+        &self,
+        program: &Path,
+        memory: u64,
+        file_size: u64,
+        cpu: Option<u64>,
+        student: bool,
+    ) -> Command {
+        let as_user = self.run_as.as_ref().filter(|_| student);
         let mut limits = vec![
             format!("--as={memory}"),
             format!("--fsize={file_size}"),
@@ -287,10 +421,18 @@ impl Sandbox {
         if let Some(cpu) = cpu {
             limits.push(format!("--cpu={cpu}"));
         }
-        if !is_root() {
+        // RLIMIT_NPROC counts the processes of the real user, which root is exempt from.
+        if let Some(user) = as_user {
             limits.push(format!(
                 "--nproc={}",
-                self.limits.processes + processes_of_this_user()
+                self.limits.processes + processes_of(user.uid)
+            ));
+        } else if !is_root() {
+            // SAFETY: getuid has no preconditions and cannot fail.
+            let uid = unsafe { libc::getuid() };
+            limits.push(format!(
+                "--nproc={}",
+                self.limits.processes + processes_of(uid)
             ));
         }
         let mut command = match &self.pids_cgroup {
@@ -306,34 +448,47 @@ impl Sandbox {
             }
             None => Command::new("prlimit"),
         };
-        command.args(limits).arg("--").arg(program);
+        command.args(limits).arg("--");
+        if let Some(user) = as_user {
+            command.arg("setpriv").args(user.setpriv_args());
+        }
+        command.arg(program);
         command
     }
 
     /// Runs `true` in a sandbox like an exercise's, so that a machine where bubblewrap cannot
-    /// make its namespaces says so before any submission is graded.
+    /// make its namespaces (or `setpriv` is missing) says so before any submission is graded.
     fn check_it_starts(&self) -> Result<(), Error> {
         let scratch =
             std::env::temp_dir().join(format!("raylab-sandbox-check-{}", std::process::id()));
         fs::create_dir_all(&scratch).map_err(|e| Error::io(&scratch, e))?;
         let truth = Path::new("/bin/true");
-        let output = self
-            .exercise(truth, &scratch, &scratch, &[], &[])
-            .stdin(Stdio::null())
-            .output();
+        let output = self.give_scratch(&scratch).and_then(|()| {
+            self.exercise(truth, &scratch, &scratch, &[], &[])
+                .stdin(Stdio::null())
+                .output()
+                .map_err(|e| Error::io(Path::new("prlimit"), e))
+        });
         let _ = fs::remove_dir(&scratch);
+        let (what, fix) = match &self.run_as {
+            Some(user) => (
+                format!("--run-as {}", user.name),
+                "setpriv (util-linux) could not become that user".to_string(),
+            ),
+            None => (
+                "the grading sandbox (bubblewrap)".to_string(),
+                "bwrap could not start a sandbox — user namespaces may be disabled on this machine (kernel.unprivileged_userns_clone, or a container without them); fix that, grade as root with --run-as USER, or grade with --unsandboxed".to_string(),
+            ),
+        };
         match output {
             Ok(o) if o.status.success() => Ok(()),
             Ok(o) => Err(Error::Invalid {
-                what: "the grading sandbox (bubblewrap)".into(),
-                reason: format!(
-                    "bwrap could not start a sandbox: {} — user namespaces may be disabled on this machine (kernel.unprivileged_userns_clone, or a container without them); fix that, or grade with --unsandboxed",
-                    String::from_utf8_lossy(&o.stderr).trim()
-                ),
+                what,
+                reason: format!("{fix}: {}", String::from_utf8_lossy(&o.stderr).trim()),
             }),
             Err(e) => Err(Error::Invalid {
-                what: "the grading sandbox (bubblewrap)".into(),
-                reason: format!("could not run prlimit or bwrap: {e}"),
+                what,
+                reason: format!("could not start the sandbox's first process: {e}"),
             }),
         }
     }
@@ -406,11 +561,9 @@ fn is_root() -> bool {
     unsafe { libc::geteuid() == 0 }
 }
 
-/// How many processes this user has now (RLIMIT_NPROC counts them all).
-fn processes_of_this_user() -> u64 {
+/// How many processes the user `uid` has now (RLIMIT_NPROC counts them all).
+fn processes_of(uid: u32) -> u64 {
     use std::os::unix::fs::MetadataExt;
-    // SAFETY: getuid has no preconditions and cannot fail.
-    let uid = unsafe { libc::getuid() };
     fs::read_dir("/proc")
         .into_iter()
         .flatten()
@@ -449,4 +602,84 @@ fn pids_cgroup(processes: u64) -> Option<PathBuf> {
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_exercise_run_as_another_user_cannot_touch_the_graders_files_nor_outlive_its_end() {
+        if !is_root() {
+            // `--run-as` is refused without root (the next test); CI grades as root.
+            return;
+        }
+        let dir = std::env::temp_dir().join(format!("raylab-run-as-{}", std::process::id()));
+        let scratch = dir.join("scratch");
+        fs::create_dir_all(&scratch).unwrap();
+        let secret = dir.join("answer-key.rs");
+        fs::write(&secret, "the answer").unwrap();
+        fs::set_permissions(&secret, std::os::unix::fs::PermissionsExt::from_mode(0o600)).unwrap();
+        let limits = Limits {
+            memory: 1 << 30,
+            build_memory: 1 << 30,
+            processes: 64,
+            file_size: 1 << 20,
+            build_file_size: 1 << 20,
+            cpu_seconds: 10,
+        };
+        let user = RunAs::resolve("65534").unwrap();
+        let sandbox = Sandbox::new(false, Some(user), limits).unwrap();
+        assert!(sandbox.is_sandboxed() && sandbox.describe().contains("uid 65534"));
+        sandbox.give_scratch(&scratch).unwrap();
+        let script = format!(
+            "id -u; cat {secret} 2>&1; echo forged > {forged} 2>&1; echo mine > own; sleep 300 >/dev/null 2>&1 & echo \"sleeper $!\"",
+            secret = secret.display(),
+            forged = dir.join("results.json").display(),
+        );
+        let output = sandbox
+            .exercise(
+                Path::new("/bin/sh"),
+                &scratch,
+                &scratch,
+                &["-c", &script],
+                &[],
+            )
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let printed = String::from_utf8_lossy(&output.stdout);
+        assert!(printed.starts_with("65534\n"), "{printed}");
+        assert!(!printed.contains("the answer"), "{printed}");
+        assert!(!dir.join("results.json").exists(), "{printed}");
+        assert_eq!(fs::read_to_string(scratch.join("own")).unwrap(), "mine\n");
+        let sleeper = printed
+            .lines()
+            .find_map(|l| l.strip_prefix("sleeper "))
+            .expect("the script started a process");
+        // Alive: it exists and is not a zombie (which a container's init may not reap).
+        let stat = Path::new("/proc").join(sleeper).join("stat");
+        let alive = || fs::read_to_string(&stat).is_ok_and(|s| !s.contains(") Z "));
+        assert!(alive(), "the process left running is alive before the end");
+        sandbox.end_exercise();
+        let gone = (0..100).any(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            !alive()
+        });
+        assert!(gone, "the process the exercise left running outlived it");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn run_as_refuses_root_and_unknown_users() {
+        let error = RunAs::resolve("0").unwrap_err().to_string();
+        assert!(
+            error.contains("--run-as 0") && error.contains("unprivileged"),
+            "{error}"
+        );
+        let error = RunAs::resolve("no-such-user-here").unwrap_err().to_string();
+        assert!(error.contains("no such user"), "{error}");
+        let nobody = RunAs::resolve("65534").unwrap();
+        assert_eq!((nobody.uid, nobody.gid), (65534, 65534));
+    }
 }
