@@ -337,4 +337,136 @@ fn handout_then_grade_four_submissions() {
             }
         }
     }
+
+    gradescope_grades_like_grade(&work, &partial, &grades, &handout_target);
+}
+
+/// `raylab gradescope`'s bundle: its `run_autograder` grades a submission in a stand-in for
+/// Gradescope's `/autograder` as `raylab grade` does, into results.json. (The builds are those
+/// of the grading above: same grading directory, same target directory.)
+fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, target: &Path) {
+    let bundle = work.join("gradescope");
+    let autograder = work.join("autograder");
+    for dir in [&bundle, &autograder] {
+        let _ = fs::remove_dir_all(dir);
+    }
+    let (ok, out) = raylab(&[
+        "gradescope",
+        "--allow-dirty",
+        "--out",
+        bundle.to_str().unwrap(),
+        "--lab",
+        "1",
+        "--timeout",
+        "15",
+    ]);
+    assert!(ok, "{out}");
+    for file in [
+        "setup.sh",
+        "run_autograder",
+        "Cargo.lock",
+        "reference/src/lib.rs",
+    ] {
+        assert!(bundle.join(file).is_file(), "the bundle has no {file}");
+    }
+    for left_out in [".ci", "target", ".git"] {
+        assert!(!bundle.join(left_out).exists(), "the bundle has {left_out}");
+    }
+    // Gradescope unpacks the bundle into source/ and the upload into submission/ (here a
+    // student who zipped the handout's folder rather than its contents).
+    fs::create_dir_all(autograder.join("submission")).unwrap();
+    fs::rename(&bundle, autograder.join("source")).unwrap();
+    copy_tree(partial, &autograder.join("submission/my-raylab"));
+    // As root (as in Gradescope's container), each exercise runs as the unprivileged user
+    // nobody, as where bubblewrap cannot start; otherwise in bubblewrap.
+    let root_user = Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| o.stdout == b"0\n");
+    let output = Command::new(autograder.join("source/run_autograder"))
+        .env("AUTOGRADER", &autograder)
+        .env("RAYLAB_RUN_AS", if root_user { "65534" } else { "" })
+        .env("RAYLAB", target_dir().join("debug/raylab"))
+        .env("RAYLAB_TARGET_DIR", target)
+        .env("RAYLAB_GRADING_DIR", grades)
+        .output()
+        .expect("run_autograder runs");
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(output.status.success(), "{log}");
+    let text = read(&autograder.join("results/results.json"));
+    let results: serde_json::Value = serde_json::from_str(&text).expect("results.json is JSON");
+
+    // Gradescope's required fields: a score (or every test's), and for each test a score and
+    // a max_score; name, number, status, output and visibility as it documents them.
+    let tests = results["tests"].as_array().expect("tests[]");
+    let numbers: Vec<&str> = tests
+        .iter()
+        .map(|t| t["number"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        numbers,
+        ["1.1", "1.2", "1.3", "1.4", "1.5", "1.6"],
+        "{text}"
+    );
+    let mut sum = 0.0;
+    for test in tests {
+        let score = test["score"].as_f64().expect("a test's score");
+        let max = test["max_score"].as_f64().expect("a test's max_score");
+        assert!((0.0..=max).contains(&score), "{test}");
+        assert!(
+            test["name"].is_string() && test["output"].is_string(),
+            "{test}"
+        );
+        assert!(
+            ["passed", "failed"].contains(&test["status"].as_str().unwrap()),
+            "{test}"
+        );
+        let visibility = test["visibility"].as_str().unwrap();
+        assert!(
+            ["hidden", "after_due_date", "after_published", "visible"].contains(&visibility),
+            "{test}"
+        );
+        let wanted = if ["1.4", "1.6"].contains(&test["number"].as_str().unwrap()) {
+            0.0
+        } else {
+            max
+        };
+        assert_eq!(score, wanted, "partial's camera: {test}");
+        sum += score;
+    }
+    assert_eq!(results["score"].as_f64(), Some(sum), "{text}");
+    if root_user {
+        let output = results["output"].as_str().unwrap();
+        assert!(output.contains("the unprivileged user 65534"), "{text}");
+    }
+    assert!(
+        !text.contains(work.to_str().unwrap()),
+        "an instructor path: {text}"
+    );
+
+    // A submission with nothing to grade still gets a result that says why.
+    fs::remove_dir_all(autograder.join("submission")).unwrap();
+    fs::write(autograder.join("submission"), "not a directory").unwrap();
+    let output = Command::new(autograder.join("source/run_autograder"))
+        .env("AUTOGRADER", &autograder)
+        .env("RAYLAB", target_dir().join("debug/raylab"))
+        .env("RAYLAB_TARGET_DIR", target)
+        .env("RAYLAB_GRADING_DIR", grades)
+        .output()
+        .expect("run_autograder runs");
+    assert!(output.status.success());
+    let text = read(&autograder.join("results/results.json"));
+    let results: serde_json::Value = serde_json::from_str(&text).expect("results.json is JSON");
+    assert_eq!(results["score"].as_f64(), Some(0.0), "{text}");
+    assert!(
+        results["output"]
+            .as_str()
+            .unwrap()
+            .contains("could not grade this submission"),
+        "{text}"
+    );
 }

@@ -197,7 +197,10 @@ if [ ! -d "$submission/labs" ]; then
     done
 fi
 
-if bwrap --unshare-all --die-with-parent --ro-bind / / true 2>/dev/null; then
+# $RAYLAB_RUN_AS chooses the unprivileged user even where bubblewrap would start.
+if [ -n "${{RAYLAB_RUN_AS:-}}" ]; then
+    isolation="--run-as $RAYLAB_RUN_AS"
+elif bwrap --unshare-all --die-with-parent --ro-bind / / true 2>/dev/null; then
     isolation=""
 else
     isolation="--run-as 65534"

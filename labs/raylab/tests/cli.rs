@@ -161,12 +161,27 @@ fn help_texts_stay_the_same() {
     let dir = scratch("help");
     let mut transcript = String::new();
     for command in [
-        "render", "report", "status", "watch", "bench", "golden", "handout", "grade",
+        "render",
+        "report",
+        "status",
+        "hint",
+        "watch",
+        "bench",
+        "golden",
+        "handout",
+        "grade",
+        "gradescope",
     ] {
         let (ok, stdout, stderr) = raylab(&[command, "--help"], &dir);
         assert!(ok, "{command} --help: {stderr}");
         transcript.push_str(&format!("$ raylab {command} --help\n{stdout}\n"));
     }
+    let (ok, stdout, stderr) = raylab(&["hint", "1.1"], &dir);
+    assert!(ok, "hint 1.1: {stderr}");
+    transcript.push_str(&format!("$ raylab hint 1.1\n{stdout}\n"));
+    let (ok, _, stderr) = raylab(&["hint", "1.9"], &dir);
+    assert!(!ok);
+    transcript.push_str(&format!("$ raylab hint 1.9\n{stderr}\n"));
     insta::assert_snapshot!(transcript);
     std::fs::remove_dir_all(dir).ok();
 }
