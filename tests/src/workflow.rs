@@ -52,3 +52,88 @@ pub fn copy_tree(from: &Path, to: &Path) {
         }
     }
 }
+
+/// Opens the HTML page `page` in headless Chromium (`/usr/bin/chromium`, Debian's `chromium`)
+/// and checks what a reader would see: the page shows text, every image loads (decoded, with a
+/// size) and every link within the page has its anchor. `Ok` holds what was checked, `Err`
+/// what is wrong.
+pub fn check_in_browser(page: &Path) -> Result<String, String> {
+    let page = fs::canonicalize(page).map_err(|e| format!("{}: {e}", page.display()))?;
+    let dir = page.parent().expect("a page is in a directory");
+    let name = page.file_name().unwrap().to_string_lossy().into_owned();
+    // A page beside the one checked loads it in a frame and reports on it when it has loaded.
+    let checker = dir.join(format!(".browser-check-{}.html", std::process::id()));
+    fs::write(
+        &checker,
+        format!(
+            r##"<!doctype html><meta charset="utf-8"><body><iframe id="page" src="{name}"></iframe><script>
+const frame = document.getElementById("page");
+frame.addEventListener("load", () => setTimeout(() => {{
+  const found = [];
+  let doc = null;
+  try {{ doc = frame.contentDocument; }} catch (e) {{ found.push("the page cannot be read: " + e); }}
+  if (doc) {{
+    if (!doc.body || doc.body.innerText.trim() === "") found.push("the page shows nothing");
+    for (const img of doc.images) {{
+      if (!(img.complete && img.naturalWidth > 0)) found.push("image not loaded: " + img.getAttribute("src"));
+    }}
+    const links = doc.querySelectorAll("a[href]");
+    for (const a of links) {{
+      const href = a.getAttribute("href");
+      if (href.startsWith("#") && !doc.getElementById(decodeURIComponent(href.slice(1)))) found.push("no anchor for link " + href);
+    }}
+    found.push("checked: " + doc.images.length + " images, " + links.length + " links");
+  }}
+  const out = document.createElement("pre");
+  out.id = "result";
+  out.textContent = found.join("\n");
+  document.body.appendChild(out);
+}}, 100));
+</script>"##
+        ),
+    )
+    .map_err(|e| format!("{}: {e}", checker.display()))?;
+    let profile = std::env::temp_dir().join(format!("raylab-chromium-{}", std::process::id()));
+    let output = std::process::Command::new("chromium")
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--allow-file-access-from-files",
+            "--virtual-time-budget=10000",
+            "--dump-dom",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("file://{}", checker.display()))
+        .output();
+    let _ = fs::remove_file(&checker);
+    let _ = fs::remove_dir_all(&profile);
+    let output = output.map_err(|e| {
+        format!("chromium: {e} (install Debian's chromium: apt-get install chromium)")
+    })?;
+    let dom = String::from_utf8_lossy(&output.stdout);
+    let result = dom
+        .split("<pre id=\"result\">")
+        .nth(1)
+        .and_then(|r| r.split("</pre>").next())
+        .ok_or_else(|| {
+            format!(
+                "{name}: the browser did not finish the check:\n{dom}\n{}",
+                String::from_utf8_lossy(&output.stderr)
+            )
+        })?;
+    let problems: Vec<&str> = result
+        .lines()
+        .filter(|l| !l.starts_with("checked: "))
+        .collect();
+    if problems.is_empty() {
+        Ok(result.to_string())
+    } else {
+        Err(format!("{name}: {}", problems.join("; ")))
+    }
+}

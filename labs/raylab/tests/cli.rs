@@ -252,6 +252,26 @@ fn student_pipeline_on_stubs_renders_magenta_and_names_the_unfinished_exercises(
     assert!(stderr.contains("Exercise 1.2 is unfinished"), "{stderr}");
     let md = std::fs::read_to_string(dir.join("out/report/lab01/report.md")).unwrap();
     assert!(md.contains("Exercise 1.2 is unfinished"), "{md}");
+    // report.html shows the same figures, each image beside the page.
+    let page = dir.join("out/report/lab01");
+    let html = std::fs::read_to_string(page.join("report.html")).unwrap();
+    assert!(html.contains("Exercise 1.2 is unfinished"), "{html}");
+    let images: Vec<&str> = html
+        .split("src=\"")
+        .skip(1)
+        .filter_map(|r| r.split('"').next())
+        .collect();
+    assert!(!images.is_empty(), "{html}");
+    for image in images {
+        assert!(
+            page.join(image).is_file(),
+            "report.html shows {image}, not there"
+        );
+        assert!(
+            md.contains(&format!("]({image})")),
+            "report.md lacks {image}"
+        );
+    }
     // The reference pipeline in the repository holds no student code and says nothing of it.
     let args = [&["render", "-o", "r.png"][..], &size].concat();
     let (ok, _, stderr) = raylab(&args, &dir);

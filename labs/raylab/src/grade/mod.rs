@@ -167,6 +167,28 @@ pub struct StudentGrade {
     pub flagged: Vec<String>,
     /// How the student's code was isolated (the sandbox and its limits).
     pub sandbox: String,
+    /// Where the grading of this submission spent its time.
+    pub timings: Timings,
+}
+
+/// Wall-clock seconds the grading of one submission spent, by kind of work.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// Compiling the student's labs and linking the checks.
+    pub build: f64,
+    /// Running the exercises that ended within their time limit (and listing the tests).
+    pub run: f64,
+    /// Running the exercises that were stopped at their time limit: the student's own time.
+    pub timed_out: f64,
+    /// Writing the submission's reports.
+    pub report: f64,
+}
+
+impl Timings {
+    /// The grader's own time: everything but the time-outs.
+    pub fn machine(&self) -> f64 {
+        self.build + self.run + self.report
+    }
 }
 
 impl StudentGrade {
@@ -197,6 +219,7 @@ impl StudentGrade {
             rejected: Vec::new(),
             flagged: Vec::new(),
             sandbox: String::new(),
+            timings: Timings::default(),
         }
     }
 }
@@ -365,7 +388,9 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         if let Some(home) = std::env::var_os("HOME") {
             redactions.add(Path::new(&home), "~");
         }
+        let started = std::time::Instant::now();
         reports::write_student(&grade, &dir, &redactions)?;
+        grade.timings.report = started.elapsed().as_secs_f64();
         bar.println(format!(
             "{student}: {}/{} points{}",
             grade.score(),
@@ -386,7 +411,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     println!("{}", summary(&grades, started.elapsed()));
     reports::write_class(&grades, &args.out)?;
     println!(
-        "reports in {}: index.html, gradebook.csv, junit.xml, and per student report.md, report.html, results.json",
+        "reports in {}: index.html, gradebook.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
         args.out.display()
     );
     Ok(())
@@ -402,15 +427,36 @@ fn summary(grades: &[StudentGrade], took: Duration) -> String {
     let mean =
         grades.iter().map(|g| f64::from(g.score())).sum::<f64>() / grades.len().max(1) as f64;
     let max = grades.first().map_or(0, StudentGrade::max_score);
+    let total = grades.iter().fold(Timings::default(), |sum, g| Timings {
+        build: sum.build + g.timings.build,
+        run: sum.run + g.timings.run,
+        timed_out: sum.timed_out + g.timings.timed_out,
+        report: sum.report + g.timings.report,
+    });
+    let labs = grades
+        .first()
+        .map_or(0, |g| {
+            let mut labs: Vec<u32> = g.exercises.iter().map(|e| e.info.lab).collect();
+            labs.dedup();
+            labs.len()
+        })
+        .max(1);
+    let per = (grades.len().max(1) * labs) as f64;
     format!(
-        "graded {} submission(s) in {:.0} s: mean {mean:.1}/{max} points; exercises {}",
+        "graded {} submission(s) in {:.0} s: mean {mean:.1}/{max} points; exercises {}\n\
+         per submission and lab: {:.1} s of grading (build {:.1} s, run {:.1} s, reports {:.2} s) and {:.1} s in time-outs",
         grades.len(),
         took.as_secs_f64(),
         counts
             .iter()
             .map(|(label, n)| format!("{label} {n}"))
             .collect::<Vec<_>>()
-            .join(", ")
+            .join(", "),
+        total.machine() / per,
+        total.build / per,
+        total.run / per,
+        total.report / per,
+        total.timed_out / per,
     )
 }
 
@@ -507,6 +553,7 @@ fn grade_submission(
     let mut notes = Vec::new();
     let mut rejected = Vec::new();
     let mut flagged = Vec::new();
+    let mut timings = Timings::default();
     let changed_files = submission::changed_files(submission, handout)?;
 
     // Only the graded labs' code goes in: every other slot of every check is the answer key,
@@ -542,7 +589,10 @@ fn grade_submission(
             flagged.push(denied.line);
         }
         bar.set_message(format!("{student}: compiling labs/lab{lab:02}/src"));
-        if let Err(errors) = workspace.build_lib(&format!("lab{lab:02}"))? {
+        let started = std::time::Instant::now();
+        let built = workspace.build_lib(&format!("lab{lab:02}"))?;
+        timings.build += started.elapsed().as_secs_f64();
+        if let Err(errors) = built {
             broken.insert(
                 lab,
                 (
@@ -561,7 +611,9 @@ fn grade_submission(
         .filter(|l| !broken.contains_key(l))
         .collect();
     bar.set_message(format!("{student}: building the checks"));
+    let started = std::time::Instant::now();
     let build = workspace.build_checks(&to_build)?;
+    timings.build += started.elapsed().as_secs_f64();
 
     let mut exercises = Vec::new();
     for &lab in labs {
@@ -591,12 +643,14 @@ fn grade_submission(
         };
         let lab_dir = workspace.tree.join(format!("labs/lab{lab:02}"));
         let runs = workspace.runs.join(student);
+        let started = std::time::Instant::now();
         let tests = runner::list_tests(
             &workspace.sandbox,
             executable,
             &lab_dir,
             &runs.join(format!("list-lab{lab:02}")),
         )?;
+        timings.run += started.elapsed().as_secs_f64();
         for info in infos {
             if let Some(lines) = answered.get(info.id) {
                 let why = format!(
@@ -630,6 +684,11 @@ fn grade_submission(
             };
             bar.set_message(format!("{student}: Exercise {}", info.id));
             let run = runner::run_exercise(&how, test, &info)?;
+            if run.status == Status::TimedOut {
+                timings.timed_out += run.seconds;
+            } else {
+                timings.run += run.seconds;
+            }
             let mut images = Vec::new();
             for image in &run.images {
                 let name = format!(
@@ -666,5 +725,6 @@ fn grade_submission(
         rejected,
         flagged,
         sandbox: String::new(),
+        timings,
     })
 }

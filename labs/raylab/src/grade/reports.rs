@@ -67,6 +67,7 @@ pub fn write_class(grades: &[StudentGrade], dir: &Path) -> Result<(), Error> {
     fs::create_dir_all(dir).map_err(io(dir))?;
     write(&dir.join("gradebook.csv"), &gradebook(grades))?;
     write(&dir.join("junit.xml"), &junit(grades))?;
+    write(&dir.join("timings.csv"), &timings(grades))?;
     write(&dir.join("index.html"), &index(grades))
 }
 
@@ -426,6 +427,23 @@ fn gradebook(grades: &[StudentGrade]) -> String {
     String::from_utf8(csv.into_inner().unwrap_or_default()).unwrap_or_default()
 }
 
+/// `timings.csv`: where the grading of each submission spent its time, seconds.
+fn timings(grades: &[StudentGrade]) -> String {
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    let _ = csv.write_record(["student", "build", "run", "timed_out", "report"]);
+    for g in grades {
+        let t = g.timings;
+        let _ = csv.write_record([
+            g.student.clone(),
+            format!("{:.3}", t.build),
+            format!("{:.3}", t.run),
+            format!("{:.3}", t.timed_out),
+            format!("{:.3}", t.report),
+        ]);
+    }
+    String::from_utf8(csv.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
 /// JUnit XML: a test suite per student, a test case per exercise; a failure's type is its
 /// status.
 fn junit(grades: &[StudentGrade]) -> String {
@@ -658,6 +676,7 @@ mod tests {
             rejected: Vec::new(),
             flagged: Vec::new(),
             sandbox: String::new(),
+            timings: Default::default(),
         }
     }
 

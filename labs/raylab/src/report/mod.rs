@@ -155,10 +155,12 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         eprintln!("{line}");
     }
     let index = write_index(&ctx, args.pipeline, &figures, &unfinished)?;
+    let page = write_page(&ctx, args.pipeline, &figures, &unfinished)?;
     for f in &figures {
         println!("{}", ctx.dir.join(&f.file).display());
     }
     println!("{}", index.display());
+    println!("{}", page.display());
     Ok(())
 }
 
@@ -181,16 +183,7 @@ fn write_index(
 ) -> Result<PathBuf, Error> {
     let mut md = String::new();
     let _ = writeln!(md, "# Lab {:02} report figures\n", ctx.lab);
-    let _ = writeln!(
-        md,
-        "Rendered with the {:?} pipeline{}.\n",
-        choice,
-        if ctx.quick {
-            " in quick mode (small images, few samples)"
-        } else {
-            ""
-        }
-    );
+    let _ = writeln!(md, "{}\n", made_with(ctx, choice));
     if !unfinished.is_empty() {
         let _ = writeln!(
             md,
@@ -213,6 +206,66 @@ fn write_index(
     }
     let path = ctx.dir.join("report.md");
     std::fs::write(&path, md).map_err(|e| Error::io(&path, e))?;
+    Ok(path)
+}
+
+/// How the report's figures were made, in words: the pipeline, and quick mode if it was.
+fn made_with(ctx: &ReportContext, choice: PipelineChoice) -> String {
+    format!(
+        "Rendered with the {:?} pipeline{}.",
+        choice,
+        if ctx.quick {
+            " in quick mode (small images, few samples)"
+        } else {
+            ""
+        }
+    )
+}
+
+/// Writes `report.html` beside the figures: the same as `report.md`, each figure shown with
+/// its caption, parameters and time, for a browser.
+fn write_page(
+    ctx: &ReportContext,
+    choice: PipelineChoice,
+    figures: &[Figure],
+    unfinished: &[String],
+) -> Result<PathBuf, Error> {
+    use maud::{DOCTYPE, html};
+    let title = format!("Lab {:02} report figures", ctx.lab);
+    let page = html! {
+        (DOCTYPE)
+        html lang="en" {
+            head {
+                meta charset="utf-8";
+                title { (title) }
+                style { "body{font-family:sans-serif;max-width:72rem;margin:2rem auto;padding:0 1rem}\
+                         figure{margin:2rem 0}img{max-width:100%;image-rendering:pixelated}\
+                         figcaption{color:#333}.unfinished{background:#fde;padding:.5rem 1rem}" }
+            }
+            body {
+                h1 { (title) }
+                p { (made_with(ctx, choice)) }
+                @if !unfinished.is_empty() {
+                    div class="unfinished" {
+                        p { strong { "Unfinished." } " Magenta pixels are pixels whose computation panicked, over all the figures:" }
+                        ul { @for line in unfinished.iter().skip(1) { li { (line.trim()) } } }
+                    }
+                }
+                @for f in figures {
+                    figure id=(f.file.trim_end_matches(".png")) {
+                        h2 { (f.caption) }
+                        img src=(f.file) alt=(f.caption);
+                        figcaption {
+                            (f.parameters)
+                            @if let Some(s) = f.seconds { " — render time " (format!("{s:.3}")) " s" }
+                        }
+                    }
+                }
+            }
+        }
+    };
+    let path = ctx.dir.join("report.html");
+    std::fs::write(&path, page.into_string()).map_err(|e| Error::io(&path, e))?;
     Ok(path)
 }
 
