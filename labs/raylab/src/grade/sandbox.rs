@@ -459,8 +459,11 @@ impl Sandbox {
     /// Runs `true` in a sandbox like an exercise's, so that a machine where bubblewrap cannot
     /// make its namespaces (or `setpriv` is missing) says so before any submission is graded.
     fn check_it_starts(&self) -> Result<(), Error> {
+        // One directory per check: sandboxes made at once in one process must not share it.
+        static CHECKS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let n = CHECKS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let scratch =
-            std::env::temp_dir().join(format!("raylab-sandbox-check-{}", std::process::id()));
+            std::env::temp_dir().join(format!("raylab-sandbox-check-{}-{n}", std::process::id()));
         fs::create_dir_all(&scratch).map_err(|e| Error::io(&scratch, e))?;
         let truth = Path::new("/bin/true");
         let output = self.give_scratch(&scratch).and_then(|()| {
