@@ -5,7 +5,7 @@ use framework::film::ToneMap;
 use framework::pipeline::View;
 use framework::scene::builtin_scene;
 
-use super::{Figure, ReportContext, settings};
+use super::{Figure, ReportContext, settings, timed};
 
 /// The figures of lab 01.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
@@ -16,7 +16,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         ..ctx.pipeline.clone()
     };
     let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, 1))?;
-    ctx.save(&film, "default-base-colour.png", ToneMap::default())?;
+    ctx.save_labelled(
+        film,
+        timed(&format!("{w}×{h}, 1 ray per pixel"), seconds),
+        "default-base-colour.png",
+        ToneMap::default(),
+    )?;
     Ok(vec![Figure {
         file: "default-base-colour.png".into(),
         caption: "The default scene seen through the camera (flat colours)".into(),

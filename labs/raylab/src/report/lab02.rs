@@ -6,7 +6,7 @@ use framework::film::ToneMap;
 use framework::pipeline::{Pipeline, View};
 use framework::scene::builtin_scene;
 
-use super::{Figure, ReportContext, settings};
+use super::{Figure, ReportContext, settings, timed};
 
 /// The figures of lab 02.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
@@ -38,7 +38,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             ..ctx.pipeline.clone()
         };
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, 1))?;
-        ctx.save(&film, file, ToneMap::default())?;
+        ctx.save_labelled(
+            film,
+            timed(&format!("{scene_name} scene, {w}×{h}"), seconds),
+            file,
+            ToneMap::default(),
+        )?;
         figures.push(Figure {
             file: file.into(),
             caption: caption.into(),

@@ -16,7 +16,7 @@ use framework::math::Ray;
 use framework::pipeline::Pipeline;
 use framework::sampling::Rng;
 
-use super::{Figure, ReportContext, montage, settings};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// The area light is dim next to the point light: the figures scale radiance by this before
 /// clamping.
@@ -38,7 +38,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut figures = Vec::new();
 
     let (film, seconds) = ctx.render_timed(&point_scene, &ctx.pipeline, &settings(w, h, 1))?;
-    ctx.save(&film, "cornell-hard-shadows.png", ToneMap::default())?;
+    ctx.save_labelled(
+        film,
+        timed("1 shadow ray", seconds),
+        "cornell-hard-shadows.png",
+        ToneMap::default(),
+    )?;
     figures.push(Figure {
         file: "cornell-hard-shadows.png".into(),
         caption: "Hard shadows: the Cornell box lit by the point light under the ceiling lamp"
@@ -55,7 +60,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         ..ctx.pipeline.clone()
     };
     let (film, seconds) = ctx.render_timed(&area_scene, &pipeline, &settings(w, h, 1))?;
-    ctx.save(&film, "cornell-soft-shadows.png", tonemap)?;
+    ctx.save_labelled(
+        film,
+        timed(&format!("{n}×{n} light samples"), seconds),
+        "cornell-soft-shadows.png",
+        tonemap,
+    )?;
     figures.push(Figure {
         file: "cornell-soft-shadows.png".into(),
         caption: "Soft shadows: the Cornell box lit by its area light (the ceiling lamp)".into(),
@@ -75,11 +85,14 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             ..ctx.pipeline.clone()
         };
         let (film, seconds) = ctx.render_timed(&area_scene, &pipeline, &settings(w, h, 1))?;
-        panels.push(crop(&film, w));
+        panels.push(Panel::new(
+            crop(&film, w),
+            timed(&format!("n = {}", n * n), seconds),
+        ));
         times.push((n, seconds));
     }
     let total: f64 = times.iter().map(|t| t.1).sum();
-    ctx.save(&montage(&panels, 4), "penumbra-light-samples.png", tonemap)?;
+    ctx.save_panels(&[panels], "penumbra-light-samples.png", tonemap)?;
     let mut table = String::from(
         "| light samples | 1 | 4 | 9 | 25 | 100 | 225 |\n| --- | --- | --- | --- | --- | --- | --- |\n| render time (s) |",
     );
@@ -115,10 +128,11 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             ..ctx.pipeline.clone()
         };
         let (film, seconds) = ctx.render_timed(&area_scene, &pipeline, &settings(w, h, 1))?;
-        panels.push(crop(&film, w));
+        let what = if jitter { "jittered" } else { "cell centres" };
+        panels.push(Panel::new(crop(&film, w), timed(what, seconds)));
         total += seconds;
     }
-    ctx.save(&montage(&panels, 4), "penumbra-grid-vs-jitter.png", tonemap)?;
+    ctx.save_panels(&[panels], "penumbra-grid-vs-jitter.png", tonemap)?;
     figures.push(Figure {
         file: "penumbra-grid-vs-jitter.png".into(),
         caption: "Nine light samples at the cell centres (left: nine point lights, a banded penumbra) and jittered within their cells (right: noise instead of bands)".into(),

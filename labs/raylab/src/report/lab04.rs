@@ -9,7 +9,7 @@ use framework::labs::lab04::checks::{Shot, glossy_default_scene};
 use framework::pipeline::Pipeline;
 use framework::scene::{IllumModel, Scene, builtin_scene};
 
-use super::{Figure, ReportContext, montage, settings};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// The default scene with every material whose model is not in `keep` made Lambertian, so
 /// that one shader after the other can be switched on.
@@ -23,11 +23,12 @@ fn default_with(keep: &[IllumModel]) -> Result<Scene, Error> {
     Ok(scene)
 }
 
-/// One rendered panel: its film, file, caption and time.
-struct Panel {
+/// One step of the worksheet's image set: its render, file, caption, label and time.
+struct Step {
     film: Film,
     file: &'static str,
     caption: &'static str,
+    label: &'static str,
     seconds: f64,
 }
 
@@ -47,48 +48,59 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
 
     // The worksheet's image set: each step adds one shader (and the rays it spawns).
     use IllumModel::{Mirror, Phong, Transparent};
-    let steps: [(&str, &str, Scene, Pipeline); 6] = [
+    let steps: [(&str, &str, &str, Scene, Pipeline); 6] = [
         (
             "default-lab2.png",
+            "lab 2: Lambertian",
             "Lab 2: every surface Lambertian, no shadows",
             builtin_scene("default")?,
             at_lab(2),
         ),
         (
             "default-lab3.png",
+            "lab 3: shadows",
             "Lab 3: every surface Lambertian, with shadow rays",
             builtin_scene("default")?,
             at_lab(3),
         ),
         (
             "default-mirror.png",
+            "mirror",
             "Mirror sphere (illum 3): reflected rays",
             default_with(&[Mirror])?,
             at_lab(4),
         ),
         (
             "default-glass.png",
+            "glass, η = 1.5",
             "Glass sphere (illum 4, η = 1.5): refracted rays, a ball lens",
             default_with(&[Mirror, Transparent])?,
             at_lab(4),
         ),
         (
             "default-phong.png",
+            "Phong, s = 40",
             "Phong torus (illum 2, s = 40): the normalized Phong highlight",
             default_with(&[Mirror, Transparent, Phong])?,
             at_lab(4),
         ),
         (
             "default-glossy.png",
+            "glossy glass",
             "Combining it all: the glass sphere glossy (illum 5), 0.1·Phong + 0.1·reflected + 0.9·refracted",
             glossy_default_scene()?,
             at_lab(4),
         ),
     ];
-    let mut panels = Vec::new();
-    for (file, caption, scene, pipeline) in steps {
+    let mut done = Vec::new();
+    for (file, caption, label, scene, pipeline) in steps {
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, spp))?;
-        ctx.save(&film, file, ToneMap::default())?;
+        ctx.save_labelled(
+            film.clone(),
+            timed(label, seconds),
+            file,
+            ToneMap::default(),
+        )?;
         figures.push(Figure {
             file: file.into(),
             caption: caption.into(),
@@ -98,16 +110,20 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             ),
             seconds: Some(seconds),
         });
-        panels.push(Panel {
+        done.push(Step {
             film,
             file,
             caption,
+            label,
             seconds,
         });
     }
-    let set: Vec<&Panel> = panels.iter().skip(2).collect();
-    let films: Vec<Film> = set.iter().map(|p| p.film.clone()).collect();
-    ctx.save(&montage(&films, 4), "worksheet-set.png", ToneMap::default())?;
+    let set: Vec<&Step> = done.iter().skip(2).collect();
+    let panels: Vec<Panel> = set
+        .iter()
+        .map(|p| Panel::new(p.film.clone(), timed(p.label, p.seconds)))
+        .collect();
+    ctx.save_panels(&[panels], "worksheet-set.png", ToneMap::default())?;
     figures.push(Figure {
         file: "worksheet-set.png".into(),
         caption: "The worksheet's image set: mirror, glass, Phong, combined".into(),
@@ -128,7 +144,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         &at_lab(4),
         &settings(w, h, spp),
     )?;
-    ctx.save(&film, "cornell-spheres.png", ToneMap::default())?;
+    ctx.save_labelled(
+        film,
+        timed(&format!("{spp} rays per pixel, depth {depth}"), seconds),
+        "cornell-spheres.png",
+        ToneMap::default(),
+    )?;
     figures.push(Figure {
         file: "cornell-spheres.png".into(),
         caption: "The Cornell box with a mirror sphere (back) and a glass sphere (front)".into(),
@@ -141,7 +162,7 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     // Two facing mirrors: the corridor of reflections ends in black at the depth limit.
     let scene = Shot::TwoMirrors.scene()?;
     let (dw, dh) = ctx.size(320, 240);
-    let mut films = Vec::new();
+    let mut panels = Vec::new();
     let mut times = Vec::new();
     for max_depth in [1, 2, 5, 10, 30] {
         let pipeline = Pipeline {
@@ -149,14 +170,13 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             ..at_lab(4)
         };
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(dw, dh, spp))?;
-        films.push(film);
+        panels.push(Panel::new(
+            film,
+            timed(&format!("depth {max_depth}"), seconds),
+        ));
         times.push((max_depth, seconds));
     }
-    ctx.save(
-        &montage(&films, 4),
-        "two-mirrors-depth.png",
-        ToneMap::default(),
-    )?;
+    ctx.save_panels(&[panels], "two-mirrors-depth.png", ToneMap::default())?;
     figures.push(Figure {
         file: "two-mirrors-depth.png".into(),
         caption: "Two facing mirrors at depth limits 1, 2, 5, 10 and 30".into(),

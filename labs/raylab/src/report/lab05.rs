@@ -8,10 +8,9 @@ use std::time::Instant;
 
 use framework::Error;
 use framework::contracts::lab05::Radiometry;
-use framework::film::ToneMap;
 use framework::labs::lab05::checks::{BIG_LIGHT, Estimator, LightCase, estimates, light_cases};
 
-use super::plot::{BLUE, LogLogPlot, ORANGE, Series};
+use super::plot::{BLUE, Guide, LogLogPlot, ORANGE, Series};
 use super::{Figure, ReportContext};
 
 /// The sample counts of the plot: 1 to 4096.
@@ -69,13 +68,28 @@ fn convergence(ctx: &ReportContext, case: &LightCase, file: &str) -> Result<Figu
     let mut series = Vec::new();
     let mut notes = String::new();
     let mut seconds = 0.0;
-    for (result, colour, name) in [
-        (&area, BLUE, "blue: uniform area sampling (5.8)"),
-        (&cosine, ORANGE, "orange: cosine-weighted sampling (5.9)"),
+    for (result, colour, name, legend) in [
+        (
+            &area,
+            BLUE,
+            "blue: uniform area sampling (5.8)",
+            "area sampling (5.8)",
+        ),
+        (
+            &cosine,
+            ORANGE,
+            "orange: cosine-weighted sampling (5.9)",
+            "cosine sampling (5.9)",
+        ),
     ] {
         match result {
             Ok((points, t)) => {
-                series.push(Series { points, colour });
+                series.push(Series {
+                    name: legend,
+                    points,
+                    colour,
+                    markers: true,
+                });
                 seconds += t;
                 let _ = write!(notes, "{name}; ");
             }
@@ -90,9 +104,16 @@ fn convergence(ctx: &ReportContext, case: &LightCase, file: &str) -> Result<Figu
         x_label: "samples",
         y_label: "relative error",
         series,
-        guides: guide.map(|p| (-0.5, p)).into_iter().collect(),
+        guides: guide
+            .map(|through| Guide {
+                slope: -0.5,
+                through,
+                name: "slope -1/2 (1/sqrt N)",
+            })
+            .into_iter()
+            .collect(),
     };
-    ctx.save(&plot.draw(), file, ToneMap::default())?;
+    ctx.save_plot(&plot, file)?;
 
     let mut table = String::from(
         "| samples N | RMS relative error, area sampling | RMS relative error, cosine sampling |\n| --- | --- | --- |\n",

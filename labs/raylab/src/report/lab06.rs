@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use framework::Error;
 use framework::contracts::lab06::Radiosity;
-use framework::film::{Film, ToneMap};
+use framework::film::ToneMap;
 use framework::glam::Vec3;
 use framework::radiosity::solver::{
     FormFactors, Shading, Solution, SolveSettings, render_solution, solve,
@@ -15,7 +15,8 @@ use framework::radiosity::solver::{
 use framework::radiosity::{MeshingOptions, PatchMesh};
 use framework::scene::{Scene, builtin_scene};
 
-use super::{Figure, ReportContext, montage, settings};
+use super::plot::{LogLogPlot, RED, Series};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// Meshing of the report's Cornell box: 5 cm patches, 2.5 cm on the light.
 pub const MESHING: MeshingOptions = MeshingOptions {
@@ -122,7 +123,8 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             "The same solution smoothed by nodal averaging (Gouraud-interpolated vertex colours)",
         ),
     ] {
-        ctx.save(&draw(&main, smooth), file, tone)?;
+        let what = if smooth { "smoothed" } else { "flat" };
+        ctx.save_labelled(draw(&main, smooth), timed(what, main.seconds), file, tone)?;
         figures.push(Figure {
             file: file.into(),
             caption: caption.into(),
@@ -132,11 +134,24 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     }
 
     // Unshot power against shots.
-    let plot = plot_log(&main.solution.unshot_fraction, ctx.size(640, 320));
-    ctx.save(&plot, "unshot-power.png", ToneMap::Clamp { exposure: 1.0 })?;
+    let points = unshot_points(&main.solution.unshot_fraction);
+    let shots = points.last().map_or(1.0, |p| p.0);
+    let plot = LogLogPlot {
+        x_decades: (0, shots.log10().ceil().max(1.0) as i32),
+        x_label: "shots",
+        y_label: "unshot power / emitted power",
+        series: vec![Series {
+            name: "progressive refinement (6.5, 6.6)",
+            points: &points,
+            colour: RED,
+            markers: false,
+        }],
+        guides: Vec::new(),
+    };
+    ctx.save_plot(&plot, "unshot-power.png")?;
     figures.push(Figure {
         file: "unshot-power.png".into(),
-        caption: "Unshot power over emitted power against the number of shots (log scale, 10⁰ at the top to 10⁻³ at the bottom; grid lines at each decade)".into(),
+        caption: "Unshot power over emitted power against the number of shots (log–log)".into(),
         parameters: params.clone(),
         seconds: None,
     });
@@ -151,7 +166,12 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         max_light_size: meshing.max_light_size.max(0.05),
     };
     let a = solved(r, &scene, coarse, &analytic);
-    ctx.save(&draw(&a, true), "cornell-analytic.png", tone)?;
+    ctx.save_labelled(
+        draw(&a, true),
+        timed("analytic form factors", a.seconds),
+        "cornell-analytic.png",
+        tone,
+    )?;
     figures.push(Figure {
         file: "cornell-analytic.png".into(),
         caption: "Analytic point-to-patch form factors: no occlusion, so no shadows under the blocks, and light leaks through them".into(),
@@ -174,9 +194,12 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             "light patches ≤ {light} m: {}",
             describe(&s, &SOLVE)
         ));
-        panels.push(draw(&s, true));
+        panels.push(Panel::new(
+            draw(&s, true),
+            timed(&format!("light ≤ {light} m"), s.seconds),
+        ));
     }
-    ctx.save(&montage(&panels, 4), "light-subdivision.png", tone)?;
+    ctx.save_panels(&[panels], "light-subdivision.png", tone)?;
     figures.push(Figure {
         file: "light-subdivision.png".into(),
         caption:
@@ -196,9 +219,12 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         let s = solved(r, &scene, meshing, &settings);
         seconds += s.seconds;
         lines.push(describe(&s, &settings));
-        panels.push(draw(&s, false));
+        panels.push(Panel::new(
+            draw(&s, false),
+            timed(&format!("{n}×{n} hemicube"), s.seconds),
+        ));
     }
-    ctx.save(&montage(&panels, 4), "hemicube-resolution.png", tone)?;
+    ctx.save_panels(&[panels], "hemicube-resolution.png", tone)?;
     figures.push(Figure {
         file: "hemicube-resolution.png".into(),
         caption: "Hemicubes of 4, 8, 16 and 64 pixels across (flat patches): aliasing of the item buffer at low resolution".into(),
@@ -214,11 +240,11 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         ..ctx.pipeline.clone()
     };
     let (traced, t) = ctx.render_timed(&scene, &traced_pipeline, &settings(w, h, spp))?;
-    ctx.save(
-        &montage(&[draw(&main, true), traced], 4),
-        "radiosity-vs-ray-tracing.png",
-        tone,
-    )?;
+    let panels = vec![
+        Panel::new(draw(&main, true), timed("radiosity", main.seconds)),
+        Panel::new(traced, timed("ray tracing", t)),
+    ];
+    ctx.save_panels(&[panels], "radiosity-vs-ray-tracing.png", tone)?;
     figures.push(Figure {
         file: "radiosity-vs-ray-tracing.png".into(),
         caption: "Radiosity (left: every diffuse interreflection, colour bleeding) against the ray tracer of labs 3–4 (right: direct light only, from the scene's point light and its area light: a black ceiling, no colour bleeding, hard shadows from the point light)".into(),
@@ -228,34 +254,16 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     Ok(figures)
 }
 
-/// A plot of `values` (fractions in `(0, 1]`) on a log scale from 10⁰ down to 10⁻³.
-fn plot_log(values: &[f64], (w, h): (u32, u32)) -> Film {
-    let mut film = Film::new(w, h);
-    film.pixels.fill(Vec3::ONE);
-    let decades = 3.0;
-    let y_of = |v: f64| {
-        let t = (-v.max(1e-12).log10() / decades).clamp(0.0, 1.0);
-        ((h - 1) as f64 * t) as u32
-    };
-    for d in 0..=3 {
-        let y = y_of(10f64.powi(-d));
-        for x in 0..w {
-            film.set(x, y, Vec3::splat(0.8));
-        }
-    }
-    let n = values.len().max(2) - 1;
-    let mut last: Option<(u32, u32)> = None;
-    for x in 0..w {
-        let k = (x as usize * n) / (w as usize - 1).max(1);
-        let y = y_of(values[k.min(values.len() - 1)]);
-        let (y0, y1) = match last {
-            Some((_, py)) => (py.min(y), py.max(y)),
-            None => (y, y),
-        };
-        for yy in y0..=y1 {
-            film.set(x, yy, Vec3::new(0.8, 0.1, 0.1));
-        }
-        last = Some((x, y));
-    }
-    film
+/// The unshot power after each shot, as `(shots, fraction)` points for a log–log plot: every
+/// shot from the first, thinned to at most 500 points.
+fn unshot_points(values: &[f64]) -> Vec<(f64, f64)> {
+    let step = (values.len() / 500).max(1);
+    values
+        .iter()
+        .enumerate()
+        .skip(1)
+        .filter(|(k, _)| k % step == 0 || *k == values.len() - 1)
+        .filter(|(_, v)| **v > 0.0)
+        .map(|(k, &v)| (k as f64, v))
+        .collect()
 }

@@ -12,8 +12,8 @@ use framework::labs::lab07::checks::mean_squared_error;
 use framework::render::RenderSettings;
 use framework::scene::builtin_scene;
 
-use super::plot::{BLUE, LogLogPlot, Series};
-use super::{Figure, ReportContext, montage, settings};
+use super::plot::{BLUE, Guide, LogLogPlot, Series};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// The subdivisions of the side-by-side figure.
 const PANEL_SUBDIVISIONS: [u32; 4] = [1, 2, 3, 4];
@@ -59,11 +59,14 @@ fn subdivision_panels(ctx: &ReportContext) -> Result<Figure, Error> {
     let mut times = Vec::new();
     for s in PANEL_SUBDIVISIONS {
         let (film, seconds) = ctx.render_timed(&scene, &ctx.pipeline, &subdivided(w, h, s, 0))?;
-        panels.push(crop_zoom(&film));
+        panels.push(Panel::new(
+            crop_zoom(&film),
+            timed(&format!("s = {s}"), seconds),
+        ));
         times.push(seconds);
     }
     let file = "subdivisions-1-to-4.png";
-    ctx.save(&montage(&panels, 4), file, ToneMap::default())?;
+    ctx.save_panels(&[panels], file, ToneMap::default())?;
     let mut table = String::from(
         "| subdivision s | rays per pixel s² | render time (s) | time relative to s = 1 |\n| --- | --- | --- | --- |\n",
     );
@@ -112,13 +115,26 @@ fn error_plot(ctx: &ReportContext) -> Result<Figure, Error> {
         x_label: "rays per pixel",
         y_label: "RMS error",
         series: vec![Series {
+            name: "measured (s = 1 to 8)",
             points: &points,
             colour: BLUE,
+            markers: true,
         }],
         // Slopes −1/2 and −3/4 through the s = 2 point.
-        guides: vec![(-0.5, points[1]), (-0.75, points[1])],
+        guides: vec![
+            Guide {
+                slope: -0.5,
+                through: points[1],
+                name: "slope -1/2 (random)",
+            },
+            Guide {
+                slope: -0.75,
+                through: points[1],
+                name: "slope -3/4 (jittered, edges)",
+            },
+        ],
     };
-    ctx.save(&figure.draw(), file, ToneMap::default())?;
+    ctx.save_plot(&figure, file)?;
 
     let mut table = String::from(
         "| s | rays per pixel s² | render time (s) | RMS error | error relative to s = 1 |\n| --- | --- | --- | --- | --- |\n",

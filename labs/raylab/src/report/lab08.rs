@@ -11,7 +11,7 @@ use framework::photon::{PhotonMap, PhotonSettings, trace_caustic_photons};
 use framework::pipeline::{Pipeline, View};
 use framework::scene::{Scene, builtin_scene};
 
-use super::{Figure, ReportContext, settings};
+use super::{Figure, ReportContext, settings, timed};
 
 /// The scene of the figures.
 const SCENE: &str = "cornell-spheres";
@@ -55,15 +55,36 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let spp = if ctx.quick { 1 } else { 4 };
 
     let preview = photon_preview(ctx, &scene, &base, &map, w, h)?;
-    ctx.save(&preview.0, "photon-map.png", ToneMap::default())?;
+    ctx.save_labelled(
+        preview.0,
+        timed(
+            &format!("{stored} photons stored, {} drawn", preview.1),
+            trace_seconds + preview.2,
+        ),
+        "photon-map.png",
+        ToneMap::default(),
+    )?;
     let caustics_only = Pipeline {
         view: View::Caustics,
         ..with_map.clone()
     };
     let (film, caustic_seconds) = ctx.render_timed(&scene, &caustics_only, &settings(w, h, spp))?;
-    ctx.save(&film, "caustics-only.png", ToneMap::default())?;
+    ctx.save_labelled(
+        film,
+        timed(
+            &format!("caustics only, k = {}", photons.k),
+            caustic_seconds,
+        ),
+        "caustics-only.png",
+        ToneMap::default(),
+    )?;
     let (film, full_seconds) = ctx.render_timed(&scene, &with_map, &settings(w, h, spp))?;
-    ctx.save(&film, "full-render.png", ToneMap::default())?;
+    ctx.save_labelled(
+        film,
+        timed("direct + caustics", full_seconds),
+        "full-render.png",
+        ToneMap::default(),
+    )?;
 
     Ok(vec![
         Figure {

@@ -12,7 +12,7 @@ use framework::labs::lab09::checks::{GROUND_TEX_SCALE, textured_scene};
 use framework::pipeline::Pipeline;
 use framework::render::RenderSettings;
 
-use super::{Figure, ReportContext, montage, settings};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// The subdivisions of the side-by-side figures.
 const SUBDIVISIONS: [u32; 4] = [1, 2, 3, 4];
@@ -69,7 +69,10 @@ fn filter_panels(ctx: &ReportContext, filter: TextureFilter) -> Result<Figure, E
     let mut times = Vec::new();
     for s in SUBDIVISIONS {
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &subdivided(w, h, s))?;
-        panels.push(crop_zoom(&film));
+        panels.push(Panel::new(
+            crop_zoom(&film),
+            timed(&format!("s = {s}"), seconds),
+        ));
         times.push(seconds);
     }
     let name = match filter {
@@ -77,7 +80,7 @@ fn filter_panels(ctx: &ReportContext, filter: TextureFilter) -> Result<Figure, E
         TextureFilter::Bilinear => "bilinear",
     };
     let file = format!("{name}-subdivisions-1-to-4.png");
-    ctx.save(&montage(&panels, 4), &file, ToneMap::default())?;
+    ctx.save_panels(&[panels], &file, ToneMap::default())?;
     let mut table = String::from(
         "| subdivision s | rays per pixel s² | render time (s) |\n| --- | --- | --- |\n",
     );
@@ -106,7 +109,7 @@ fn scale_panels(ctx: &ReportContext) -> Result<Figure, Error> {
     for f in FREQUENCIES {
         let scene = textured_scene(f)?;
         let (film, t) = ctx.render_timed(&scene, &pipeline, &subdivided(w, h, 2))?;
-        panels.push(film);
+        panels.push(Panel::new(film, timed(&format!("frequency {f}"), t)));
         seconds += t;
         let _ = write!(
             lines,
@@ -116,7 +119,7 @@ fn scale_panels(ctx: &ReportContext) -> Result<Figure, Error> {
         );
     }
     let file = "texture-scale-1-and-10.png";
-    ctx.save(&montage(&panels, 4), file, ToneMap::default())?;
+    ctx.save_panels(&[panels], file, ToneMap::default())?;
     Ok(Figure {
         file: file.into(),
         caption:

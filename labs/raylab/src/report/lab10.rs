@@ -13,7 +13,7 @@ use framework::labs::lab10::checks::volume_default_scene;
 use framework::pipeline::Pipeline;
 use framework::scene::{IllumModel, Scene, builtin_scene};
 
-use super::{Figure, ReportContext, montage, settings};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// The cut-out of the glass sphere, as fractions of the image: left, top, width, height.
 const CROP: [f32; 4] = [0.62, 0.36, 0.22, 0.28];
@@ -22,8 +22,8 @@ const ZOOM: u32 = 3;
 /// Angles of incidence of the reflectance table, in degrees.
 const TABLE_ANGLES: [f32; 10] = [0.0, 15.0, 30.0, 45.0, 56.31, 60.0, 70.0, 80.0, 85.0, 89.0];
 
-/// One rendered panel.
-struct Panel {
+/// One render of a figure: its film, what it shows and its time.
+struct Shot {
     film: Film,
     caption: &'static str,
     seconds: f64,
@@ -43,9 +43,9 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         &at_lab(10),
         &settings(32, 24, 1),
     )?;
-    let render = |caption: &'static str, scene: &Scene, lab: u32| -> Result<Panel, Error> {
+    let render = |caption: &'static str, scene: &Scene, lab: u32| -> Result<Shot, Error> {
         let (film, seconds) = ctx.render_timed(scene, &at_lab(lab), &settings(w, h, spp))?;
-        Ok(Panel {
+        Ok(Shot {
             film,
             caption,
             seconds,
@@ -118,11 +118,14 @@ fn panels_figure(
     ctx: &ReportContext,
     file: &str,
     caption: &str,
-    panels: &[Panel],
+    panels: &[Shot],
     parameters: &str,
 ) -> Result<Figure, Error> {
-    let films: Vec<Film> = panels.iter().map(|p| p.film.clone()).collect();
-    ctx.save(&montage(&films, 4), file, ToneMap::default())?;
+    let labelled = panels
+        .iter()
+        .map(|p| Panel::new(p.film.clone(), timed(p.caption, p.seconds)))
+        .collect();
+    ctx.save_panels(&[labelled], file, ToneMap::default())?;
     let mut table = String::from("| panel (left to right) | render time (s) |\n| --- | --- |\n");
     for p in panels {
         let _ = writeln!(table, "| {} | {:.3} |", p.caption, p.seconds);
@@ -151,17 +154,17 @@ fn crop_zoom(film: &Film) -> Film {
 
 fn closeup_figure(
     ctx: &ReportContext,
-    fixed: &Panel,
-    fresnel: &Panel,
+    fixed: &Shot,
+    fresnel: &Shot,
     w: u32,
     h: u32,
 ) -> Result<Figure, Error> {
     let file = "glass-sphere-closeup.png";
-    ctx.save(
-        &montage(&[crop_zoom(&fixed.film), crop_zoom(&fresnel.film)], 4),
-        file,
-        ToneMap::default(),
-    )?;
+    let panels = vec![
+        Panel::new(crop_zoom(&fixed.film), "refraction only"),
+        Panel::new(crop_zoom(&fresnel.film), "Fresnel weights"),
+    ];
+    ctx.save_panels(&[panels], file, ToneMap::default())?;
     Ok(Figure {
         file: file.into(),
         caption: "The glass sphere close up: refraction only (left) and Fresnel weights (right)"

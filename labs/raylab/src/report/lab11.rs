@@ -15,7 +15,7 @@ use framework::labs::lab11::checks::{SKY_PROBE, STUDIO_PROBE};
 use framework::pipeline::Pipeline;
 use framework::scene::{EnvironmentMap, ProbeMapping, Scene, Texture, load_scene_file};
 
-use super::{Figure, ReportContext, montage, settings};
+use super::{Figure, Panel, ReportContext, settings, timed};
 
 /// The rays per shading point of Figure 4.1.
 const RAYS: [u32; 3] = [100, 200, 300];
@@ -65,27 +65,19 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut times = Vec::new();
     let mut total = 0.0;
     for sampler in [HemisphereSampler::Rejection, HemisphereSampler::Cosine] {
-        let mut films = Vec::new();
+        let mut row = Vec::new();
         for rays in RAYS {
-            let (film, t) = ctx.render_timed(&white, &with(rays, sampler), &settings(w, h, 1))?;
-            films.push(film);
+            let pipeline = with(rays, sampler);
+            let (film, t) = ctx.render_timed(&white, &pipeline, &settings(w, h, 1))?;
+            let what = format!("{sampler:?}, {} rays", pipeline.occlusion_rays.0);
+            row.push(Panel::new(film, timed(&what, t)));
             times.push(format!("{sampler:?} {rays}: {t:.2} s"));
             total += t;
         }
-        rows.push(montage(&films, 4));
-    }
-    // The two rows one above the other.
-    let (top, bottom) = (&rows[0], &rows[1]);
-    let mut grid = framework::film::Film::new(top.width, top.height + 4 + bottom.height);
-    grid.pixels.fill(Vec3::ONE);
-    for y in 0..top.height {
-        for x in 0..top.width {
-            grid.set(x, y, top.get(x, y));
-            grid.set(x, y + top.height + 4, bottom.get(x, y));
-        }
+        rows.push(row);
     }
     let file = "ao-rejection-vs-cosine.png";
-    ctx.save(&grid, file, ToneMap::default())?;
+    ctx.save_panels(&rows, file, ToneMap::default())?;
     let mut figures = vec![Figure {
         file: file.into(),
         caption: "Figure 4.1: ambient occlusion, rejection sampling (top) against cosine-weighted sampling (bottom), 100, 200 and 300 rays per shading point (left to right)".into(),
@@ -116,8 +108,9 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         let pipeline = with(rays, HemisphereSampler::Cosine);
         let spp = if ctx.quick { 1 } else { 4 };
         let (film, t) = ctx.render_timed(&scene, &pipeline, &settings(w, h, spp))?;
-        ctx.save(
-            &film,
+        ctx.save_labelled(
+            film,
+            timed(&format!("{} map, {rays} rays", mapping.name()), t),
             file,
             ToneMap::Reinhard {
                 key: 0.18,

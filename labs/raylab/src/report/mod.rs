@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use clap::Args;
 use framework::Error;
-use framework::film::{Film, ToneMap, write_png};
+use framework::film::{Film, ToneMap};
 use framework::glam::Vec3;
 use framework::pipeline::{LabSlots, Pipeline};
 use framework::render::{PixelFailures, RenderSettings, render_partial};
@@ -93,10 +93,33 @@ impl ReportContext {
         Ok((rendered.marked(), seconds))
     }
 
-    /// Writes a film as a PNG figure in the report directory.
-    pub fn save(&self, film: &Film, file: &str, tonemap: ToneMap) -> Result<PathBuf, Error> {
+    /// Writes rows of labelled panels as a PNG figure (see [`labelled`]).
+    pub fn save_panels(
+        &self,
+        rows: &[Vec<Panel>],
+        file: &str,
+        tonemap: ToneMap,
+    ) -> Result<PathBuf, Error> {
         let path = self.dir.join(file);
-        write_png(film, &path, tonemap)?;
+        write_rgb8(&labelled(rows, tonemap), &path)?;
+        Ok(path)
+    }
+
+    /// Writes one render as a PNG figure with `label` under it.
+    pub fn save_labelled(
+        &self,
+        film: Film,
+        label: impl Into<String>,
+        file: &str,
+        tonemap: ToneMap,
+    ) -> Result<PathBuf, Error> {
+        self.save_panels(&[vec![Panel::new(film, label)]], file, tonemap)
+    }
+
+    /// Writes a plot as a PNG figure.
+    pub fn save_plot(&self, plot: &plot::LogLogPlot, file: &str) -> Result<PathBuf, Error> {
+        let path = self.dir.join(file);
+        write_rgb8(&plot.draw(), &path)?;
         Ok(path)
     }
 
@@ -110,23 +133,122 @@ impl ReportContext {
     }
 }
 
-/// Films side by side in a row (all of the same height), separated by `gap` white pixels.
-pub fn montage(films: &[Film], gap: u32) -> Film {
-    let height = films.iter().map(|f| f.height).max().unwrap_or(0);
-    let width =
-        films.iter().map(|f| f.width).sum::<u32>() + gap * films.len().saturating_sub(1) as u32;
-    let mut out = Film::new(width, height);
-    out.pixels.fill(Vec3::ONE);
-    let mut x0 = 0;
-    for film in films {
-        for y in 0..film.height {
-            for x in 0..film.width {
-                out.set(x0 + x, y, film.get(x, y));
-            }
+/// The white gap between the panels of a figure, pixels.
+const GAP: u32 = 4;
+
+/// One render of a figure and the label printed under it inside the image: what varies
+/// between the panels and the render time.
+pub struct Panel {
+    /// The render.
+    pub film: Film,
+    /// The label (for example "n = 9, 0.840 s").
+    pub label: String,
+}
+
+impl Panel {
+    /// A panel labelled `label`.
+    pub fn new(film: Film, label: impl Into<String>) -> Self {
+        Self {
+            film,
+            label: label.into(),
         }
-        x0 += film.width + gap;
+    }
+}
+
+/// The label of a render made in `seconds`: "`what`, 0.123 s" (just the time when `what` is
+/// empty).
+pub fn timed(what: &str, seconds: f64) -> String {
+    if what.is_empty() {
+        format!("{seconds:.3} s")
+    } else {
+        format!("{what}, {seconds:.3} s")
+    }
+}
+
+/// The height of a row of panels: its tallest.
+fn row_height(row: &[Panel]) -> u32 {
+    row.iter().map(|p| p.film.height).max().unwrap_or(0)
+}
+
+/// The rows of panels as one film: the panels of a row side by side, the rows one above the
+/// other, [`GAP`] white pixels between them; and each panel's place `(x, width)` in its row.
+fn grid(rows: &[Vec<Panel>]) -> (Film, Vec<(u32, u32)>) {
+    let row_width = |row: &[Panel]| {
+        row.iter().map(|p| p.film.width).sum::<u32>() + GAP * row.len().saturating_sub(1) as u32
+    };
+    let width = rows.iter().map(|r| row_width(r)).max().unwrap_or(0);
+    let height =
+        rows.iter().map(|r| row_height(r)).sum::<u32>() + GAP * rows.len().saturating_sub(1) as u32;
+    let mut film = Film::new(width, height);
+    film.pixels.fill(Vec3::ONE);
+    let mut places = Vec::new();
+    let mut y0 = 0;
+    for row in rows {
+        let mut x0 = 0;
+        for panel in row {
+            let p = &panel.film;
+            for y in 0..p.height {
+                for x in 0..p.width {
+                    film.set(x0 + x, y0 + y, p.get(x, y));
+                }
+            }
+            places.push((x0, p.width));
+            x0 += p.width + GAP;
+        }
+        y0 += row_height(row) + GAP;
+    }
+    (film, places)
+}
+
+/// The rows of panels tone-mapped together (as one image, so the tone map sees them all) to
+/// 8-bit sRGB, with each panel's label in a strip under its row.
+pub fn labelled(rows: &[Vec<Panel>], tonemap: ToneMap) -> plot::Rgb8 {
+    let (film, places) = grid(rows);
+    let toned = film.to_srgb8(tonemap);
+    let strip = places
+        .iter()
+        .map(|&(_, w)| plot::label_height(w))
+        .max()
+        .unwrap_or(0);
+    let width = film.width;
+    let mut out = plot::Rgb8::white(width, film.height + strip * rows.len() as u32);
+    let mut places = places.into_iter();
+    let mut y_in = 0;
+    for (k, row) in rows.iter().enumerate() {
+        let h = row_height(row);
+        let y_out = y_in + strip * k as u32;
+        let (from, to) = (
+            (y_in * width * 3) as usize,
+            ((y_in + h) * width * 3) as usize,
+        );
+        let band = plot::Rgb8 {
+            width,
+            height: h,
+            bytes: toned[from..to].to_vec(),
+        };
+        out.blit(&band, 0, y_out);
+        for (panel, (x0, w)) in row.iter().zip(&mut places) {
+            out.blit(&plot::label_strip(&panel.label, w), x0, y_out + h);
+        }
+        y_in += h + GAP;
     }
     out
+}
+
+/// Writes 8-bit sRGB pixels as a PNG file.
+fn write_rgb8(image: &plot::Rgb8, path: &std::path::Path) -> Result<(), Error> {
+    image::save_buffer_with_format(
+        path,
+        &image.bytes,
+        image.width,
+        image.height,
+        image::ExtendedColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| Error::ImageOutput {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })
 }
 
 /// Runs `raylab report`.

@@ -1,345 +1,382 @@
-//! The reports' line plot: a few series on log–log axes with dashed guide lines, drawn
-//! into a [`Film`] with a 5×7 pixel font (written as PNG like every figure).
+//! The reports' drawings that carry text: the log–log error plot (axes, ticks, a legend and
+//! labelled guide lines) and the label strip under each render panel. Both are drawn with
+//! `plotters` into 8-bit sRGB pixels, with the Hack typeface of `epaint_default_fonts`
+//! registered once, so no system font is needed.
 
-use framework::film::Film;
-use framework::glam::{Vec2, Vec3};
+use std::sync::Once;
 
-const PLOT_W: u32 = 660;
-const PLOT_H: u32 = 460;
-/// Plot area: left, top, right, bottom.
-const AREA: [f32; 4] = [78.0, 40.0, 620.0, 390.0];
-const INK: Vec3 = Vec3::new(0.0, 0.0, 0.0);
-const GRID: Vec3 = Vec3::new(0.75, 0.75, 0.75);
-const GUIDE: Vec3 = Vec3::new(0.35, 0.35, 0.35);
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// The plot's size in pixels.
+const PLOT_SIZE: (u32, u32) = (720, 480);
+/// The font family the drawings use (the registered Hack typeface).
+const FONT: &str = "sans-serif";
 /// The colour of a plot's first series.
-pub const BLUE: Vec3 = Vec3::new(0.02, 0.12, 0.7);
+pub const BLUE: RGBColor = RGBColor(5, 60, 180);
 /// The colour of a plot's second series.
-pub const ORANGE: Vec3 = Vec3::new(0.85, 0.33, 0.02);
+pub const ORANGE: RGBColor = RGBColor(217, 84, 5);
+/// A red series.
+pub const RED: RGBColor = RGBColor(200, 25, 25);
+/// The colour of the guide lines.
+const GUIDE: RGBColor = RGBColor(90, 90, 90);
 
-/// One series of a [`LogLogPlot`]: its `(x, y)` points and their colour.
+/// An 8-bit sRGB image, row by row, three bytes a pixel.
+pub struct Rgb8 {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width × height × 3` bytes.
+    pub bytes: Vec<u8>,
+}
+
+impl Rgb8 {
+    /// A white image.
+    pub fn white(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            bytes: vec![255; (width as usize) * (height as usize) * 3],
+        }
+    }
+
+    /// Copies `other` into this image with its top-left corner at `(x0, y0)`, clipped.
+    pub fn blit(&mut self, other: &Rgb8, x0: u32, y0: u32) {
+        for y in 0..other.height.min(self.height.saturating_sub(y0)) {
+            let w = other.width.min(self.width.saturating_sub(x0)) as usize;
+            let from = (y * other.width) as usize * 3;
+            let to = ((y0 + y) * self.width + x0) as usize * 3;
+            self.bytes[to..to + 3 * w].copy_from_slice(&other.bytes[from..from + 3 * w]);
+        }
+    }
+}
+
+/// Registers the typeface with plotters, once per process.
+fn register_font() {
+    static REGISTER: Once = Once::new();
+    REGISTER.call_once(|| {
+        // The bytes are a valid TrueType font; a failure would only leave the text undrawn.
+        let _ = plotters::style::register_font(
+            FONT,
+            FontStyle::Normal,
+            epaint_default_fonts::HACK_REGULAR,
+        );
+    });
+}
+
+/// Draws with `draw` on a white `width × height` area and returns the pixels; a drawing
+/// error (which only a font without a glyph could cause) leaves what was drawn so far.
+fn drawn(
+    width: u32,
+    height: u32,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), String>,
+) -> Rgb8 {
+    register_font();
+    let mut image = Rgb8::white(width, height);
+    {
+        let root =
+            BitMapBackend::with_buffer(&mut image.bytes, (width, height)).into_drawing_area();
+        let _ = draw(&root);
+        let _ = root.present();
+    }
+    image
+}
+
+/// One series of a [`LogLogPlot`]: its name in the legend, its `(x, y)` points and their
+/// colour.
 pub struct Series<'a> {
+    /// The legend's entry.
+    pub name: &'a str,
     /// The points, `x` and `y` positive.
     pub points: &'a [(f64, f64)],
     /// The colour of the polyline and its markers.
-    pub colour: Vec3,
+    pub colour: RGBColor,
+    /// Whether each point gets a marker (for a few measured points, not a dense curve).
+    pub markers: bool,
 }
 
-/// A log–log plot of a few series, drawn into a film (the reports' own line plot).
+/// A dashed guide line `y = y0 · (x / x0)^slope` of a [`LogLogPlot`], named in the legend.
+pub struct Guide<'a> {
+    /// The slope on the log–log axes.
+    pub slope: f64,
+    /// A point `(x0, y0)` it goes through.
+    pub through: (f64, f64),
+    /// The legend's entry (for example "slope −1/2").
+    pub name: &'a str,
+}
+
+/// A log–log plot of a few series with guide lines, axes, ticks and a legend.
 pub struct LogLogPlot<'a> {
     /// The decades of the x axis: `10^lo … 10^hi`.
     pub x_decades: (i32, i32),
-    /// The x axis's title (lower-case letters, digits, spaces and `.`).
+    /// The x axis's title.
     pub x_label: &'a str,
     /// The y axis's title.
     pub y_label: &'a str,
     /// The data.
     pub series: Vec<Series<'a>>,
-    /// Dashed guide lines: a slope and a point it goes through.
-    pub guides: Vec<(f64, (f64, f64))>,
+    /// The guide lines.
+    pub guides: Vec<Guide<'a>>,
 }
 
 impl LogLogPlot<'_> {
-    /// Draws the plot: each series a polyline with markers, the dashed guide lines, decade
-    /// ticks and labels, axis titles.
-    pub fn draw(&self) -> Film {
-        plot(self)
+    /// The y range: whole decades around the data (three decades below 1 when no series
+    /// has a point, as when every series is unfinished).
+    fn y_range(&self) -> (f64, f64) {
+        let ys = || {
+            self.series
+                .iter()
+                .flat_map(|s| s.points.iter().map(|q| q.1))
+        };
+        let y_min = ys().filter(|y| *y > 0.0).fold(f64::INFINITY, f64::min);
+        let y_max = ys().fold(0.0, f64::max);
+        let lo = if y_min.is_finite() {
+            y_min.log10().floor()
+        } else {
+            -3.0
+        };
+        let hi = if y_max > 0.0 {
+            y_max.log10().ceil()
+        } else {
+            0.0
+        }
+        .max(lo + 1.0);
+        (10f64.powf(lo), 10f64.powf(hi))
+    }
+
+    /// Draws the plot.
+    pub fn draw(&self) -> Rgb8 {
+        drawn(PLOT_SIZE.0, PLOT_SIZE.1, |root| {
+            root.fill(&WHITE).map_err(|e| e.to_string())?;
+            let x = (10f64.powi(self.x_decades.0), 10f64.powi(self.x_decades.1));
+            let y = self.y_range();
+            let mut chart = ChartBuilder::on(root)
+                .margin(18)
+                .x_label_area_size(56)
+                .y_label_area_size(84)
+                // A hair wider than the decades, so that their end ticks are labelled too.
+                .build_cartesian_2d(
+                    (x.0 * 0.999..x.1 * 1.001).log_scale(),
+                    (y.0 * 0.999..y.1 * 1.001).log_scale(),
+                )
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_desc(self.x_label)
+                .y_desc(self.y_label)
+                .label_style((FONT, 15))
+                .axis_desc_style((FONT, 17))
+                .x_label_formatter(&|v| number(*v))
+                .y_label_formatter(&|v| number(*v))
+                .light_line_style(RGBColor(235, 235, 235))
+                .bold_line_style(RGBColor(200, 200, 200))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (k, guide) in self.guides.iter().enumerate() {
+                // Dashes for the first guide, dots for the second, and so on.
+                let (dash, space) = [(7, 5), (2, 4), (12, 4)][k % 3];
+                let at = |x: f64| guide.through.1 * (x / guide.through.0).powf(guide.slope);
+                // Points along the line, so the dashes are clipped to the plot like the data.
+                let points: Vec<(f64, f64)> = (0..=64)
+                    .map(|k| x.0 * (x.1 / x.0).powf(k as f64 / 64.0))
+                    .map(|x| (x, at(x)))
+                    .filter(|(_, v)| *v >= y.0 && *v <= y.1)
+                    .collect();
+                let style = GUIDE.stroke_width(1);
+                chart
+                    .draw_series(DashedLineSeries::new(points, dash, space, style))
+                    .map_err(|e| e.to_string())?
+                    .label(guide.name)
+                    .legend(move |(x, y)| {
+                        // Four dashes of the line's pattern.
+                        let dash_at = |k: i32| {
+                            let at = (k * (dash + space)).min(20);
+                            PathElement::new(vec![(at, 0), ((at + dash).min(20), 0)], style)
+                        };
+                        EmptyElement::at((x, y)) + dash_at(0) + dash_at(1) + dash_at(2) + dash_at(3)
+                    });
+            }
+            for series in &self.series {
+                let colour = series.colour;
+                chart
+                    .draw_series(LineSeries::new(
+                        series.points.iter().copied(),
+                        colour.stroke_width(2),
+                    ))
+                    .map_err(|e| e.to_string())?
+                    .label(series.name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                    });
+                if series.markers {
+                    chart
+                        .draw_series(
+                            series
+                                .points
+                                .iter()
+                                .map(|&p| Circle::new(p, 4, colour.filled())),
+                        )
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font((FONT, 15))
+                .background_style(WHITE.mix(0.9))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| e.to_string())
+        })
     }
 }
 
-fn plot(p: &LogLogPlot) -> Film {
-    let mut film = Film::new(PLOT_W, PLOT_H);
-    film.pixels.fill(Vec3::ONE);
-    let (x_lo, x_hi) = (p.x_decades.0 as f64, p.x_decades.1 as f64);
-    let ys = || p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1));
-    let y_min = ys().fold(f64::INFINITY, f64::min);
-    let y_max = ys().fold(0.0, f64::max);
-    // No data (every series unfinished): an empty plot over three decades.
-    let y_lo = if y_min.is_finite() && y_min > 0.0 {
-        y_min.log10().floor()
-    } else {
-        -3.0
-    };
-    let y_hi = if y_max > 0.0 {
-        y_max.log10().ceil()
-    } else {
-        0.0
-    }
-    .max(y_lo + 1.0);
-    let [left, top, right, bottom] = AREA;
-    let to_screen = |x: f64, y: f64| {
-        Vec2::new(
-            left + ((x.log10() - x_lo) / (x_hi - x_lo)) as f32 * (right - left),
-            bottom - ((y.log10() - y_lo) / (y_hi - y_lo)) as f32 * (bottom - top),
-        )
-    };
-    // Grid, ticks and labels.
-    for decade in x_lo as i32..=x_hi as i32 {
-        for m in 1..10 {
-            let x = 10f64.powi(decade) * m as f64;
-            if x.log10() > x_hi + 1e-9 {
-                break;
-            }
-            let px = to_screen(x, 10f64.powf(y_lo)).x;
-            line(
-                &mut film,
-                Vec2::new(px, top),
-                Vec2::new(px, bottom),
-                GRID,
-                0.5,
-            );
-            let len = if m == 1 { 8.0 } else { 4.0 };
-            line(
-                &mut film,
-                Vec2::new(px, bottom),
-                Vec2::new(px, bottom + len),
-                INK,
-                0.7,
-            );
-            if m == 1 {
-                let label = format!("{}", 10u32.pow(decade as u32));
-                text_centred(&mut film, &label, Vec2::new(px, bottom + 18.0), 2);
-            }
+/// A tick label: a power of ten as a plain decimal (`0.001`, `1`, `100`), any other value
+/// with three significant digits.
+fn number(v: f64) -> String {
+    let decade = v.log10().round();
+    if (v.log10() - decade).abs() < 1e-9 {
+        let d = decade as i32;
+        if d >= 0 {
+            format!("{}", 10f64.powi(d))
+        } else {
+            format!("{:.*}", (-d) as usize, 10f64.powi(d))
         }
+    } else {
+        format!("{v:.3}")
     }
-    for decade in y_lo as i32..=y_hi as i32 {
-        for m in 1..10 {
-            let y = 10f64.powi(decade) * m as f64;
-            if y.log10() > y_hi + 1e-9 {
-                break;
-            }
-            let py = to_screen(1.0, y).y;
-            line(
-                &mut film,
-                Vec2::new(left, py),
-                Vec2::new(right, py),
-                GRID,
-                0.5,
-            );
-            let len = if m == 1 { 8.0 } else { 4.0 };
-            line(
-                &mut film,
-                Vec2::new(left - len, py),
-                Vec2::new(left, py),
-                INK,
-                0.7,
-            );
-            if m == 1 {
-                let label = decimal(decade);
-                let width = text_width(&label, 2) as f32;
-                text(
-                    &mut film,
-                    &label,
-                    Vec2::new(left - 12.0 - width, py - 7.0),
-                    2,
-                );
-            }
-        }
+}
+
+/// The height of a label strip for labels of `width` pixels.
+pub fn label_height(width: u32) -> u32 {
+    label_font_size(width) + 8
+}
+
+/// The largest font size of a label in a strip of `width` pixels: 15 px, smaller in narrow
+/// strips (quick mode's small panels).
+fn label_font_size(width: u32) -> u32 {
+    (width / 16).clamp(8, 15)
+}
+
+/// `text` centred in a white strip `width` pixels wide, [`label_height`] high (clipped at the
+/// strip's edges when it is longer).
+pub fn label_strip(text: &str, width: u32) -> Rgb8 {
+    let height = label_height(width);
+    drawn(width, height, |root| {
+        // Smaller for a long text, so that it fits (a Hack glyph is 0.6 em wide).
+        let fit = (width as f64 / (0.6 * text.chars().count().max(1) as f64)) as u32;
+        let size = label_font_size(width).min(fit).max(7);
+        let style = TextStyle::from((FONT, size).into_font()).color(&BLACK).pos(
+            plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ),
+        );
+        root.draw(&Text::new(
+            text,
+            ((width / 2) as i32, (height / 2) as i32),
+            style,
+        ))
+        .map_err(|e| e.to_string())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// How many pixels of `image` are not white.
+    fn inked(image: &Rgb8) -> usize {
+        image
+            .bytes
+            .chunks(3)
+            .filter(|p| p != &[255, 255, 255])
+            .count()
     }
-    // Axes.
-    line(
-        &mut film,
-        Vec2::new(left, bottom),
-        Vec2::new(right, bottom),
-        INK,
-        1.0,
-    );
-    line(
-        &mut film,
-        Vec2::new(left, top),
-        Vec2::new(left, bottom),
-        INK,
-        1.0,
-    );
-    text_centred(
-        &mut film,
-        p.x_label,
-        Vec2::new(0.5 * (left + right), bottom + 38.0),
-        2,
-    );
-    text(&mut film, p.y_label, Vec2::new(left - 60.0, top - 28.0), 2);
-    // Guide lines.
-    let (x_min, x_max) = (10f64.powf(x_lo), 10f64.powf(x_hi));
-    for &(slope, (x0, y0)) in &p.guides {
-        let at = |x: f64| y0 * (x / x0).powf(slope);
-        dashed(
-            &mut film,
-            to_screen(x_min, at(x_min)),
-            to_screen(x_max, at(x_max)),
-            GUIDE,
+
+    #[test]
+    fn a_label_is_drawn_in_ink_and_a_longer_one_takes_more() {
+        let short = label_strip("n = 1", 320);
+        let long = label_strip("n = 1 · 0.25 s", 320);
+        assert_eq!(short.height, label_height(320));
+        assert!(inked(&short) > 20, "the label was not drawn");
+        assert!(inked(&long) > inked(&short));
+        assert_eq!(inked(&label_strip("", 320)), 0);
+    }
+
+    #[test]
+    fn the_plot_draws_its_series_legend_and_guides() {
+        const POINTS: [(f64, f64); 3] = [(1.0, 0.5), (10.0, 0.16), (100.0, 0.05)];
+        let plot = |series: Vec<Series<'static>>, guides| {
+            LogLogPlot {
+                x_decades: (0, 2),
+                x_label: "samples",
+                y_label: "relative error",
+                series,
+                guides,
+            }
+            .draw()
+        };
+        let series = || {
+            vec![Series {
+                name: "area sampling",
+                points: &POINTS,
+                colour: BLUE,
+                markers: true,
+            }]
+        };
+        let guide = Guide {
+            slope: -0.5,
+            through: (1.0, 0.5),
+            name: "slope -1/2",
+        };
+        let with = plot(series(), vec![guide]);
+        let without_guide = plot(series(), Vec::new());
+        let empty = plot(Vec::new(), Vec::new());
+        assert_eq!((with.width, with.height), PLOT_SIZE);
+        let count = |image: &Rgb8, keep: &dyn Fn(&[u8]) -> bool| {
+            image.bytes.chunks(3).filter(|p| keep(p)).count()
+        };
+        let blue = |p: &[u8]| p == [BLUE.0, BLUE.1, BLUE.2];
+        // The guide's grey (anti-aliased: any neutral grey darker than the grid).
+        let grey = |p: &[u8]| p[0] == p[1] && p[1] == p[2] && (40..190).contains(&p[0]);
+        assert!(count(&with, &blue) > 200, "{}", count(&with, &blue));
+        assert_eq!(count(&empty, &blue), 0);
+        assert!(
+            count(&with, &grey) > count(&without_guide, &grey) + 100,
+            "{} against {}",
+            count(&with, &grey),
+            count(&without_guide, &grey)
+        );
+        // The legend's box and text: more black than the axes and tick labels alone.
+        let black = |p: &[u8]| p.iter().all(|c| *c < 60);
+        assert!(
+            count(&without_guide, &black) > count(&empty, &black) + 150,
+            "{} against {}",
+            count(&without_guide, &black),
+            count(&empty, &black)
         );
     }
-    // The data.
-    for series in &p.series {
-        let screen: Vec<Vec2> = series
-            .points
-            .iter()
-            .map(|&(x, y)| to_screen(x, y))
+
+    #[test]
+    fn tick_labels_are_plain_decimals() {
+        assert_eq!(number(0.001), "0.001");
+        assert_eq!(number(1.0), "1");
+        assert_eq!(number(100.0), "100");
+        assert_eq!(number(0.5), "0.500");
+    }
+
+    #[test]
+    fn blit_clips_at_the_edges() {
+        let mut big = Rgb8::white(4, 3);
+        let mut small = Rgb8::white(3, 3);
+        small.bytes.fill(0);
+        big.blit(&small, 2, 1);
+        let black: Vec<(u32, u32)> = (0..3)
+            .flat_map(|y| (0..4).map(move |x| (x, y)))
+            .filter(|&(x, y)| big.bytes[((y * 4 + x) * 3) as usize] == 0)
             .collect();
-        for pair in screen.windows(2) {
-            line(&mut film, pair[0], pair[1], series.colour, 1.2);
-        }
-        for &q in &screen {
-            disc(&mut film, q, 4.5, series.colour);
-            disc(&mut film, q, 2.5, Vec3::ONE);
-        }
+        assert_eq!(black, [(2, 1), (3, 1), (2, 2), (3, 2)]);
     }
-    film
-}
-
-/// `10^decade` written out as a decimal number (`0.001`, `0.1`, `1`, `10`).
-fn decimal(decade: i32) -> String {
-    if decade >= 0 {
-        10u64.pow(decade as u32).to_string()
-    } else {
-        format!("0.{}1", "0".repeat((-decade - 1) as usize))
-    }
-}
-
-/// Paints `colour` at pixel `(x, y)` when it lies on the film.
-fn paint(film: &mut Film, x: i64, y: i64, colour: Vec3) {
-    if x >= 0 && y >= 0 && (x as u32) < film.width && (y as u32) < film.height {
-        film.set(x as u32, y as u32, colour);
-    }
-}
-
-/// A filled disc.
-fn disc(film: &mut Film, c: Vec2, r: f32, colour: Vec3) {
-    let r2 = r * r;
-    for y in (c.y - r).floor() as i64..=(c.y + r).ceil() as i64 {
-        for x in (c.x - r).floor() as i64..=(c.x + r).ceil() as i64 {
-            let d = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) - c;
-            if d.length_squared() <= r2 {
-                paint(film, x, y, colour);
-            }
-        }
-    }
-}
-
-/// A line `half_width` pixels either side of the segment `a`–`b`.
-fn line(film: &mut Film, a: Vec2, b: Vec2, colour: Vec3, half_width: f32) {
-    let steps = ((b - a).length() * 2.0).ceil().max(1.0) as u32;
-    for k in 0..=steps {
-        let p = a.lerp(b, k as f32 / steps as f32);
-        disc(film, p, half_width.max(0.5), colour);
-    }
-}
-
-/// A dashed line clipped to the plot area.
-fn dashed(film: &mut Film, a: Vec2, b: Vec2, colour: Vec3) {
-    let [left, top, right, bottom] = AREA;
-    let length = (b - a).length();
-    let steps = (length * 2.0).ceil() as u32;
-    for k in 0..=steps {
-        let t = k as f32 / steps.max(1) as f32;
-        let p = a.lerp(b, t);
-        let on = ((t * length / 6.0) as u32).is_multiple_of(2);
-        if on && p.x >= left && p.x <= right && p.y >= top && p.y <= bottom {
-            disc(film, p, 0.7, colour);
-        }
-    }
-}
-
-/// The 5×7 glyph of `c` (rows from the top, `#` = ink), for the few characters the plot needs.
-fn glyph(c: char) -> [&'static str; 7] {
-    match c {
-        '0' => [
-            " ### ", "#   #", "#  ##", "# # #", "##  #", "#   #", " ### ",
-        ],
-        '1' => [
-            "  #  ", " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### ",
-        ],
-        '.' => [
-            "     ", "     ", "     ", "     ", "     ", " ##  ", " ##  ",
-        ],
-        'a' => [
-            "     ", "     ", " ### ", "    #", " ####", "#   #", " ####",
-        ],
-        'e' => [
-            "     ", "     ", " ### ", "#   #", "#####", "#    ", " ### ",
-        ],
-        'i' => [
-            "  #  ", "     ", " ##  ", "  #  ", "  #  ", "  #  ", " ### ",
-        ],
-        'l' => [
-            " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### ",
-        ],
-        'm' => [
-            "     ", "     ", "## # ", "# # #", "# # #", "# # #", "#   #",
-        ],
-        'n' => [
-            "     ", "     ", "# ## ", "##  #", "#   #", "#   #", "#   #",
-        ],
-        'o' => [
-            "     ", "     ", " ### ", "#   #", "#   #", "#   #", " ### ",
-        ],
-        'p' => [
-            "     ", "     ", "#### ", "#   #", "#### ", "#    ", "#    ",
-        ],
-        'r' => [
-            "     ", "     ", "# ## ", "##  #", "#    ", "#    ", "#    ",
-        ],
-        's' => [
-            "     ", "     ", " ####", "#    ", " ### ", "    #", "#### ",
-        ],
-        't' => [
-            " #   ", " #   ", "#### ", " #   ", " #   ", " #  #", "  ## ",
-        ],
-        'u' => [
-            "     ", "     ", "#   #", "#   #", "#   #", "#  ##", " ## #",
-        ],
-        'v' => [
-            "     ", "     ", "#   #", "#   #", "#   #", " # # ", "  #  ",
-        ],
-        'x' => [
-            "     ", "     ", "#   #", " # # ", "  #  ", " # # ", "#   #",
-        ],
-        'y' => [
-            "     ", "     ", "#   #", "#   #", " ####", "    #", " ### ",
-        ],
-        'M' => [
-            "#   #", "## ##", "# # #", "# # #", "#   #", "#   #", "#   #",
-        ],
-        'R' => [
-            "#### ", "#   #", "#   #", "#### ", "# #  ", "#  # ", "#   #",
-        ],
-        'S' => [
-            " ####", "#    ", "#    ", " ### ", "    #", "    #", "#### ",
-        ],
-        _ => ["     "; 7],
-    }
-}
-
-/// Width in pixels of `s` drawn at `scale`.
-fn text_width(s: &str, scale: u32) -> u32 {
-    s.chars().count() as u32 * 6 * scale
-}
-
-/// Draws `s` with its top-left corner at `at`, each font pixel `scale` × `scale`.
-fn text(film: &mut Film, s: &str, at: Vec2, scale: u32) {
-    for (k, c) in s.chars().enumerate() {
-        let x0 = at.x as i64 + (k as u32 * 6 * scale) as i64;
-        for (row, bits) in glyph(c).iter().enumerate() {
-            for (col, b) in bits.chars().enumerate() {
-                if b != '#' {
-                    continue;
-                }
-                for dy in 0..scale as i64 {
-                    for dx in 0..scale as i64 {
-                        paint(
-                            film,
-                            x0 + col as i64 * scale as i64 + dx,
-                            at.y as i64 + row as i64 * scale as i64 + dy,
-                            INK,
-                        );
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// Draws `s` centred horizontally on `at.x`, its top at `at.y`.
-fn text_centred(film: &mut Film, s: &str, at: Vec2, scale: u32) {
-    let w = text_width(s, scale) as f32;
-    text(film, s, Vec2::new(at.x - 0.5 * w, at.y), scale);
 }
