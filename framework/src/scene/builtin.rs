@@ -276,4 +276,56 @@ mod tests {
             assert!(s.center.z - s.radius > 0.0 && s.center.z + s.radius < 0.5592);
         }
     }
+
+    /// The parsed form of a built-in scene, as text: everything but the mesh's vertices, which
+    /// are summed up (counts, bounds, faces per material, total area).
+    fn parsed_form(name: &str) -> String {
+        let scene = builtin_scene(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mesh = &scene.mesh;
+        let (lo, hi) = mesh.positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let mut faces_per_material = vec![0usize; scene.materials.len()];
+        let mut area = 0.0f64;
+        for (f, face) in mesh.faces.iter().enumerate() {
+            if let Some(n) = faces_per_material.get_mut(mesh.face_materials[f].0 as usize) {
+                *n += 1;
+            }
+            let [a, b, c] = face.map(|i| mesh.positions[i as usize]);
+            area += 0.5 * f64::from((b - a).cross(c - a).length());
+        }
+        let mut text = format!(
+            "name: {}\ncamera: {:#?}\nbackground: {:?}\nenvironment: {}\n",
+            scene.name,
+            scene.camera,
+            scene.background,
+            scene.environment.is_some()
+        );
+        for (k, m) in scene.materials.iter().enumerate() {
+            text += &format!("material {k} ({} faces): {m:#?}\n", faces_per_material[k]);
+        }
+        text += &format!(
+            "lights: {:#?}\nplanes: {:#?}\nspheres: {:#?}\n",
+            scene.lights, scene.planes, scene.spheres
+        );
+        text += &format!(
+            "mesh: {} positions, {} normals, {} texture coordinates, {} faces, bounds {lo:?} to {hi:?}, area {area:.6}\n",
+            mesh.positions.len(),
+            mesh.normals.len(),
+            mesh.texcoords.len(),
+            mesh.faces.len()
+        );
+        text
+    }
+
+    /// What the scene files, OBJ meshes and MTL libraries of the built-in scenes parse to: a
+    /// change in the parser or in the files shows here, to be reviewed with `cargo insta
+    /// review`.
+    #[test]
+    fn the_parsed_builtin_scenes_stay_the_same() {
+        for name in BUILTIN_SCENES {
+            insta::assert_snapshot!(format!("builtin_{name}"), parsed_form(name));
+        }
+    }
 }

@@ -745,4 +745,122 @@ mod tests {
             "at <grades>/x and <course>/labs"
         );
     }
+
+    /// `text` with the grader's version and the time of every stamp replaced, so that a
+    /// snapshot does not change with either.
+    fn unstamped(text: &str) -> String {
+        let marker = format!("raylab {} (grader), ", env!("CARGO_PKG_VERSION"));
+        let mut out = String::new();
+        let mut rest = text;
+        while let Some(at) = rest.find(&marker) {
+            out.push_str(&rest[..at]);
+            out.push_str("raylab <version> (grader), <time>");
+            // The time is `YYYY-MM-DD HH:MM UTC`, 20 characters.
+            rest = rest[at + marker.len()..].get(20..).unwrap_or("");
+        }
+        out.push_str(rest);
+        out
+    }
+
+    /// A class of two: one submission that meets every kind of failure in labs 01 and 02, one
+    /// whose lab 02 does not compile.
+    fn fixed_class() -> Vec<StudentGrade> {
+        let infos = |lab| framework::labs::exercise_infos(lab).expect("a lab of the course");
+        let (lab01, lab02) = (infos(1), infos(2));
+        let exercise =
+            |info: &framework::grading::ExerciseInfo, status: Status, output: &str| ExerciseGrade {
+                score: if status == Status::Passed {
+                    info.points
+                } else {
+                    0
+                },
+                info: info.clone(),
+                status,
+                output: output.into(),
+                program_output: String::new(),
+                images: Vec::new(),
+                seconds: 0.25,
+            };
+        let statuses = [
+            (Status::Passed, ""),
+            (
+                Status::Wrong,
+                "Exercise 1.2 — wrong answer\n  for input: width 4, height 3\n  expected 0.25, got 0.5",
+            ),
+            (
+                Status::NotStarted,
+                "Exercise 1.3 is not implemented yet (`todo!()` in labs/lab01/src/lib.rs)",
+            ),
+            (
+                Status::BlockedBy("1.3".into()),
+                "the check reached the unfinished stub of Exercise 1.3",
+            ),
+            (
+                Status::Crashed,
+                "panicked at labs/lab01/src/lib.rs:42:9: index out of bounds\n  for input: …",
+            ),
+            (
+                Status::TimedOut,
+                "Exercise 1.6 — ran past its time limit of 20 s",
+            ),
+        ];
+        let mut first: Vec<ExerciseGrade> = lab01
+            .iter()
+            .enumerate()
+            .map(|(k, info)| {
+                let (status, output) = &statuses[k % statuses.len()];
+                exercise(info, status.clone(), output)
+            })
+            .collect();
+        first[0].program_output = "debug: 4 × 3 pixels <&>".into();
+        first.extend(lab02.iter().map(|info| exercise(info, Status::Passed, "")));
+        let mut second: Vec<ExerciseGrade> = lab01
+            .iter()
+            .map(|info| exercise(info, Status::Passed, ""))
+            .collect();
+        second[1] = exercise(
+            &lab01[1],
+            Status::Flagged,
+            "labs/lab01/src/lib.rs:7 names `look_at_rh`, which answers Exercise 1.2",
+        );
+        second.extend(lab02.iter().map(|info| {
+            exercise(
+                info,
+                Status::DoesNotCompile,
+                "error[E0425]: cannot find value `hit` in this scope\n --> labs/lab02/src/lib.rs:88:16",
+            )
+        }));
+        let grade = |student: &str, exercises| StudentGrade {
+            student: student.into(),
+            exercises,
+            changed_files: Vec::new(),
+            notes: Vec::new(),
+            rejected: Vec::new(),
+            flagged: Vec::new(),
+            sandbox: "run in bubblewrap".into(),
+            timings: Default::default(),
+        };
+        let mut class = vec![grade("ada", first), grade("grace, \"g\"", second)];
+        class[0].changed_files = vec!["changed: Cargo.toml".into()];
+        class[1].flagged =
+            vec!["labs/lab01/src/lib.rs:7: `look_at_rh` answers Exercise 1.2".into()];
+        class[1].rejected = vec!["labs/lab02/src/big.bin: not a source file".into()];
+        class
+    }
+
+    /// The files a class's grading writes, for a fixed class: any change to what an
+    /// instructor's tools or a student read shows here (`cargo insta review`).
+    #[test]
+    fn the_grade_files_of_a_fixed_class_stay_the_same() {
+        let class = fixed_class();
+        insta::assert_snapshot!("gradebook.csv", gradebook(&class));
+        insta::assert_snapshot!("junit.xml", junit(&class));
+        for (k, grade) in class.iter().enumerate() {
+            let results = serde_json::to_string_pretty(&gradescope(grade)).unwrap_or_default();
+            insta::assert_snapshot!(format!("results-{k}.json"), unstamped(&results));
+            insta::assert_snapshot!(format!("report-{k}.md"), unstamped(&markdown(grade)));
+        }
+        let ungraded = ungraded_results("labs/ holds no lab's sources");
+        insta::assert_snapshot!("results-ungraded.json", unstamped(&ungraded));
+    }
 }
