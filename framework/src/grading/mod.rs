@@ -189,12 +189,21 @@ pub fn run_exercise<S: ?Sized>(
             Some(other) => Err(format!(
                 "{place}{BLOCKED}{other} is done (it is not implemented yet: {reason}).\n({docs})"
             )),
-            None if reason.starts_with("panicked") => {
-                Err(format!("{place}{CRASHED}{reason}\n({docs})"))
-            }
+            None if is_crash(&reason) => Err(format!("{place}{CRASHED}{reason}\n({docs})")),
             None => Err(format!("{place}{WRONG}\n{reason}\n({docs})")),
         },
     }
+}
+
+/// Whether a check's failure is a panic of the code it ran: raised in the check itself
+/// ("panicked at …") or caught by a framework component the check called and returned as its
+/// error (a render's "rendering 'default' panicked: …", a [`crate::PanicError`]).
+fn is_crash(reason: &str) -> bool {
+    reason.starts_with("panicked")
+        || reason
+            .lines()
+            .next()
+            .is_some_and(|first| first.contains(" panicked: "))
 }
 
 /// What follows the exercise's place in [`run_exercise`]'s message, for each kind of failure.
@@ -276,5 +285,20 @@ mod tests {
             assert_eq!(failure_kind(&message), Some(kind), "{message}");
         }
         assert_eq!(failure_kind("the submission could not be graded"), None);
+    }
+
+    #[test]
+    fn a_panic_caught_by_a_component_the_check_called_is_a_crash() {
+        let render = crate::PanicError {
+            context: "rendering 'default'".into(),
+            message: "a bug".into(),
+        };
+        assert!(is_crash(&render.to_string()));
+        assert!(is_crash("panicked at labs/lab01/src/lib.rs:3:5: boom"));
+        // A wrong answer stays wrong, even when a later line of its reason speaks of a panic.
+        assert!(!is_crash("expected 0.5, got 0.25"));
+        assert!(!is_crash(
+            "the image differs\n  (a pixel's code panicked: see the z-score image)"
+        ));
     }
 }
