@@ -73,3 +73,66 @@ fn the_tests_list_of_lab_types_is_the_course() {
         "raylab_tests::for_each_lab lists other labs than framework::labs::COURSE"
     );
 }
+
+/// The units (package and features) `cargo tree` lists for `args`: what cargo would build.
+fn build_units(args: &[&str]) -> std::collections::BTreeSet<(String, Vec<String>)> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "tree",
+            "--offline",
+            "--prefix",
+            "none",
+            "--format",
+            "{p}|{f}",
+        ])
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("cargo tree runs");
+    assert!(
+        output.status.success(),
+        "cargo tree {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .filter_map(|line| {
+            let (package, features) = line.split_once('|')?;
+            // "name v1.2.3 (path)" or "… (*)": the name and version say which package.
+            let package: Vec<&str> = package.split_whitespace().take(2).collect();
+            let mut features: Vec<String> = features
+                .replace("(*)", "")
+                .split(',')
+                .map(|f| f.trim().to_string())
+                .filter(|f| !f.is_empty())
+                .collect();
+            features.sort();
+            Some((package.join(" "), features))
+        })
+        .collect()
+}
+
+/// One build for everything a student runs: every unit `cargo test -p labNN` needs is one that
+/// `cargo run -p raylab` (the README's first command) has built already, with the same features
+/// — in the course repository and in a handout, whose command line has no instructor features.
+/// A dependency added to the command line with features the labs do not ask for breaks this;
+/// the framework's manifest ("One build") is where to ask for them.
+#[test]
+fn a_lab_s_tests_reuse_the_command_line_s_build() {
+    for cli in [&[][..], &["--no-default-features"][..]] {
+        let mut args = vec!["-p", "raylab", "-e", "normal,build"];
+        args.extend(cli);
+        let built = build_units(&args);
+        for lab in COURSE {
+            let name = format!("lab{:02}", lab.number);
+            let needed = build_units(&["-p", &name, "-e", "normal,build,dev"]);
+            let missing: Vec<_> = needed.difference(&built).collect();
+            assert!(
+                missing.is_empty(),
+                "`cargo test -p {name}` would build these again, with other features than `cargo run -p raylab {}` did: {missing:?}",
+                cli.join(" ")
+            );
+        }
+    }
+}
