@@ -365,13 +365,17 @@ fn create_parent(path: &Path) -> Result<(), Error> {
 
 /// Writes the film as an 8-bit sRGB PNG after tone mapping.
 pub fn write_png(film: &Film, path: &Path, tonemap: ToneMap) -> Result<(), Error> {
+    write_srgb8_png(&film.to_srgb8(tonemap), film.width, film.height, path)
+}
+
+/// Writes 8-bit sRGB pixels (`width × height × 3` bytes, row by row) as a PNG file.
+pub fn write_srgb8_png(bytes: &[u8], width: u32, height: u32, path: &Path) -> Result<(), Error> {
     create_parent(path)?;
-    let bytes = film.to_srgb8(tonemap);
     image::save_buffer_with_format(
         path,
-        &bytes,
-        film.width,
-        film.height,
+        bytes,
+        width,
+        height,
         image::ExtendedColorType::Rgb8,
         image::ImageFormat::Png,
     )

@@ -7,7 +7,9 @@ mod rgbe;
 mod tonemap;
 
 pub use color::{linear_to_srgb, luminance, srgb_to_linear};
-pub use image_io::{LoadBudget, read_bounded, read_exr, read_text_bounded, write_exr, write_png};
+pub use image_io::{
+    LoadBudget, read_bounded, read_exr, read_text_bounded, write_exr, write_png, write_srgb8_png,
+};
 pub(crate) use image_io::{decode_image, one_line};
 pub use rgbe::RgbeImage;
 pub use tonemap::ToneMap;

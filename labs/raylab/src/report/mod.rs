@@ -22,11 +22,12 @@ use std::time::Instant;
 
 use clap::Args;
 use framework::Error;
-use framework::film::{Film, ToneMap};
+use framework::film::{Film, ToneMap, write_srgb8_png};
 use framework::glam::Vec3;
 use framework::pipeline::{LabSlots, Pipeline};
 use framework::render::{PixelFailures, RenderSettings, render_partial};
 use framework::scene::Scene;
+use image::{RgbImage, imageops};
 
 use crate::render::PipelineChoice;
 use crate::students::{LabCode, LabVisitor};
@@ -202,33 +203,27 @@ fn grid(rows: &[Vec<Panel>]) -> (Film, Vec<(u32, u32)>) {
 
 /// The rows of panels tone-mapped together (as one image, so the tone map sees them all) to
 /// 8-bit sRGB, with each panel's label in a strip under its row.
-pub fn labelled(rows: &[Vec<Panel>], tonemap: ToneMap) -> plot::Rgb8 {
+pub fn labelled(rows: &[Vec<Panel>], tonemap: ToneMap) -> RgbImage {
     let (film, places) = grid(rows);
-    let toned = film.to_srgb8(tonemap);
+    let toned = RgbImage::from_raw(film.width, film.height, film.to_srgb8(tonemap))
+        .expect("three bytes a pixel");
     let strip = places
         .iter()
         .map(|&(_, w)| plot::label_height(w))
         .max()
         .unwrap_or(0);
-    let width = film.width;
-    let mut out = plot::Rgb8::white(width, film.height + strip * rows.len() as u32);
+    let height = film.height + strip * rows.len() as u32;
+    let mut out = RgbImage::from_pixel(film.width, height, image::Rgb([255; 3]));
     let mut places = places.into_iter();
     let mut y_in = 0;
     for (k, row) in rows.iter().enumerate() {
         let h = row_height(row);
         let y_out = y_in + strip * k as u32;
-        let (from, to) = (
-            (y_in * width * 3) as usize,
-            ((y_in + h) * width * 3) as usize,
-        );
-        let band = plot::Rgb8 {
-            width,
-            height: h,
-            bytes: toned[from..to].to_vec(),
-        };
-        out.blit(&band, 0, y_out);
+        let band = imageops::crop_imm(&toned, 0, y_in, film.width, h);
+        imageops::replace(&mut out, &*band, 0, i64::from(y_out));
         for (panel, (x0, w)) in row.iter().zip(&mut places) {
-            out.blit(&plot::label_strip(&panel.label, w), x0, y_out + h);
+            let label = plot::label_strip(&panel.label, w);
+            imageops::replace(&mut out, &label, i64::from(x0), i64::from(y_out + h));
         }
         y_in += h + GAP;
     }
@@ -236,19 +231,8 @@ pub fn labelled(rows: &[Vec<Panel>], tonemap: ToneMap) -> plot::Rgb8 {
 }
 
 /// Writes 8-bit sRGB pixels as a PNG file.
-fn write_rgb8(image: &plot::Rgb8, path: &std::path::Path) -> Result<(), Error> {
-    image::save_buffer_with_format(
-        path,
-        &image.bytes,
-        image.width,
-        image.height,
-        image::ExtendedColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| Error::ImageOutput {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    })
+fn write_rgb8(image: &RgbImage, path: &std::path::Path) -> Result<(), Error> {
+    write_srgb8_png(image.as_raw(), image.width(), image.height(), path)
 }
 
 /// Runs `raylab report`.

@@ -5,6 +5,7 @@
 
 use std::sync::Once;
 
+use image::RgbImage;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -20,37 +21,6 @@ pub const ORANGE: RGBColor = RGBColor(217, 84, 5);
 pub const RED: RGBColor = RGBColor(200, 25, 25);
 /// The colour of the guide lines.
 const GUIDE: RGBColor = RGBColor(90, 90, 90);
-
-/// An 8-bit sRGB image, row by row, three bytes a pixel.
-pub struct Rgb8 {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// `width × height × 3` bytes.
-    pub bytes: Vec<u8>,
-}
-
-impl Rgb8 {
-    /// A white image.
-    pub fn white(width: u32, height: u32) -> Self {
-        Self {
-            width,
-            height,
-            bytes: vec![255; (width as usize) * (height as usize) * 3],
-        }
-    }
-
-    /// Copies `other` into this image with its top-left corner at `(x0, y0)`, clipped.
-    pub fn blit(&mut self, other: &Rgb8, x0: u32, y0: u32) {
-        for y in 0..other.height.min(self.height.saturating_sub(y0)) {
-            let w = other.width.min(self.width.saturating_sub(x0)) as usize;
-            let from = (y * other.width) as usize * 3;
-            let to = ((y0 + y) * self.width + x0) as usize * 3;
-            self.bytes[to..to + 3 * w].copy_from_slice(&other.bytes[from..from + 3 * w]);
-        }
-    }
-}
 
 /// Registers the typeface with plotters, once per process.
 fn register_font() {
@@ -71,12 +41,11 @@ fn drawn(
     width: u32,
     height: u32,
     draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), String>,
-) -> Rgb8 {
+) -> RgbImage {
     register_font();
-    let mut image = Rgb8::white(width, height);
+    let mut image = RgbImage::from_pixel(width, height, image::Rgb([255; 3]));
     {
-        let root =
-            BitMapBackend::with_buffer(&mut image.bytes, (width, height)).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut image, (width, height)).into_drawing_area();
         let _ = draw(&root);
         let _ = root.present();
     }
@@ -146,7 +115,7 @@ impl LogLogPlot<'_> {
     }
 
     /// Draws the plot.
-    pub fn draw(&self) -> Rgb8 {
+    pub fn draw(&self) -> RgbImage {
         drawn(PLOT_SIZE.0, PLOT_SIZE.1, |root| {
             root.fill(&WHITE).map_err(|e| e.to_string())?;
             let x = (10f64.powi(self.x_decades.0), 10f64.powi(self.x_decades.1));
@@ -261,7 +230,7 @@ fn label_font_size(width: u32) -> u32 {
 
 /// `text` centred in a white strip `width` pixels wide, [`label_height`] high (clipped at the
 /// strip's edges when it is longer).
-pub fn label_strip(text: &str, width: u32) -> Rgb8 {
+pub fn label_strip(text: &str, width: u32) -> RgbImage {
     let height = label_height(width);
     drawn(width, height, |root| {
         // Smaller for a long text, so that it fits (a Hack glyph is 0.6 em wide).
@@ -287,19 +256,15 @@ mod tests {
     use super::*;
 
     /// How many pixels of `image` are not white.
-    fn inked(image: &Rgb8) -> usize {
-        image
-            .bytes
-            .chunks(3)
-            .filter(|p| p != &[255, 255, 255])
-            .count()
+    fn inked(image: &RgbImage) -> usize {
+        image.chunks(3).filter(|p| p != &[255, 255, 255]).count()
     }
 
     #[test]
     fn a_label_is_drawn_in_ink_and_a_longer_one_takes_more() {
         let short = label_strip("n = 1", 320);
         let long = label_strip("n = 1 · 0.25 s", 320);
-        assert_eq!(short.height, label_height(320));
+        assert_eq!(short.height(), label_height(320));
         assert!(inked(&short) > 20, "the label was not drawn");
         assert!(inked(&long) > inked(&short));
         assert_eq!(inked(&label_strip("", 320)), 0);
@@ -334,9 +299,9 @@ mod tests {
         let with = plot(series(), vec![guide]);
         let without_guide = plot(series(), Vec::new());
         let empty = plot(Vec::new(), Vec::new());
-        assert_eq!((with.width, with.height), PLOT_SIZE);
-        let count = |image: &Rgb8, keep: &dyn Fn(&[u8]) -> bool| {
-            image.bytes.chunks(3).filter(|p| keep(p)).count()
+        assert_eq!(with.dimensions(), PLOT_SIZE);
+        let count = |image: &RgbImage, keep: &dyn Fn(&[u8]) -> bool| {
+            image.chunks(3).filter(|p| keep(p)).count()
         };
         let blue = |p: &[u8]| p == [BLUE.0, BLUE.1, BLUE.2];
         // The guide's grey (anti-aliased: any neutral grey darker than the grid).
@@ -365,18 +330,5 @@ mod tests {
         assert_eq!(number(1.0), "1");
         assert_eq!(number(100.0), "100");
         assert_eq!(number(0.5), "0.500");
-    }
-
-    #[test]
-    fn blit_clips_at_the_edges() {
-        let mut big = Rgb8::white(4, 3);
-        let mut small = Rgb8::white(3, 3);
-        small.bytes.fill(0);
-        big.blit(&small, 2, 1);
-        let black: Vec<(u32, u32)> = (0..3)
-            .flat_map(|y| (0..4).map(move |x| (x, y)))
-            .filter(|&(x, y)| big.bytes[((y * 4 + x) * 3) as usize] == 0)
-            .collect();
-        assert_eq!(black, [(2, 1), (3, 1), (2, 2), (3, 2)]);
     }
 }
