@@ -292,7 +292,11 @@ impl Sandbox {
         for etc in SYSTEM_ETC {
             command.arg("--ro-bind-try").arg(etc).arg(etc);
         }
-        let home = Path::new("/tmp/cargo-home");
+        // Cargo's home at its own path (writable, empty but for the registry and the
+        // configuration): the registry's sources then have the paths they have outside, and a
+        // dependency compiled outside the sandbox in this target directory (by an instructor's
+        // build, or Gradescope's `setup.sh`) is fresh here rather than compiled again.
+        let home = self.cargo_home.as_path();
         command
             .arg("--ro-bind")
             .arg(&self.sysroot)
