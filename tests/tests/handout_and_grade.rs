@@ -9,8 +9,11 @@
 use std::fs;
 use std::path::Path;
 use std::process::Command;
+use std::time::Instant;
 
-use raylab_tests::workflow::{check_in_browser, copy_tree, correct_code, read, root, target_dir};
+use raylab_tests::workflow::{
+    check_in_browser, copy_tree, correct_code, read, root, seed_target_dir, target_dir,
+};
 
 /// Runs cargo in `dir` with the target directory `target`; returns (success, stdout + stderr).
 fn cargo(dir: &Path, target: &Path, args: &[&str]) -> (bool, String) {
@@ -57,6 +60,8 @@ fn handout_then_grade_four_submissions() {
     // The build directories stay between runs; `raylab grade` renews everything else in its
     // `--out`.
     let work = target_dir().join("raylab-handout-test");
+    let started = Instant::now();
+    let phase = |what: &str| eprintln!("{:7.1} s  {what}", started.elapsed().as_secs_f64());
     let handout = work.join("handout");
     let subs = work.join("submissions");
     for dir in [&handout, &subs] {
@@ -72,6 +77,11 @@ fn handout_then_grade_four_submissions() {
         handout.to_str().unwrap(),
     ]);
     assert!(ok, "{out}");
+    phase("handout written");
+    // The handout's target directory (also the grading's) starts with the dependencies this
+    // run has compiled: what is checked is the workflow, not a second build of crates.io.
+    seed_target_dir(&work.join("target"));
+    phase("target directory seeded");
     assert!(
         !handout.join("tests").exists(),
         "the mutant corpus holds solutions"
@@ -95,6 +105,7 @@ fn handout_then_grade_four_submissions() {
         ok && out.contains("exercise_1_5_") && !out.contains("exercise_1_6_"),
         "{out}"
     );
+    phase("handout's lab01 checks built");
     let (ok, out) = raylab(&[
         "handout",
         "--allow-dirty",
@@ -161,6 +172,7 @@ fn handout_then_grade_four_submissions() {
     let (ok, out) = cargo(&handout, &handout_target, &["test", "-p", "lab01"]);
     assert!(ok && out.contains("5 passed"), "{out}");
     write_lab(&handout, 1, &stubs);
+    phase("handout's lab01 tested, stubs and correct code");
 
     // Grade labs 1–3 (the partial submission's infinite loop is in lab 3).
     let grades = work.join("grades");
@@ -179,11 +191,16 @@ fn handout_then_grade_four_submissions() {
         "--lab",
         "3",
         "--timeout",
-        "15",
+        "6",
         "--target-dir",
         handout_target.to_str().unwrap(),
     ]);
     assert!(ok, "{out}");
+    phase("four submissions graded");
+    eprintln!(
+        "{}",
+        out.lines().rev().take(3).collect::<Vec<_>>().join("\n")
+    );
 
     let csv = read(&grades.join("gradebook.csv"));
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
@@ -233,7 +250,7 @@ fn handout_then_grade_four_submissions() {
     );
     assert!(report.contains("returned [NaN, NaN, NaN]"), "{report}");
     assert!(
-        report.contains("Exercise 2.1 — `intersect_plane` did not finish within 15 s"),
+        report.contains("Exercise 2.1 — `intersect_plane` did not finish within 6 s"),
         "{report}"
     );
     let html = read(&grades.join("partial/report.html"));
@@ -347,6 +364,7 @@ fn handout_then_grade_four_submissions() {
     for page in ["index.html", "partial/report.html", "complete/report.html"] {
         check_in_browser(&grades.join(page)).unwrap_or_else(|e| panic!("{e}"));
     }
+    phase("pages checked in a browser");
     let (ok, out) = raylab(&[
         "report",
         "--lab",
@@ -359,8 +377,10 @@ fn handout_then_grade_four_submissions() {
     let checked =
         check_in_browser(&work.join("report/lab03/report.html")).unwrap_or_else(|e| panic!("{e}"));
     assert!(!checked.contains(" 0 images"), "{checked}");
+    phase("lab 3's report made");
 
     gradescope_grades_like_grade(&work, &partial, &grades, &handout_target);
+    phase("graded as on Gradescope");
 }
 
 /// `raylab gradescope`'s bundle: its `run_autograder` grades a submission in a stand-in for
@@ -380,7 +400,7 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
         "--lab",
         "1",
         "--timeout",
-        "15",
+        "6",
     ]);
     assert!(ok, "{out}");
     for file in [

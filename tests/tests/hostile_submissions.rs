@@ -16,7 +16,7 @@ use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use raylab_tests::workflow::{copy_tree, correct_code, read, root, target_dir};
+use raylab_tests::workflow::{copy_tree, correct_code, read, root, seed_target_dir, target_dir};
 
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
 const ATTACKS: [(&str, &str); 14] = [
@@ -358,6 +358,8 @@ fn hostile_submissions_gain_nothing() {
 
     let (ok, out) = cargo(&["build", "--quiet", "-p", "raylab"]);
     assert!(ok, "{out}");
+    // The grading's target directory starts with the dependencies this run has compiled.
+    seed_target_dir(&work.join("target"));
     let raylab = target_dir().join("debug/raylab");
     let status = Command::new(&raylab)
         .args(["handout", "--allow-dirty", "--out"])
