@@ -136,3 +136,23 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
         }
     }
 }
+
+/// One build in CI: `cargo run -p raylab --features reference` (the golden data) builds no unit
+/// that the whole workspace's test build (`cargo test --workspace --features reference`) then
+/// builds again with other features.
+#[test]
+fn the_workspace_s_tests_reuse_the_command_line_s_build() {
+    let built = build_units(&["-p", "raylab", "--features", "reference", "-e", "normal,build"]);
+    let tested = build_units(&[
+        "--workspace",
+        "--features",
+        "reference",
+        "-e",
+        "normal,build,dev",
+    ]);
+    let missing: Vec<_> = built.difference(&tested).collect();
+    assert!(
+        missing.is_empty(),
+        "`cargo test --workspace --features reference` would build these again, with other features than `cargo run -p raylab --features reference` did: {missing:?}"
+    );
+}
