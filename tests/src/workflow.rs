@@ -146,6 +146,9 @@ frame.addEventListener("load", () => setTimeout(() => {{
 /// dates, at the same place in its workspace; a tree whose framework differs (a grading
 /// tree's has a version of its own) compiles its own. Units already in `target` are kept.
 pub fn seed_target_dir(target: &Path) {
+    // The workflow tests run side by side and seed one directory.
+    static SEEDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one_at_a_time = SEEDING.lock().unwrap_or_else(|e| e.into_inner());
     let from = target_dir().join("debug");
     let to = target.join("debug");
     let lock = read(&root().join("Cargo.lock"));
@@ -196,6 +199,14 @@ pub fn seed_target_dir(target: &Path) {
             }
         }
     }
+}
+
+/// The target directory the workflow tests build their handouts and gradings in, seeded (see
+/// [`seed_target_dir`]): the gradings' framework, the same in each, is compiled once for all.
+pub fn workflow_target_dir() -> PathBuf {
+    let dir = target_dir().join("raylab-workflow-target");
+    seed_target_dir(&dir);
+    dir
 }
 
 /// Copies the file or directory `from` to `to`, keeping every file's modification time.

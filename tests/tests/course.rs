@@ -142,7 +142,14 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
 /// builds again with other features.
 #[test]
 fn the_workspace_s_tests_reuse_the_command_line_s_build() {
-    let built = build_units(&["-p", "raylab", "--features", "reference", "-e", "normal,build"]);
+    let built = build_units(&[
+        "-p",
+        "raylab",
+        "--features",
+        "reference",
+        "-e",
+        "normal,build",
+    ]);
     let tested = build_units(&[
         "--workspace",
         "--features",

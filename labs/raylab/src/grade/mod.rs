@@ -53,7 +53,8 @@ pub struct GradeArgs {
     pub release_solutions: Vec<u32>,
     /// Cargo's target directory for the builds (default: `DIR/.grading/target`). It may be
     /// shared with other builds of the same toolchain to save compiling the dependencies again:
-    /// the grading tree's crates carry a version of their own (see `TreeOptions::version_tag`).
+    /// the grading tree's crates carry a version of their own (see `TreeOptions::version_tag`),
+    /// but for the framework, whose build gradings from the same framework share.
     #[arg(long)]
     pub target_dir: Option<PathBuf>,
     /// Seconds an exercise may run before it is stopped and fails (an infinite loop).
@@ -327,12 +328,15 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     let released: BTreeSet<u32> = args.release_solutions.iter().copied().collect();
     fs::create_dir_all(&grading).map_err(io(&grading))?;
     let place = fs::canonicalize(&grading).map_err(io(&grading))?;
+    let framework_tag = crate::handout::framework_tag(&repository_root().join("framework"))?;
     let options = |grading| TreeOptions {
         released: released.clone(),
         answer_key: grading,
         // One tag per grading directory: its builds never mix with those of the repository, a
         // handout, or another class's grading in a shared target directory.
         version_tag: grading.then(|| format!("grading.{:08x}", fnv1a(&place.to_string_lossy()))),
+        // The framework by its content: gradings from the same framework share its build.
+        framework_tag: grading.then(|| framework_tag.clone()),
     };
     build_tree(&repository_root(), &handout, &options(false))?;
     let make_tree = || -> Result<Manifest, Error> {

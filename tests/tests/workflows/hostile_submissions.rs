@@ -16,32 +16,43 @@ use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use raylab_tests::workflow::{copy_tree, correct_code, read, root, seed_target_dir, target_dir};
+use raylab_tests::workflow::{
+    copy_tree, correct_code, read, root, target_dir, workflow_target_dir,
+};
 
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
 const ATTACKS: [(&str, &str); 14] = [
-    ("exit_zero", include_str!("../hostile/exit_zero.rs")),
-    ("forged_output", include_str!("../hostile/forged_output.rs")),
-    ("unsafe_fd", include_str!("../hostile/unsafe_fd.rs")),
-    ("path_to_key", include_str!("../hostile/path_to_key.rs")),
+    ("exit_zero", include_str!("../../hostile/exit_zero.rs")),
+    (
+        "forged_output",
+        include_str!("../../hostile/forged_output.rs"),
+    ),
+    ("unsafe_fd", include_str!("../../hostile/unsafe_fd.rs")),
+    ("path_to_key", include_str!("../../hostile/path_to_key.rs")),
     (
         "path_to_key_absolute",
-        include_str!("../hostile/path_to_key_absolute.rs"),
+        include_str!("../../hostile/path_to_key_absolute.rs"),
     ),
-    ("include_key", include_str!("../hostile/include_key.rs")),
+    ("include_key", include_str!("../../hostile/include_key.rs")),
     (
         "runtime_search",
-        include_str!("../hostile/runtime_search.rs"),
+        include_str!("../../hostile/runtime_search.rs"),
     ),
-    ("symlinks", include_str!("../hostile/symlinks.rs")),
-    ("memory_hog", include_str!("../hostile/memory_hog.rs")),
-    ("output_flood", include_str!("../hostile/output_flood.rs")),
-    ("process_flood", include_str!("../hostile/process_flood.rs")),
-    ("vandal", include_str!("../hostile/vandal.rs")),
-    ("debugger", include_str!("../hostile/debugger.rs")),
+    ("symlinks", include_str!("../../hostile/symlinks.rs")),
+    ("memory_hog", include_str!("../../hostile/memory_hog.rs")),
+    (
+        "output_flood",
+        include_str!("../../hostile/output_flood.rs"),
+    ),
+    (
+        "process_flood",
+        include_str!("../../hostile/process_flood.rs"),
+    ),
+    ("vandal", include_str!("../../hostile/vandal.rs")),
+    ("debugger", include_str!("../../hostile/debugger.rs")),
     (
         "delegate_to_framework",
-        include_str!("../hostile/delegate_to_framework.rs"),
+        include_str!("../../hostile/delegate_to_framework.rs"),
     ),
 ];
 
@@ -357,10 +368,17 @@ fn hostile_submissions_gain_nothing() {
     let has = |name: &str| attacks.iter().any(|(n, _)| *n == name);
 
     // As the workspace's test build builds it: nothing is compiled again.
-    let (ok, out) = cargo(&["build", "--quiet", "-p", "raylab", "--features", "reference"]);
+    let (ok, out) = cargo(&[
+        "build",
+        "--quiet",
+        "-p",
+        "raylab",
+        "--features",
+        "reference",
+    ]);
     assert!(ok, "{out}");
     // The grading's target directory starts with the dependencies this run has compiled.
-    seed_target_dir(&work.join("target"));
+    let target = workflow_target_dir();
     let raylab = target_dir().join("debug/raylab");
     let status = Command::new(&raylab)
         .args(["handout", "--allow-dirty", "--out"])
@@ -436,8 +454,11 @@ fn hostile_submissions_gain_nothing() {
         "1,3,4,7".into(),
         "--timeout".into(),
         TIMEOUT.to_string(),
+        // Half the default: the hog meets the same limit in half the time.
+        "--memory-limit".into(),
+        "2048".into(),
         "--target-dir".into(),
-        work.join("target").to_string_lossy().into_owned(),
+        target.to_string_lossy().into_owned(),
     ]);
     let log = work.join("grade-output.txt");
     let run = run_grade(&raylab, &args, &grades, &log);

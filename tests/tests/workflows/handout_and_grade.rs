@@ -12,7 +12,7 @@ use std::process::Command;
 use std::time::Instant;
 
 use raylab_tests::workflow::{
-    check_in_browser, copy_tree, correct_code, read, root, seed_target_dir, target_dir,
+    check_in_browser, copy_tree, correct_code, read, root, target_dir, workflow_target_dir,
 };
 
 /// Runs cargo in `dir` with the target directory `target`; returns (success, stdout + stderr).
@@ -34,7 +34,15 @@ fn cargo(dir: &Path, target: &Path, args: &[&str]) -> (bool, String) {
 /// `raylab ARGS`, built as the workspace's test build builds it (`--features reference`), so
 /// that nothing is compiled again.
 fn raylab(args: &[&str]) -> (bool, String) {
-    let mut all = vec!["run", "--quiet", "-p", "raylab", "--features", "reference", "--"];
+    let mut all = vec![
+        "run",
+        "--quiet",
+        "-p",
+        "raylab",
+        "--features",
+        "reference",
+        "--",
+    ];
     all.extend_from_slice(args);
     cargo(&root(), &target_dir(), &all)
 }
@@ -82,7 +90,7 @@ fn handout_then_grade_four_submissions() {
     phase("handout written");
     // The handout's target directory (also the grading's) starts with the dependencies this
     // run has compiled: what is checked is the workflow, not a second build of crates.io.
-    seed_target_dir(&work.join("target"));
+    let handout_target = workflow_target_dir();
     phase("target directory seeded");
     assert!(
         !handout.join("tests").exists(),
@@ -98,7 +106,7 @@ fn handout_then_grade_four_submissions() {
     }
     let (ok, out) = cargo(
         &handout,
-        &work.join("target"),
+        &handout_target,
         &[
             "test", "-q", "-p", "lab01", "--test", "checks", "--", "--list", "--format", "terse",
         ],
@@ -166,7 +174,6 @@ fn handout_then_grade_four_submissions() {
     // In the handout (built in a target directory of its own: cargo would take a tree of the
     // same layout and version for the repository's; the grading tree below has a version of
     // its own and shares this one): stubs fail, correct code passes.
-    let handout_target = work.join("target");
     // The stubs written again: the new handout has the repository's file dates, older than
     // the correct code an earlier run built in this target directory.
     let stubs = read(&handout.join("labs/lab01/src/lib.rs"));

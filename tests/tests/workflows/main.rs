@@ -1,0 +1,11 @@
+//! The instructor's workflows end to end, in one test executable so that libtest runs them side
+//! by side: most of their time is spent waiting (on a build of one crate, a time limit, a
+//! sandbox), which the other fills. One at a time:
+//!
+//! ```text
+//! cargo test -p raylab-tests --test workflows handout_and_grade -- --nocapture
+//! cargo test -p raylab-tests --test workflows hostile_submissions -- --nocapture
+//! ```
+
+mod handout_and_grade;
+mod hostile_submissions;
