@@ -52,9 +52,9 @@ pub struct GradeArgs {
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<u32>,
     /// Cargo's target directory for the builds (default: `DIR/.grading/target`). It may be
-    /// shared with other builds of the same toolchain to save compiling the dependencies again:
-    /// the grading tree's crates carry a version of their own (see `TreeOptions::version_tag`),
-    /// but for the framework, whose build gradings from the same framework share.
+    /// shared with other builds of the same toolchain to save compiling the dependencies (and,
+    /// between gradings of the same framework, the framework) again: the grading tree's other
+    /// crates carry a version of their own (see `TreeOptions::version_tag`).
     #[arg(long)]
     pub target_dir: Option<PathBuf>,
     /// Seconds an exercise may run before it is stopped and fails (an infinite loop).
