@@ -109,16 +109,15 @@ pub fn judge_in<S: ?Sized>(
     let mut problems = Vec::new();
     let (mut wrong, mut rejected) = (0, 0);
     for (name, verdict, subject) in variants {
-        let results = run_all(exercises, &subject, ctx);
         match verdict {
             Verdict::Reject(id) => {
                 wrong += 1;
-                let r = &results
+                // A mistake is judged by its own exercise alone.
+                let exercise = exercises
                     .iter()
-                    .find(|(e, _)| *e == id)
-                    .expect("known exercise")
-                    .1;
-                match r {
+                    .find(|e| e.id == id)
+                    .expect("known exercise");
+                match &run_exercise(exercise, &subject, ctx) {
                     Err(message) => {
                         rejected += 1;
                         let first = message.lines().nth(1).unwrap_or_default();
@@ -130,7 +129,7 @@ pub fn judge_in<S: ?Sized>(
                 }
             }
             Verdict::Accept => {
-                for (id, r) in &results {
+                for (id, r) in &run_all(exercises, &subject, ctx) {
                     match r {
                         Ok(()) => {}
                         Err(m) => problems.push(format!(
