@@ -2,7 +2,7 @@
 //! Bounding Volume Hierarchies"): a binary tree over primitive bounding boxes, stored depth
 //! first, with its leaves laid out in slot order.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use crate::math::Aabb;
 
@@ -124,18 +124,39 @@ struct Builder {
     depth: usize,
 }
 
-/// One SAH bin: the bounds and number of the primitives whose centroid falls in it.
+/// One SAH bin: the bounds (corners in SIMD registers) and number of the primitives whose
+/// centroid falls in it.
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    min: Vec3A,
+    max: Vec3A,
     count: usize,
 }
 
 impl Bin {
     const EMPTY: Bin = Bin {
-        bounds: Aabb::EMPTY,
+        min: Vec3A::INFINITY,
+        max: Vec3A::NEG_INFINITY,
         count: 0,
     };
+
+    /// Grows this bin by `other`'s primitives.
+    #[inline(always)]
+    fn add(&mut self, other: &Bin) {
+        self.min = self.min.min(other.min);
+        self.max = self.max.max(other.max);
+        self.count += other.count;
+    }
+
+    /// [`Aabb::surface_area`] of the bin's bounds, with the same operations.
+    #[inline(always)]
+    fn surface_area(&self) -> f32 {
+        if self.min.cmpgt(self.max).any() {
+            return 0.0;
+        }
+        let d = self.max - self.min;
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
 }
 
 /// How to split a node's primitive range.
@@ -152,9 +173,23 @@ impl Builder {
     fn build_node(&mut self, start: usize, end: usize, depth: usize) -> usize {
         self.depth = self.depth.max(depth);
         let prims = &mut self.prims[start..end];
-        let (bounds, centroids) = prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| {
-            (b.union(p.bounds), c.grow(p.centroid))
-        });
+        // The bounds of the boxes and of the centroids, in SIMD registers (operands in the
+        // order that leaves a NaN corner out, as `f32::min` does).
+        let mut acc = [
+            Vec3A::INFINITY,
+            Vec3A::NEG_INFINITY,
+            Vec3A::INFINITY,
+            Vec3A::NEG_INFINITY,
+        ];
+        for p in prims.iter() {
+            let c = Vec3A::from(p.centroid);
+            acc[0] = Vec3A::from(p.bounds.min).min(acc[0]);
+            acc[1] = Vec3A::from(p.bounds.max).max(acc[1]);
+            acc[2] = c.min(acc[2]);
+            acc[3] = c.max(acc[3]);
+        }
+        let bounds = Aabb::new(acc[0].into(), acc[1].into());
+        let centroids = Aabb::new(acc[2].into(), acc[3].into());
         let node_index = self.nodes.len();
         self.nodes.push(Node {
             min: bounds.min,
@@ -207,13 +242,27 @@ fn choose_split(
         // separate, so halve the range if it is too big for a leaf.
         return (count > MAX_LEAF).then_some(Split::Median { axis });
     }
-    // Binned SAH over all three axes in one pass; costs are scaled by the parent's area.
+    // Binned SAH over all three axes in one pass; costs are scaled by the parent's area. The
+    // three bins of a primitive are found at once, and its box grows each in two SIMD
+    // operations (the values of `Binning::bin` and `Aabb::union`, which `partition` and the
+    // sweep below use).
     let binnings = [0, 1, 2].map(|axis| Binning::new(centroids, axis));
+    let (origin, scale) = (
+        Vec3A::from(centroids.min),
+        Vec3A::from_array(binnings.map(|b| b.scale)),
+    );
     let mut bins = [[Bin::EMPTY; BINS]; 3];
     for p in prims {
-        for (axis, binning) in binnings.iter().enumerate() {
-            let bin = &mut bins[axis][binning.bin(p.centroid)];
-            bin.bounds = bin.bounds.union(p.bounds);
+        let (lo, hi) = (Vec3A::from(p.bounds.min), Vec3A::from(p.bounds.max));
+        let at = ((Vec3A::from(p.centroid) - origin) * scale).as_uvec3();
+        for (axis, bins) in bins.iter_mut().enumerate() {
+            if extent[axis] <= 0.0 {
+                continue;
+            }
+            let bin = &mut bins[(at[axis] as usize).min(BINS - 1)];
+            // Operands in this order: a NaN corner leaves the bin as it is, as `f32::min`.
+            bin.min = lo.min(bin.min);
+            bin.max = hi.max(bin.max);
             bin.count += 1;
         }
     }
@@ -224,16 +273,15 @@ fn choose_split(
         }
         // right_cost[k]: area × count of bins k.. (the right side of a split before bin k).
         let mut right_cost = [0.0f32; BINS];
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        let mut acc = Bin::EMPTY;
         for k in (1..BINS).rev() {
-            acc = acc.union(bins[k].bounds);
-            n += bins[k].count;
-            right_cost[k] = acc.surface_area() * cost_units(n);
+            acc.add(&bins[k]);
+            right_cost[k] = acc.surface_area() * cost_units(acc.count);
         }
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        let mut acc = Bin::EMPTY;
         for k in 1..BINS {
-            acc = acc.union(bins[k - 1].bounds);
-            n += bins[k - 1].count;
+            acc.add(&bins[k - 1]);
+            let n = acc.count;
             if n == 0 || n == count {
                 continue;
             }
