@@ -19,7 +19,7 @@ use clap::Args;
 use framework::Error;
 use framework::glam::Vec3;
 use framework::math::Ray;
-use framework::scene::{Scene, builtin_scene, load_obj};
+use framework::scene::{Mesh, Scene, builtin_scene, load_obj};
 use rayon::prelude::*;
 
 use agreement::compare;
@@ -41,6 +41,10 @@ pub struct BenchArgs {
     /// triangles with bumps, about the size of the bunny).
     #[arg(long)]
     pub mesh: Option<PathBuf>,
+    /// Place the mesh this many times side by side, on a grid with a gap of a fifth of its
+    /// size (8: a 2×2×2 block), for a scene that many times larger made of the same real mesh.
+    #[arg(long, default_value_t = 1)]
+    pub copies: u32,
 }
 
 /// One engine under test, with its median BVH build time (none where the scene builds it).
@@ -241,10 +245,13 @@ fn throughput(entries: &[Entry<'_>], rays: &[Ray], runs: usize) -> Vec<(f64, f64
 
 /// Runs `raylab bench`.
 pub fn run(args: &BenchArgs) -> Result<(), Error> {
-    if args.resolution == 0 || args.runs == 0 {
+    if args.resolution == 0 || args.runs == 0 || !(1..=64).contains(&args.copies) {
         return Err(Error::Invalid {
-            what: format!("--resolution {} --runs {}", args.resolution, args.runs),
-            reason: "expected whole numbers of at least 1".into(),
+            what: format!(
+                "--resolution {} --runs {} --copies {}",
+                args.resolution, args.runs, args.copies
+            ),
+            reason: "expected whole numbers of at least 1 (and at most 64 copies)".into(),
         });
     }
     if cfg!(debug_assertions) {
@@ -260,12 +267,48 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
     // Load the mesh first, so that a bad path fails before the long measurements.
     let mesh = match &args.mesh {
         Some(path) => {
-            crate::render::framed_scene(&path.display().to_string(), load_obj(path)?, false)?
+            let mut obj = load_obj(path)?;
+            obj.mesh = placed_copies(&obj.mesh, args.copies);
+            let name = match args.copies {
+                1 => path.display().to_string(),
+                n => format!("{} ×{n}", path.display()),
+            };
+            crate::render::framed_scene(&name, obj, false)?
         }
-        None => mesh_scene("bumpy sphere", bumpy_sphere(190, 185))?,
+        None => mesh_scene(
+            "bumpy sphere",
+            placed_copies(&bumpy_sphere(190, 185), args.copies),
+        )?,
     };
     measure(&builtin_scene("cornell")?, args)?;
     measure(&mesh, args)
+}
+
+/// `copies` copies of `mesh` on a grid of ⌈∛copies⌉ per side, each cell the mesh's bounding
+/// box and a fifth of its size apart.
+fn placed_copies(mesh: &Mesh, copies: u32) -> Mesh {
+    let (lo, hi) = mesh
+        .positions
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let step = (hi - lo) * 1.2;
+    let side = (1..).find(|k: &u32| k.pow(3) >= copies).unwrap_or(1);
+    let mut placed = Mesh::default();
+    for k in 0..copies {
+        let cell = Vec3::new(
+            (k % side) as f32,
+            (k / side % side) as f32,
+            (k / (side * side)) as f32,
+        );
+        let mut copy = mesh.clone();
+        for p in &mut copy.positions {
+            *p += cell * step;
+        }
+        placed.append(&copy);
+    }
+    placed
 }
 
 #[cfg(test)]
@@ -273,11 +316,27 @@ mod tests {
     use super::*;
 
     #[test]
+    fn copies_are_placed_apart_with_every_face() {
+        let mesh = bumpy_sphere(8, 8);
+        let placed = placed_copies(&mesh, 8);
+        assert_eq!(placed.faces.len(), 8 * mesh.faces.len());
+        assert_eq!(placed.positions.len(), 8 * mesh.positions.len());
+        // The last copy sits one cell up, right and back (a 2×2×2 block), 1.2 sizes away.
+        let n = mesh.positions.len();
+        let size = mesh.positions.iter().fold(Vec3::ZERO, |s, p| s.max(*p))
+            - mesh.positions.iter().fold(Vec3::ZERO, |s, p| s.min(*p));
+        let offset = placed.positions[7 * n] - mesh.positions[0];
+        assert!((offset - 1.2 * size).length() < 1e-4, "{offset} for {size}");
+        assert_eq!(placed_copies(&mesh, 1).faces, mesh.faces);
+    }
+
+    #[test]
     fn missing_mesh_is_an_error_naming_the_path() {
         let args = BenchArgs {
             resolution: 4,
             runs: 1,
             mesh: Some(PathBuf::from("no/such/bunny.obj")),
+            copies: 1,
         };
         let err = run(&args).unwrap_err().to_string();
         assert!(err.contains("no/such/bunny.obj"), "{err}");
