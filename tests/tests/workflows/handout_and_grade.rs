@@ -12,24 +12,9 @@ use std::process::Command;
 use std::time::Instant;
 
 use raylab_tests::workflow::{
-    check_in_browser, copy_tree, correct_code, read, root, target_dir, workflow_target_dir,
+    cargo_in as cargo, check_in_browser, copy_tree, correct_code, read, root, target_dir,
+    workflow_target_dir,
 };
-
-/// Runs cargo in `dir` with the target directory `target`; returns (success, stdout + stderr).
-fn cargo(dir: &Path, target: &Path, args: &[&str]) -> (bool, String) {
-    let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
-        .args(args)
-        .current_dir(dir)
-        .env("CARGO_TARGET_DIR", target)
-        .output()
-        .expect("cargo runs");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    (output.status.success(), text)
-}
 
 /// `raylab ARGS`, built as the workspace's test build builds it (`--features reference`), so
 /// that nothing is compiled again.

@@ -78,18 +78,7 @@ const VANDAL_MARKS: [&str; 2] = ["vandal,99", "FORGED-BY-VANDAL"];
 
 /// Runs cargo in the repository; returns (success, stdout + stderr).
 fn cargo(args: &[&str]) -> (bool, String) {
-    let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
-        .args(args)
-        .current_dir(root())
-        .env("CARGO_TARGET_DIR", target_dir())
-        .output()
-        .expect("cargo runs");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    (output.status.success(), text)
+    raylab_tests::workflow::cargo_in(&root(), &target_dir(), args)
 }
 
 /// Every file under `dir` (not following links) with its contents, by path relative to `dir`;
