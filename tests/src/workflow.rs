@@ -26,12 +26,16 @@ pub fn cargo_in(dir: &Path, target: &Path, args: &[&str]) -> (bool, String) {
             .env("CARGO_TARGET_DIR", target)
             .output()
             .expect("cargo runs");
-    let text = format!(
+    (output.status.success(), output_text(&output))
+}
+
+/// What a finished process printed: its standard output, then its standard error.
+pub fn output_text(output: &std::process::Output) -> String {
+    format!(
         "{}{}",
         String::from_utf8_lossy(&output.stdout),
         String::from_utf8_lossy(&output.stderr)
-    );
-    (output.status.success(), text)
+    )
 }
 
 /// The text of `path`; panics naming it.
@@ -54,18 +58,14 @@ pub fn correct_code(lab: u32) -> String {
     .replace("use framework::contracts::lab03::Shadows;\n", "")
 }
 
-/// Copies the directory `from` to `to`, leaving out `target/`.
+/// Copies the directory `from` to `to`, leaving out `target/`, keeping every file's
+/// modification time (see [`copy_with_dates`]).
 pub fn copy_tree(from: &Path, to: &Path) {
     fs::create_dir_all(to).unwrap();
     for entry in fs::read_dir(from).unwrap() {
         let entry = entry.unwrap();
-        if entry.file_name() == "target" {
-            continue;
-        }
-        if entry.path().is_dir() {
-            copy_tree(&entry.path(), &to.join(entry.file_name()));
-        } else {
-            fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
+        if entry.file_name() != "target" {
+            copy_with_dates(&entry.path(), &to.join(entry.file_name()));
         }
     }
 }
@@ -226,9 +226,10 @@ pub fn workflow_target_dir() -> PathBuf {
     dir
 }
 
-/// Copies the file or directory `from` to `to`, keeping every file's modification time.
+/// Copies the file or directory `from` to `to`, keeping every file's modification time (a link
+/// is copied as what it points to).
 fn copy_with_dates(from: &Path, to: &Path) {
-    let meta = fs::symlink_metadata(from).unwrap();
+    let meta = fs::metadata(from).unwrap();
     if meta.is_dir() {
         fs::create_dir_all(to).unwrap();
         for entry in fs::read_dir(from).unwrap() {

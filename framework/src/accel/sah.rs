@@ -140,12 +140,24 @@ impl Bin {
         count: 0,
     };
 
+    /// Grows the bounds to hold the box `lo..hi` (operands in the order that leaves a NaN
+    /// corner out, as `f32::min` does); the count is the caller's.
+    #[inline(always)]
+    fn grow(&mut self, lo: Vec3A, hi: Vec3A) {
+        self.min = lo.min(self.min);
+        self.max = hi.max(self.max);
+    }
+
     /// Grows this bin by `other`'s primitives.
     #[inline(always)]
     fn add(&mut self, other: &Bin) {
-        self.min = self.min.min(other.min);
-        self.max = self.max.max(other.max);
+        self.grow(other.min, other.max);
         self.count += other.count;
+    }
+
+    /// The bounds as an [`Aabb`].
+    fn aabb(&self) -> Aabb {
+        Aabb::new(self.min.into(), self.max.into())
     }
 
     /// [`Aabb::surface_area`] of the bin's bounds, with the same operations.
@@ -173,23 +185,14 @@ impl Builder {
     fn build_node(&mut self, start: usize, end: usize, depth: usize) -> usize {
         self.depth = self.depth.max(depth);
         let prims = &mut self.prims[start..end];
-        // The bounds of the boxes and of the centroids, in SIMD registers (operands in the
-        // order that leaves a NaN corner out, as `f32::min` does).
-        let mut acc = [
-            Vec3A::INFINITY,
-            Vec3A::NEG_INFINITY,
-            Vec3A::INFINITY,
-            Vec3A::NEG_INFINITY,
-        ];
+        // The bounds of the boxes and of the centroids, in SIMD registers.
+        let (mut bounds, mut centroids) = (Bin::EMPTY, Bin::EMPTY);
         for p in prims.iter() {
             let c = Vec3A::from(p.centroid);
-            acc[0] = Vec3A::from(p.bounds.min).min(acc[0]);
-            acc[1] = Vec3A::from(p.bounds.max).max(acc[1]);
-            acc[2] = c.min(acc[2]);
-            acc[3] = c.max(acc[3]);
+            bounds.grow(p.bounds.min.into(), p.bounds.max.into());
+            centroids.grow(c, c);
         }
-        let bounds = Aabb::new(acc[0].into(), acc[1].into());
-        let centroids = Aabb::new(acc[2].into(), acc[3].into());
+        let (bounds, centroids) = (bounds.aabb(), centroids.aabb());
         let node_index = self.nodes.len();
         self.nodes.push(Node {
             min: bounds.min,
@@ -260,9 +263,7 @@ fn choose_split(
                 continue;
             }
             let bin = &mut bins[(at[axis] as usize).min(BINS - 1)];
-            // Operands in this order: a NaN corner leaves the bin as it is, as `f32::min`.
-            bin.min = lo.min(bin.min);
-            bin.max = hi.max(bin.max);
+            bin.grow(lo, hi);
             bin.count += 1;
         }
     }

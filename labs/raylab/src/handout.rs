@@ -50,42 +50,10 @@ pub struct TreeOptions {
     /// and version would share them, and one tree's file dates could make the other's changed
     /// code look up to date.
     pub version_tag: Option<String>,
-    /// A tag for the framework alone (`0.1.0-TAG`), made from its content (see
-    /// [`framework_tag`]): trees whose framework is the same share its build in a target
-    /// directory, where their own crates (the student's code among them) share nothing.
+    /// A tag for the framework alone (`0.1.0-TAG`), made from its content (the grader takes
+    /// the digest of its files' manifest): trees whose framework is the same share its build in
+    /// a target directory, where their own crates (the student's code among them) share nothing.
     pub framework_tag: Option<String>,
-}
-
-/// The tag of the framework at `framework`: a 64-bit FNV-1a hash of every file's path and
-/// bytes (build output and version control left out, as [`copy_dir`] leaves them out).
-pub fn framework_tag(framework: &Path) -> Result<String, Error> {
-    fn walk(root: &Path, dir: &Path, hash: &mut u64) -> Result<(), Error> {
-        let mut entries: Vec<_> = fs::read_dir(dir)
-            .map_err(io(dir))?
-            .collect::<Result<_, _>>()
-            .map_err(io(dir))?;
-        entries.sort_by_key(|e| e.file_name());
-        for entry in entries {
-            let name = entry.file_name();
-            if [".git", "target", "out"].iter().any(|n| name == *n) {
-                continue;
-            }
-            let path = entry.path();
-            if path.is_dir() {
-                walk(root, &path, hash)?;
-                continue;
-            }
-            let relative = path.strip_prefix(root).unwrap_or(&path);
-            let bytes = fs::read(&path).map_err(io(&path))?;
-            for b in relative.to_string_lossy().bytes().chain([0]).chain(bytes) {
-                *hash = (*hash ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
-            }
-        }
-        Ok(())
-    }
-    let mut hash = 0xcbf2_9ce4_8422_2325;
-    walk(framework, framework, &mut hash)?;
-    Ok(format!("framework.{hash:016x}"))
 }
 
 /// The repository the command line was built from.

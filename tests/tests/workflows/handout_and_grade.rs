@@ -12,8 +12,8 @@ use std::process::Command;
 use std::time::Instant;
 
 use raylab_tests::workflow::{
-    cargo_in as cargo, check_in_browser, copy_tree, correct_code, read, root, target_dir,
-    workflow_target_dir,
+    cargo_in as cargo, check_in_browser, copy_tree, correct_code, output_text, read, root,
+    target_dir, workflow_target_dir,
 };
 
 /// `raylab ARGS`, built as the workspace's test build builds it (`--features reference`), so
@@ -426,11 +426,7 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
         .env("RAYLAB_GRADING_DIR", grades)
         .output()
         .expect("run_autograder runs");
-    let log = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let log = output_text(&output);
     assert!(output.status.success(), "{log}");
     let text = read(&autograder.join("results/results.json"));
     let results: serde_json::Value = serde_json::from_str(&text).expect("results.json is JSON");

@@ -328,7 +328,10 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     let released: BTreeSet<u32> = args.release_solutions.iter().copied().collect();
     fs::create_dir_all(&grading).map_err(io(&grading))?;
     let place = fs::canonicalize(&grading).map_err(io(&grading))?;
-    let framework_tag = crate::handout::framework_tag(&repository_root().join("framework"))?;
+    let framework_tag = format!(
+        "framework.{}",
+        Manifest::of(&repository_root().join("framework"))?.digest()
+    );
     let options = |grading| TreeOptions {
         released: released.clone(),
         answer_key: grading,

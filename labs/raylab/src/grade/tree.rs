@@ -23,6 +23,21 @@ impl Manifest {
         Ok(Self(files))
     }
 
+    /// One hash of the whole manifest (every path with its file's hash), as 16 hex digits: two
+    /// trees of the same files have the same digest.
+    pub fn digest(&self) -> String {
+        let mut all = Sha256::new();
+        for (path, hash) in &self.0 {
+            all.update(path.to_string_lossy().as_bytes());
+            all.update([0]);
+            all.update(hash);
+        }
+        all.finalize()[..8]
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect()
+    }
+
     /// The files in which `tree` differs from this manifest: `changed: P`, `added: P`,
     /// `removed: P`.
     pub fn changes(&self, tree: &Path) -> Result<Vec<String>, Error> {
@@ -88,5 +103,24 @@ mod tests {
             ["added: extra", "changed: labs/lab02/tests/checks.rs"]
         );
         fs::remove_dir_all(&tree).unwrap();
+    }
+
+    #[test]
+    fn the_digest_follows_the_files_and_not_where_they_are() {
+        let dir = std::env::temp_dir().join(format!("raylab-digest-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        for tree in ["a", "b"] {
+            fs::create_dir_all(dir.join(tree).join("src")).unwrap();
+            fs::write(dir.join(tree).join("src/lib.rs"), "fn f() {}").unwrap();
+        }
+        let digest = |tree: &str| Manifest::of(&dir.join(tree)).unwrap().digest();
+        assert_eq!(digest("a"), digest("b"));
+        assert_eq!(digest("a").len(), 16);
+        fs::write(dir.join("b/src/lib.rs"), "fn g() {}").unwrap();
+        assert_ne!(digest("a"), digest("b"));
+        fs::rename(dir.join("a/src/lib.rs"), dir.join("a/src/main.rs")).unwrap();
+        fs::write(dir.join("b/src/lib.rs"), "fn f() {}").unwrap();
+        assert_ne!(digest("a"), digest("b"), "a file's path counts too");
+        fs::remove_dir_all(&dir).unwrap();
     }
 }
