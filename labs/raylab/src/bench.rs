@@ -2,7 +2,8 @@
 //! intersection kernels) in rays per second, for closest-hit and any-hit queries, on camera
 //! rays and on one diffuse bounce per hit, on 1 and 2 threads; the BVH build time; and the same
 //! figures for peers on the very same rays — obvhs (pure Rust) always, Embree 3 with the
-//! `embree` feature — with a check that every engine finds the same hits.
+//! `embree` feature, both in its default mode and in its robust one (which, like the core,
+//! lets no ray slip through shared edges) — with a check that every engine finds the same hits.
 //! docs/performance.md explains the measurement and records the figures.
 
 mod agreement;
@@ -98,7 +99,11 @@ fn engines<'a>(scene: &'a Scene, tris: &[[Vec3; 3]], runs: usize) -> Result<Vec<
     timed("raylab core", &mut || Ok(Box::new(Core::build(tris))))?;
     #[cfg(feature = "embree")]
     timed("Embree 3", &mut || {
-        Ok(Box::new(peer_embree::Embree::build(tris)?))
+        Ok(Box::new(peer_embree::Embree::build(tris, false)?))
+    })?;
+    #[cfg(feature = "embree")]
+    timed("Embree 3, robust", &mut || {
+        Ok(Box::new(peer_embree::Embree::build(tris, true)?))
     })?;
     timed("obvhs", &mut || {
         Ok(Box::new(Obvhs::build(tris, Kernel::Obvhs)))

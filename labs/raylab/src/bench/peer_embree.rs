@@ -1,10 +1,11 @@
 //! Embree 3 (the C library, through the `embree3` crate) as the benchmark's reference: one
-//! triangle geometry in a scene of default flags and build quality, queried one ray at a time
-//! with `rtcIntersect1` / `rtcOccluded1`. Only built with the `embree` feature.
+//! triangle geometry in a scene of default build quality, with default flags or with the
+//! `ROBUST` flag, queried one ray at a time with `rtcIntersect1` / `rtcOccluded1`. Only built
+//! with the `embree` feature.
 
 use embree3::{
     BufferUsage, Config, Device, Format, GeometryKind, IntersectContext, Ray as EmRay, RayHit,
-    Scene as EmScene,
+    Scene as EmScene, SceneFlags,
 };
 use framework::Error;
 use framework::glam::Vec3;
@@ -24,8 +25,11 @@ const INVALID_ID: u32 = u32::MAX;
 
 impl Embree {
     /// Creates a device with one build thread (as the other builders have) and builds the scene
-    /// over `triangles`.
-    pub fn build(triangles: &[[Vec3; 3]]) -> Result<Self, Error> {
+    /// over `triangles`; `robust` sets the scene's `ROBUST` flag, which Embree documents as
+    /// avoiding the optimizations that reduce arithmetic accuracy, so that rays do not slip
+    /// through the edges of neighbouring primitives — what the core's conservative traversal
+    /// and watertight test guarantee.
+    pub fn build(triangles: &[[Vec3; 3]], robust: bool) -> Result<Self, Error> {
         let fail = |what: &str, e: embree3::Error| Error::Invalid {
             what: format!("Embree {what}"),
             reason: format!("{e:?}"),
@@ -53,6 +57,9 @@ impl Embree {
             .for_each(|(dst, f)| *dst = [3 * f, 3 * f + 1, 3 * f + 2]);
         let geometry = geometry.commit();
         let mut scene = device.create_scene().map_err(|e| fail("scene", e))?;
+        if robust {
+            scene.set_flags(scene.get_flags() | SceneFlags::ROBUST);
+        }
         scene.attach_geometry(&geometry);
         scene.commit();
         Ok(Embree {
