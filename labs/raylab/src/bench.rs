@@ -19,7 +19,7 @@ use std::time::Instant;
 use clap::Args;
 use framework::Error;
 use framework::glam::Vec3;
-use framework::math::Ray;
+use framework::math::{Aabb, Ray};
 use framework::scene::{Mesh, Scene, builtin_scene, load_obj};
 use rayon::prelude::*;
 
@@ -292,13 +292,8 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
 /// `copies` copies of `mesh` on a grid of ⌈∛copies⌉ per side, each cell the mesh's bounding
 /// box and a fifth of its size apart.
 fn placed_copies(mesh: &Mesh, copies: u32) -> Mesh {
-    let (lo, hi) = mesh
-        .positions
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        });
-    let step = (hi - lo) * 1.2;
+    let bounds = Aabb::from_points(mesh.positions.iter().copied());
+    let step = (bounds.max - bounds.min) * 1.2;
     let side = (1..).find(|k: &u32| k.pow(3) >= copies).unwrap_or(1);
     let mut placed = Mesh::default();
     for k in 0..copies {
@@ -328,8 +323,8 @@ mod tests {
         assert_eq!(placed.positions.len(), 8 * mesh.positions.len());
         // The last copy sits one cell up, right and back (a 2×2×2 block), 1.2 sizes away.
         let n = mesh.positions.len();
-        let size = mesh.positions.iter().fold(Vec3::ZERO, |s, p| s.max(*p))
-            - mesh.positions.iter().fold(Vec3::ZERO, |s, p| s.min(*p));
+        let bounds = Aabb::from_points(mesh.positions.iter().copied());
+        let size = bounds.max - bounds.min;
         let offset = placed.positions[7 * n] - mesh.positions[0];
         assert!((offset - 1.2 * size).length() < 1e-4, "{offset} for {size}");
         assert_eq!(placed_copies(&mesh, 1).faces, mesh.faces);
