@@ -104,10 +104,9 @@ impl TriangleBvh {
     #[inline(always)]
     fn closest_hit_watertight_with(&self, ray: &Ray, stats: &mut impl Counter) -> Option<MeshHit> {
         let prepared = TriangleRay::new(ray);
-        let mut ray = *ray;
         let mut closest = None;
         self.bvh.traverse_leaves(
-            &mut ray,
+            ray,
             |first, count, ray| {
                 for (b, block) in (first / BLOCK..).zip(self.leaf_blocks(first, count)) {
                     let hits = prepared.intersect4(ray, block);
@@ -151,9 +150,8 @@ impl TriangleBvh {
     #[inline(always)]
     fn any_hit_watertight_with(&self, ray: &Ray, stats: &mut impl Counter) -> bool {
         let prepared = TriangleRay::new(ray);
-        let mut ray = *ray;
         self.bvh.traverse_leaves(
-            &mut ray,
+            ray,
             |first, count, ray| {
                 self.leaf_blocks(first, count)
                     .iter()
