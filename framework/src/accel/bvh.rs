@@ -4,12 +4,12 @@
 
 use std::mem::MaybeUninit;
 
-use super::sah::{self, BinaryTree, Node};
+use super::sah::{self, BinaryTree};
 #[cfg(target_arch = "x86_64")]
 use super::slabs::Avx;
 use super::slabs::{EXIT_SLACK, Portable, SlabTest, Slabs};
 use super::stats::{Counter, TraversalStats};
-use super::wide::{LEAF, MAX_PRIMITIVES, WIDTH, WideNode, collapse, leaf_range};
+use super::wide::{LEAF, MAX_PRIMITIVES, WIDTH, WideNode, WideTree, collapse, leaf_range};
 use crate::math::{Aabb, Ray};
 
 /// A bounding volume hierarchy over a set of primitives given by their bounding boxes.
@@ -18,18 +18,20 @@ use crate::math::{Aabb, Ray};
 /// identified by its index in the slice given to [`Bvh::build`]. `Bvh::default()` is the empty
 /// hierarchy, which no ray hits.
 ///
-/// The builder makes a binary tree (kept for [`bounds`](Self::bounds),
-/// [`node_count`](Self::node_count) and [`depth`](Self::depth)); queries traverse the same tree
-/// collapsed into 8-wide nodes, whose eight child boxes are tested at once.
+/// The builder makes a binary tree down to single primitives; queries traverse that tree
+/// collapsed into 8-wide nodes, whose eight child boxes are tested at once, with the leaves
+/// the collapse chose.
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    /// Bounds of all primitives.
+    bounds: Aabb,
     /// The binary tree collapsed into 8-wide nodes, root first.
     wide: Vec<WideNode>,
-    /// Primitive indices in leaf order ([`HOLE`](sah::HOLE) between aligned leaves).
+    /// Primitive indices in leaf order ([`HOLE`](super::wide::HOLE) between aligned leaves).
     indices: Vec<u32>,
     /// Number of primitives.
     len: usize,
+    /// Levels of wide nodes.
     depth: usize,
 }
 
@@ -46,9 +48,9 @@ impl Bvh {
         Self::build_with_leaf_alignment(bounds, 1)
     }
 
-    /// [`build`](Self::build) for primitives tested `alignment` at a time: the SAH counts a
-    /// leaf's cost in blocks of `alignment`, and every leaf's first slot is a multiple of
-    /// `alignment` (the slots between leaves are [`HOLE`](sah::HOLE)s).
+    /// [`build`](Self::build) for primitives tested `alignment` at a time: the collapse's SAH
+    /// counts a leaf's cost in blocks of `alignment`, and every leaf's first slot is a multiple
+    /// of `alignment` (the slots between leaves are [`HOLE`](super::wide::HOLE)s).
     pub(crate) fn build_with_leaf_alignment(bounds: &[Aabb], alignment: usize) -> Bvh {
         let n = bounds.len();
         assert!(
@@ -58,19 +60,20 @@ impl Bvh {
         if n == 0 {
             return Bvh::default();
         }
-        let BinaryTree {
-            nodes,
+        let BinaryTree { nodes, order } = sah::build(bounds);
+        let WideTree {
+            nodes: wide,
             indices,
             depth,
-        } = sah::build(bounds, alignment);
+        } = collapse(&nodes, &order, alignment);
         assert!(
             indices.len() <= MAX_PRIMITIVES,
             "a BVH holds at most {MAX_PRIMITIVES} slots, got {}",
             indices.len()
         );
         Bvh {
-            wide: collapse(&nodes),
-            nodes,
+            bounds: Aabb::new(nodes[0].min, nodes[0].max),
+            wide,
             indices,
             len: n,
             depth,
@@ -89,17 +92,19 @@ impl Bvh {
 
     /// Bounds of all primitives ([`Aabb::EMPTY`] for an empty hierarchy).
     pub fn bounds(&self) -> Aabb {
-        self.nodes
-            .first()
-            .map_or(Aabb::EMPTY, |n| Aabb::new(n.min, n.max))
+        if self.is_empty() {
+            Aabb::EMPTY
+        } else {
+            self.bounds
+        }
     }
 
-    /// Number of nodes (interior nodes and leaves).
+    /// Number of 8-wide nodes.
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        self.wide.len()
     }
 
-    /// Number of levels: 0 when empty, 1 for a single leaf.
+    /// Number of levels of 8-wide nodes: 0 when empty, 1 for the root alone.
     pub fn depth(&self) -> usize {
         self.depth
     }
@@ -158,7 +163,7 @@ impl Bvh {
     }
 
     /// The primitive indices in leaf order: the primitive in leaf slot `k` is `leaf_order()[k]`
-    /// ([`HOLE`](sah::HOLE) for a slot between aligned leaves).
+    /// ([`HOLE`](super::wide::HOLE) for a slot between aligned leaves).
     pub(crate) fn leaf_order(&self) -> &[u32] {
         &self.indices
     }
@@ -407,7 +412,8 @@ impl Stack {
 mod tests {
     use glam::Vec3;
 
-    use super::sah::{HOLE, MAX_DEPTH, MAX_LEAF};
+    use super::super::sah::MAX_DEPTH;
+    use super::super::wide::{HOLE, MAX_LEAF};
     use super::*;
     use crate::test_rng::Rng;
 
@@ -669,7 +675,7 @@ mod tests {
         let boxes = sphere_bounds(&spheres);
         let bvh = Bvh::build(&boxes);
         assert!(bvh.depth() <= 10, "depth {}", bvh.depth());
-        assert!(bvh.nodes.iter().all(|n| n.count as usize <= MAX_LEAF));
+        assert!(leaf_sizes(&bvh).iter().all(|&n| n <= MAX_LEAF));
         check_against_brute_force(spheres.len(), &boxes, 1000, 6, |i, r| {
             hit_sphere(r, spheres[i])
         });
@@ -680,7 +686,7 @@ mod tests {
             Vec3::new(0.0, 1.0, 0.5),
         ];
         let bvh = Bvh::build(&triangle_bounds(&vec![tri; 100]));
-        assert!(bvh.nodes.iter().all(|n| n.count as usize <= MAX_LEAF));
+        assert!(leaf_sizes(&bvh).iter().all(|&n| n <= MAX_LEAF));
         let ray = Ray::unbounded(Vec3::ZERO, Vec3::Z, 0.0);
         let (_, t) = bvh.closest_hit(&ray, |_, r| hit_triangle(r, tri)).unwrap();
         assert_eq!(t, 0.5);
@@ -718,6 +724,20 @@ mod tests {
         }
     }
 
+    /// The primitive counts of the leaves of `bvh`'s wide tree.
+    fn leaf_sizes(bvh: &Bvh) -> Vec<usize> {
+        bvh.wide
+            .iter()
+            .flat_map(|node| {
+                node.children
+                    .iter()
+                    .zip(node.planes[0].iter().zip(node.planes[3]))
+            })
+            .filter(|&(&child, (&min, max))| child & LEAF != 0 && min <= max)
+            .map(|(&child, _)| leaf_range(child).1)
+            .collect()
+    }
+
     /// A build over 5000 random triangles with leaves aligned to `alignment` slots.
     fn check_well_formed(alignment: usize) {
         let mut rng = Rng::new(9);
@@ -727,60 +747,30 @@ mod tests {
         let b = Bvh::build_with_leaf_alignment(&boxes, alignment);
         assert_eq!(format!("{a:?}"), format!("{b:?}"));
         assert_eq!(a.len(), 5000);
-        // Every primitive appears exactly once, node bounds contain their contents, leaves
-        // start at aligned slots.
+        // Every primitive appears exactly once.
         let mut seen: Vec<u32> = a.indices.iter().copied().filter(|&p| p != HOLE).collect();
         seen.sort_unstable();
         assert!(seen.iter().copied().eq(0..5000));
-        assert!(
-            a.nodes
-                .iter()
-                .all(|n| n.count == 0 || (n.index as usize).is_multiple_of(alignment))
-        );
-        let contains = |outer: &Node, inner: Aabb| {
+        let contains = |outer: &Aabb, inner: Aabb| {
             outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
         };
-        for (i, n) in a.nodes.iter().enumerate() {
-            if n.count > 0 {
-                assert!(n.count as usize <= MAX_LEAF);
-                let prims = &a.indices[n.index as usize..(n.index + n.count) as usize];
-                assert!(prims.iter().all(|&p| contains(n, boxes[p as usize])));
-            } else {
-                let right = n.index as usize;
-                assert!(right > i + 1 && right < a.nodes.len());
-                assert!(contains(
-                    n,
-                    Aabb::new(a.nodes[i + 1].min, a.nodes[i + 1].max)
-                ));
-                assert!(contains(
-                    n,
-                    Aabb::new(a.nodes[right].min, a.nodes[right].max)
-                ));
-            }
-        }
         assert_eq!(
             a.bounds(),
             boxes.iter().fold(Aabb::EMPTY, |acc, b| acc.union(*b))
         );
-        assert!(a.depth() < 40, "depth {}", a.depth());
-        assert_eq!(std::mem::size_of::<Node>(), 32);
+        assert!(a.depth() < 20, "depth {}", a.depth());
+        assert_eq!(std::mem::size_of::<sah::Node>(), 32);
         // The wide tree: every primitive in exactly one leaf, every child box inside its node's
         // binary counterpart's bounds (the root's: all primitives).
         let mut seen = Vec::new();
         let mut stack = vec![(0u32, a.bounds())];
         while let Some((child, bounds)) = stack.pop() {
             if child & LEAF != 0 {
+                // Leaves start at aligned slots and hold at most `MAX_LEAF` primitives.
                 let (first, count) = leaf_range(child);
+                assert!(first.is_multiple_of(alignment) && count <= MAX_LEAF);
                 for &p in &a.indices[first..first + count] {
-                    assert!(contains(
-                        &Node {
-                            min: bounds.min,
-                            max: bounds.max,
-                            index: 0,
-                            count: 0
-                        },
-                        boxes[p as usize]
-                    ));
+                    assert!(contains(&bounds, boxes[p as usize]));
                     seen.push(p);
                 }
                 continue;

@@ -1,6 +1,7 @@
 //! The binned surface area heuristic builder (Wald 2007, "On fast Construction of SAH-based
 //! Bounding Volume Hierarchies"): a binary tree over primitive bounding boxes, stored depth
-//! first, with its leaves laid out in slot order.
+//! first, down to one primitive per leaf. The collapse into wide nodes (`wide.rs`) decides
+//! which subtrees become leaves.
 
 use glam::{Vec3, Vec3A};
 
@@ -8,13 +9,8 @@ use crate::math::Aabb;
 
 /// Number of SAH bins per axis.
 const BINS: usize = 16;
-/// Nodes with at most this many primitives always become leaves.
-const MIN_LEAF: usize = 1;
-/// Nodes with more primitives than this are split even when the SAH prefers a leaf.
-pub(crate) const MAX_LEAF: usize = 8;
-/// SAH cost of traversing an interior node (testing its two children): the unit of
-/// [`leaf_cost`].
-const TRAVERSAL_COST: f32 = 1.0;
+/// Nodes of at most this many primitives are split by a full sweep instead of binning.
+const SMALL_NODE: usize = 12;
 /// Below this depth the builder switches from the SAH to balanced median splits, which bounds
 /// the depth by `SAH_MAX_DEPTH + ⌈log₂ n⌉ ≤ 24 + 32 < MAX_DEPTH`.
 const SAH_MAX_DEPTH: usize = 24;
@@ -33,28 +29,21 @@ pub(crate) struct Node {
     pub count: u32,
 }
 
-/// A slot of the leaf order that belongs to no leaf: padding before a leaf whose first slot is
-/// aligned (see [`build`]).
-pub(crate) const HOLE: u32 = u32::MAX;
-
 /// The binary tree the builder makes, with the primitive indices in leaf order.
 pub(crate) struct BinaryTree {
     /// The nodes, depth first; the root is `nodes[0]`.
     pub nodes: Vec<Node>,
-    /// Primitive indices in leaf order ([`HOLE`] between aligned leaves).
-    pub indices: Vec<u32>,
-    /// Number of levels: 1 for a single leaf.
-    pub depth: usize,
+    /// Primitive indices in build order: a leaf owns `order[index..index + count]`, and every
+    /// subtree a contiguous range.
+    pub order: Vec<u32>,
 }
 
 /// Builds the binary tree over at least one primitive with the given bounds (binned SAH,
-/// deterministic), for primitives tested `alignment` at a time: the SAH counts a leaf's cost in
-/// blocks of `alignment`, and every leaf's first slot is a multiple of `alignment` (the slots
-/// between leaves are [`HOLE`]s).
+/// deterministic), down to one primitive per leaf.
 ///
 /// Flat (zero-thickness) boxes, many primitives with the same centroid and empty boxes
 /// (primitives that no ray can hit) are all fine.
-pub(crate) fn build(bounds: &[Aabb], alignment: usize) -> BinaryTree {
+pub(crate) fn build(bounds: &[Aabb]) -> BinaryTree {
     let n = bounds.len();
     debug_assert!(n > 0 && n <= u32::MAX as usize);
     let prims = bounds
@@ -71,7 +60,6 @@ pub(crate) fn build(bounds: &[Aabb], alignment: usize) -> BinaryTree {
         })
         .collect();
     let mut builder = Builder {
-        block: alignment,
         prims,
         nodes: Vec::with_capacity(2 * n),
         depth: 0,
@@ -82,28 +70,9 @@ pub(crate) fn build(bounds: &[Aabb], alignment: usize) -> BinaryTree {
         "BVH depth {} exceeds {MAX_DEPTH}",
         builder.depth
     );
-    let Builder {
-        block: _,
-        prims,
-        mut nodes,
-        depth,
-    } = builder;
-    // Lay the leaves out in slot order again, each starting at a multiple of `alignment`.
-    let mut indices = Vec::with_capacity(n);
-    for leaf in nodes.iter_mut().filter(|node| node.count > 0) {
-        indices.resize(indices.len().next_multiple_of(alignment), HOLE);
-        let first = leaf.index as usize;
-        leaf.index = indices.len() as u32;
-        indices.extend(
-            prims[first..first + leaf.count as usize]
-                .iter()
-                .map(|p| p.index),
-        );
-    }
     BinaryTree {
-        nodes,
-        indices,
-        depth,
+        order: builder.prims.iter().map(|p| p.index).collect(),
+        nodes: builder.nodes,
     }
 }
 
@@ -117,8 +86,6 @@ struct BuildPrim {
 
 /// Build state: the primitives (reordered into leaf order as the tree is built) and the nodes.
 struct Builder {
-    /// Primitives tested together in a leaf (the SAH's unit of intersection cost).
-    block: usize,
     prims: Vec<BuildPrim>,
     nodes: Vec<Node>,
     depth: usize,
@@ -175,8 +142,9 @@ impl Bin {
 enum Split {
     /// Primitives whose centroid's bin along `axis` is below `bin` go left.
     Sah { axis: usize, bin: usize },
-    /// Object median: the first half of the range (ordered along `axis`) goes left.
-    Median { axis: usize },
+    /// The first `mid` primitives of the range ordered along `axis` (by centroid, then index)
+    /// go left: the object median, or the best of a full sweep.
+    Ordered { axis: usize, mid: usize },
 }
 
 impl Builder {
@@ -200,14 +168,13 @@ impl Builder {
             max: bounds.max,
             count: prims.len() as u32,
         });
-        let mid = match choose_split(prims, depth, &bounds, &centroids, self.block) {
+        let mid = match choose_split(prims, depth, &centroids) {
             None => return node_index,
             Some(Split::Sah { axis, bin }) => {
                 let binning = Binning::new(&centroids, axis);
                 partition(prims, |p| binning.bin(p.centroid) < bin)
             }
-            Some(Split::Median { axis }) => {
-                let mid = prims.len() / 2;
+            Some(Split::Ordered { axis, mid }) => {
                 // Ties broken by primitive index: a total order, so the split is deterministic.
                 let key = |p: &BuildPrim| (p.centroid[axis], p.index);
                 prims.select_nth_unstable_by(mid, |a, b| key(a).partial_cmp(&key(b)).unwrap());
@@ -223,27 +190,26 @@ impl Builder {
     }
 }
 
-/// The split for `prims` (with the given bounds and centroid bounds), or `None` for a leaf.
-///
-/// Leaf costs come from [`leaf_cost`].
-fn choose_split(
-    prims: &[BuildPrim],
-    depth: usize,
-    bounds: &Aabb,
-    centroids: &Aabb,
-    block: usize,
-) -> Option<Split> {
+/// The split for `prims` (with the given centroid bounds), or `None` for a leaf:
+/// every node of more than one primitive is split, at the plane of least SAH cost (each side's
+/// surface area times its number of primitives).
+fn choose_split(prims: &[BuildPrim], depth: usize, centroids: &Aabb) -> Option<Split> {
     let count = prims.len();
-    let cost_units = |n: usize| leaf_cost(n, block);
-    if count <= MIN_LEAF {
+    if count <= 1 {
         return None;
     }
     let extent = centroids.diagonal();
     let axis = centroids.longest_axis();
     if depth >= SAH_MAX_DEPTH || extent.max_element() <= 0.0 {
         // Deep in a degenerate tree, or all centroids identical: nothing for the SAH to
-        // separate, so halve the range if it is too big for a leaf.
-        return (count > MAX_LEAF).then_some(Split::Median { axis });
+        // separate, so halve the range.
+        return Some(Split::Ordered {
+            axis,
+            mid: count / 2,
+        });
+    }
+    if count <= SMALL_NODE {
+        return Some(sweep_small(prims));
     }
     // Binned SAH over all three axes in one pass; costs are scaled by the parent's area. The
     // three bins of a primitive are found at once, and its box grows each in two SIMD
@@ -277,7 +243,7 @@ fn choose_split(
         let mut acc = Bin::EMPTY;
         for k in (1..BINS).rev() {
             acc.add(&bins[k]);
-            right_cost[k] = acc.surface_area() * cost_units(acc.count);
+            right_cost[k] = acc.surface_area() * acc.count as f32;
         }
         let mut acc = Bin::EMPTY;
         for k in 1..BINS {
@@ -286,37 +252,61 @@ fn choose_split(
             if n == 0 || n == count {
                 continue;
             }
-            let cost = acc.surface_area() * cost_units(n) + right_cost[k];
+            let cost = acc.surface_area() * n as f32 + right_cost[k];
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, k));
             }
         }
     }
-    let area = bounds.surface_area();
-    match best {
-        Some((cost, axis, bin)) => {
-            let worth_it = TRAVERSAL_COST * area + cost < area * cost_units(count);
-            (count > MAX_LEAF || worth_it).then_some(Split::Sah { axis, bin })
-        }
+    Some(match best {
+        Some((_, axis, bin)) => Split::Sah { axis, bin },
         // All centroids in one bin on every axis (tiny extents): split by the median.
-        None => (count > MAX_LEAF).then_some(Split::Median { axis }),
-    }
+        None => Split::Ordered {
+            axis,
+            mid: count / 2,
+        },
+    })
 }
 
-/// SAH cost of intersecting a leaf of `n` primitives that are tested `block` at a time, in
-/// units of one node visit ([`TRAVERSAL_COST`]).
-///
-/// One at a time, a test costs one unit, so the leaf costs `n`. In blocks (four triangles in
-/// SIMD lanes), a block costs two units plus half a unit per primitive for what still grows
-/// with them (reading the block, accepting hits lane by lane): `2·(⌈n/4⌉ + n/4)`. Of the
-/// models measured on the Cornell box and the bunny (docs/performance.md), counting blocks
-/// alone made leaves too big for the Cornell box's walls, counting primitives alone too small
-/// for the bunny, and a block at one node visit made the tree too shallow.
-fn leaf_cost(n: usize, block: usize) -> f32 {
-    if block == 1 {
-        n as f32
-    } else {
-        2.0 * (n.div_ceil(block) as f32 + n as f32 / block as f32)
+/// The split of a small node (at most [`SMALL_NODE`] primitives) of least SAH cost over every
+/// position along every axis with the primitives ordered by centroid: exact where binning is
+/// coarse, and cheaper than binning for so few.
+fn sweep_small(prims: &[BuildPrim]) -> Split {
+    let n = prims.len();
+    debug_assert!((2..=SMALL_NODE).contains(&n));
+    let mut best = (f32::INFINITY, 0, n / 2);
+    let mut order = [0u8; SMALL_NODE];
+    for axis in 0..3 {
+        let order = &mut order[..n];
+        for (i, o) in order.iter_mut().enumerate() {
+            *o = i as u8;
+        }
+        let key = |i: &u8| {
+            let p = &prims[*i as usize];
+            (p.centroid[axis], p.index)
+        };
+        order.sort_unstable_by(|a, b| key(a).partial_cmp(&key(b)).unwrap());
+        // right[k]: the bounds of order[k..].
+        let mut right = [Bin::EMPTY; SMALL_NODE];
+        let mut acc = Bin::EMPTY;
+        for k in (1..n).rev() {
+            let b = &prims[order[k] as usize].bounds;
+            acc.grow(b.min.into(), b.max.into());
+            right[k] = acc;
+        }
+        let mut left = Bin::EMPTY;
+        for k in 1..n {
+            let b = &prims[order[k - 1] as usize].bounds;
+            left.grow(b.min.into(), b.max.into());
+            let cost = left.surface_area() * k as f32 + right[k].surface_area() * (n - k) as f32;
+            if cost < best.0 {
+                best = (cost, axis, k);
+            }
+        }
+    }
+    Split::Ordered {
+        axis: best.1,
+        mid: best.2,
     }
 }
 

@@ -5,8 +5,8 @@
 use glam::Vec3;
 
 use super::Bvh;
-use super::sah::HOLE;
 use super::stats::{Counter, TraversalStats};
+use super::wide::HOLE;
 use crate::geometry::{TriangleBlock, TriangleRay};
 use crate::math::{Aabb, Ray};
 
