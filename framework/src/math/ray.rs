@@ -4,14 +4,21 @@ use glam::Vec3;
 ///
 /// `direction` is unit length for every ray the framework creates; intersection routines may
 /// rely on it (their `t` is then the Euclidean distance along the ray).
+///
+/// Laid out as Embree lays out its rays: the origin and `tmin` in the first 16 bytes, the
+/// direction and `tmax` in the next, so that a copy made in two 16-byte moves (a caller's
+/// `let mut r = *ray;`) holds each vector within one store, and a query that reads the direction
+/// right after the copy is served from that store instead of stalling until it reaches the
+/// cache (docs/performance.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
 pub struct Ray {
     /// Where the ray starts.
     pub origin: Vec3,
-    /// Unit direction of travel.
-    pub direction: Vec3,
     /// Smallest accepted ray parameter (distance).
     pub tmin: f32,
+    /// Unit direction of travel.
+    pub direction: Vec3,
     /// Largest accepted ray parameter; closest-hit queries shrink it as they find hits.
     pub tmax: f32,
 }
