@@ -5,8 +5,8 @@ use glam::Vec3;
 /// `direction` is unit length for every ray the framework creates; intersection routines may
 /// rely on it (their `t` is then the Euclidean distance along the ray).
 ///
-/// Laid out as Embree lays out its rays: the origin and `tmin` in the first 16 bytes, the
-/// direction and `tmax` in the next, so that a copy made in two 16-byte moves (a caller's
+/// Laid out like Embree's rays, with the origin and `tmin` in the first 16 bytes and the
+/// direction (here with `tmax`) in the next, so that a copy made in two 16-byte moves (a caller's
 /// `let mut r = *ray;`) holds each vector within one store, and a query that reads the direction
 /// right after the copy is served from that store instead of stalling until it reaches the
 /// cache (docs/performance.md).
