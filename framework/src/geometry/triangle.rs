@@ -1,4 +1,4 @@
-use glam::{BVec4A, Vec3, Vec3Swizzles, Vec4};
+use glam::{BVec4A, Vec3, Vec4};
 
 use crate::math::Ray;
 
@@ -28,36 +28,17 @@ pub(crate) fn intersect_triangle(
     TriangleRay::new(ray).intersect(ray, v0, v1, v2)
 }
 
-/// Which cyclic permutation of the axes makes the direction's largest component the last one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Permutation {
-    /// `(x, y, z)` as is.
-    Xyz,
-    /// `(y, z, x)`: `x` is largest.
-    Yzx,
-    /// `(z, x, y)`: `y` is largest.
-    Zxy,
-}
+/// The axes that the cyclic permutation moving the direction's largest component last puts in
+/// `x`, `y` and `z`, by the index of that component: `(y, z, x)` when `x` is largest, `(z, x, y)`
+/// for `y`, `(x, y, z)` for `z`. (Cyclic, so it keeps the handedness; and since both sides of
+/// the triangle count, the sign of that component needs no further care.)
+const PERMUTED_AXES: [[usize; 3]; 3] = [[1, 2, 0], [2, 0, 1], [0, 1, 2]];
 
-impl Permutation {
-    #[inline(always)]
-    fn apply(self, v: Vec3) -> Vec3 {
-        match self {
-            Permutation::Xyz => v,
-            Permutation::Yzx => v.yzx(),
-            Permutation::Zxy => v.zxy(),
-        }
-    }
-
-    /// The axes that [`apply`](Self::apply) moves to `x`, `y` and `z`.
-    #[inline(always)]
-    fn axes(self) -> [usize; 3] {
-        match self {
-            Permutation::Xyz => [0, 1, 2],
-            Permutation::Yzx => [1, 2, 0],
-            Permutation::Zxy => [2, 0, 1],
-        }
-    }
+/// `v`'s components in the order `axes`.
+#[inline(always)]
+fn permute(v: Vec3, [kx, ky, kz]: [usize; 3]) -> Vec3 {
+    let v = v.to_array();
+    Vec3::new(v[kx], v[ky], v[kz])
 }
 
 /// The 2D edge function `p.x·q.y − p.y·q.x` in double precision, rounded to `f32`: its sign is
@@ -82,7 +63,8 @@ fn clamped_barycentrics(v: f32, w: f32, inv_det: f32) -> (f32, f32) {
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleRay {
     origin: Vec3,
-    permutation: Permutation,
+    /// The axes moved to `x`, `y` and `z` (a row of [`PERMUTED_AXES`]).
+    axes: [usize; 3],
     /// Shear of the permuted `x` and `y` by the permuted `z` (`d.x / d.z`, `d.y / d.z`).
     sx: f32,
     sy: f32,
@@ -94,24 +76,23 @@ impl TriangleRay {
     /// Prepares the triangle test for rays with `ray`'s origin and direction.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
-        let d = ray.direction;
-        // Permute the axes so that the direction's largest component is the last one. (The
-        // permutation is cyclic, so it keeps the handedness; and since both sides of the
-        // triangle count, the sign of that component needs no further care.)
-        let ad = d.abs();
-        let permutation = if ad.x > ad.y && ad.x > ad.z {
-            Permutation::Yzx
+        // Permute the axes so that the direction's largest component is the last one; chosen
+        // by index, not by a branch: the direction changes from ray to ray.
+        let ad = ray.direction.abs();
+        let largest = if ad.x > ad.y && ad.x > ad.z {
+            0
         } else if ad.y > ad.z {
-            Permutation::Zxy
+            1
         } else {
-            Permutation::Xyz
+            2
         };
-        let d = permutation.apply(d);
+        let axes = PERMUTED_AXES[largest];
+        let d = permute(ray.direction, axes);
         // Shear so that the direction becomes +z (up to the scale `sz` applied to `z` only).
         let sz = 1.0 / d.z;
         TriangleRay {
             origin: ray.origin,
-            permutation,
+            axes,
             sx: d.x * sz,
             sy: d.y * sz,
             sz,
@@ -141,8 +122,8 @@ impl TriangleRay {
             self.origin.to_array().map(f32::to_bits)
         );
         let o = self.origin;
-        let p = self.permutation;
-        let (a, b, c) = (p.apply(v0 - o), p.apply(v1 - o), p.apply(v2 - o));
+        let p = self.axes;
+        let (a, b, c) = (permute(v0 - o, p), permute(v1 - o, p), permute(v2 - o, p));
         let (sx, sy, sz) = (self.sx, self.sy, self.sz);
         let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
         let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
@@ -183,8 +164,9 @@ impl TriangleRay {
     /// the one `intersect` gives for that triangle with the same `ray`.
     #[inline(always)]
     pub(crate) fn intersect4(&self, ray: &Ray, block: &TriangleBlock) -> BlockHits {
-        let [kx, ky, kz] = self.permutation.axes();
-        let o = [kx, ky, kz].map(|k| Vec4::splat(self.origin[k]));
+        let [kx, ky, kz] = self.axes;
+        let origin = self.origin.to_array();
+        let o = [kx, ky, kz].map(|k| Vec4::splat(origin[k]));
         let (sx, sy, sz) = (
             Vec4::splat(self.sx),
             Vec4::splat(self.sy),
