@@ -29,7 +29,7 @@ pub(crate) struct Node {
     pub count: u32,
 }
 
-/// The binary tree the builder makes, with the primitive indices in leaf order.
+/// The binary tree the builder makes, with the primitive indices in build order.
 pub(crate) struct BinaryTree {
     /// The nodes, depth first; the root is `nodes[0]`.
     pub nodes: Vec<Node>,
@@ -343,4 +343,57 @@ fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
         }
     }
     mid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Rng;
+
+    #[test]
+    fn binary_tree_is_well_formed_down_to_single_primitives() {
+        let mut rng = Rng::new(5);
+        // Random boxes of every size, some flat, with repeated centroids among them.
+        let bounds: Vec<Aabb> = (0..3000)
+            .map(|i| {
+                let c = if i % 7 == 0 {
+                    Vec3::ZERO
+                } else {
+                    rng.vec() * 10.0
+                };
+                let mut h = rng.vec().abs() * 0.1;
+                if i % 5 == 0 {
+                    h.z = 0.0;
+                }
+                Aabb::new(c - h, c + h)
+            })
+            .collect();
+        let tree = build(&bounds);
+        let nodes = &tree.nodes;
+        // `order` is a permutation of the primitives.
+        let mut seen = tree.order.clone();
+        seen.sort_unstable();
+        assert!(seen.iter().copied().eq(0..bounds.len() as u32));
+        let contains = |outer: &Node, inner: Aabb| {
+            outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
+        };
+        // Each subtree owns a contiguous range of `order`, in depth-first order.
+        let mut next = 0;
+        for (i, n) in nodes.iter().enumerate() {
+            if n.count > 0 {
+                assert_eq!((n.count, n.index), (1, next), "node {i}");
+                assert!(contains(n, bounds[tree.order[next as usize] as usize]));
+                next += 1;
+            } else {
+                let right = n.index as usize;
+                assert!(right > i + 1 && right < nodes.len());
+                for c in [i + 1, right] {
+                    assert!(contains(n, Aabb::new(nodes[c].min, nodes[c].max)));
+                }
+            }
+        }
+        assert_eq!(next as usize, bounds.len());
+        assert_eq!(nodes.len(), 2 * bounds.len() - 1);
+        assert_eq!(std::mem::size_of::<Node>(), 32);
+    }
 }

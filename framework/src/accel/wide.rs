@@ -6,6 +6,7 @@
 use glam::Vec3;
 
 use super::sah::Node;
+use crate::math::Aabb;
 
 /// Children per wide node.
 pub(crate) const WIDTH: usize = 8;
@@ -87,10 +88,9 @@ pub(crate) fn leaf_range(child: u32) -> (usize, usize) {
     (first, count)
 }
 
-/// Half the surface area of a binary node's box (0 for an empty box).
-fn half_area(node: &Node) -> f32 {
-    let d = (node.max - node.min).max(Vec3::ZERO);
-    let a = d.x * d.y + d.y * d.z + d.z * d.x;
+/// The surface area of a binary node's box, 0 for an empty or a NaN one (the SAH's weight).
+fn area(node: &Node) -> f32 {
+    let a = Aabb::new(node.min, node.max).surface_area();
     if a.is_nan() { 0.0 } else { a }
 }
 
@@ -135,7 +135,7 @@ pub(crate) fn collapse(binary: &[Node], order: &[u32], block: usize) -> WideTree
     // Children follow their parent, so a reverse sweep sees them first.
     for b in (0..binary.len()).rev() {
         let node = &binary[b];
-        let area = half_area(node);
+        let area = area(node);
         if node.count > 0 {
             let cost = area * leaf_cost(node.count as usize, block);
             plans[b] = Plan {
@@ -213,14 +213,15 @@ pub(crate) fn collapse(binary: &[Node], order: &[u32], block: usize) -> WideTree
         };
         emit.node(0, 1);
     }
-    // Leaves in build order, each at an aligned slot.
-    leaves.sort_unstable_by_key(|&(first, ..)| first);
+    // Leaves in build order (the order the depth-first emission met them), each at an aligned
+    // slot.
+    debug_assert!(leaves.is_sorted_by_key(|&(first, ..)| first));
     let mut indices = Vec::with_capacity(order.len() + order.len() / 2);
     for (first, count, node, lane) in leaves {
         indices.resize(indices.len().next_multiple_of(block), HOLE);
         let slot = indices.len() as u32;
         indices.extend_from_slice(&order[first as usize..(first + count) as usize]);
-        debug_assert!((1..=8).contains(&count) && (slot as usize) < MAX_PRIMITIVES);
+        debug_assert!((1..=MAX_LEAF as u32).contains(&count) && (slot as usize) < MAX_PRIMITIVES);
         wide[node as usize].children[lane as usize] = LEAF | (count - 1) << COUNT_SHIFT | slot;
     }
     WideTree {
