@@ -175,7 +175,7 @@ impl Bvh {
         stats: &mut impl Counter,
     ) -> Option<(u32, f32)> {
         let mut closest = None;
-        self.traverse(
+        self.traverse::<true>(
             ray,
             |slot, ray| {
                 if let Some(t) = intersect(slot, ray) {
@@ -197,7 +197,7 @@ impl Bvh {
         mut intersect: F,
         stats: &mut impl Counter,
     ) -> bool {
-        self.traverse(ray, |slot, ray| intersect(slot, ray), stats)
+        self.traverse::<false>(ray, |slot, ray| intersect(slot, ray), stats)
     }
 
     /// Whether any primitive intersects `ray`; stops at the first one `intersect` reports hit.
@@ -209,32 +209,38 @@ impl Bvh {
         self.any_hit_in_leaf_order(ray, |k, r| intersect(self.indices[k as usize], r), &mut ())
     }
 
-    /// Front-to-back traversal calling `leaf_prim(slot, ray)` on the leaf slot of every
-    /// primitive in a reached leaf; `leaf_prim` may shrink `ray.tmax` and stops the traversal
-    /// by returning `true`. Returns whether it was stopped.
+    /// [`traverse_leaves`](Self::traverse_leaves) calling `leaf_prim(slot, ray)` on the leaf
+    /// slot of every primitive in a reached leaf; `leaf_prim` may shrink `ray.tmax` and stops
+    /// the traversal by returning `true`. Returns whether it was stopped.
     #[inline(always)]
-    fn traverse(
+    fn traverse<const NEAREST_FIRST: bool>(
         &self,
         ray: &Ray,
         mut leaf_prim: impl FnMut(u32, &mut Ray) -> bool,
         stats: &mut impl Counter,
     ) -> bool {
-        self.traverse_leaves(
+        self.traverse_leaves::<NEAREST_FIRST>(
             ray,
             |first, count, ray| (first..first + count).any(|slot| leaf_prim(slot as u32, ray)),
             stats,
         )
     }
 
-    /// Front-to-back traversal calling `leaf(first, count, ray)` on every reached leaf, which
-    /// holds the slots `first..first + count`; `leaf` may shrink `ray.tmax` and stops the
-    /// traversal by returning `true`. Returns whether it was stopped.
+    /// Traversal calling `leaf(first, count, ray)` on every reached leaf, which holds the slots
+    /// `first..first + count`; `leaf` may shrink `ray.tmax` and stops the traversal by returning
+    /// `true`. Returns whether it was stopped.
+    ///
+    /// `NEAREST_FIRST` visits the children a node's slab test hits front to back, so that a
+    /// shrinking `tmax` (a closest-hit search) skips the nodes behind the closest hit; without
+    /// it, for a search that stops at the first hit (any-hit, whose `tmax` stays put and so
+    /// reaches the same leaves in any order), they are visited in lane order, unsorted, as
+    /// Embree's occlusion queries do.
     ///
     /// Runs the AVX slab test where the CPU has AVX and the portable one elsewhere; both give
     /// the same answers, so the visit order (and which of two hits at the same `t` wins) does
     /// not depend on the CPU.
     #[inline(always)]
-    pub(crate) fn traverse_leaves(
+    pub(crate) fn traverse_leaves<const NEAREST_FIRST: bool>(
         &self,
         ray: &Ray,
         leaf: impl FnMut(usize, usize, &mut Ray) -> bool,
@@ -243,18 +249,19 @@ impl Bvh {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = Avx::detect() {
             // SAFETY: an `Avx` value exists only where the CPU has AVX.
-            return unsafe { traverse_avx(self, avx, ray, leaf, stats) };
+            return unsafe { traverse_avx::<NEAREST_FIRST>(self, avx, ray, leaf, stats) };
         }
-        self.traverse_with(Portable, ray, leaf, stats)
+        self.traverse_with::<NEAREST_FIRST>(Portable, ray, leaf, stats)
     }
 
     /// [`traverse_leaves`](Self::traverse_leaves) with the slab test `slab_test`.
     ///
     /// Runs on the 8-wide nodes: each visit tests the boxes of up to eight children at once,
     /// continues with the nearest child hit and pushes the others, farthest first, with their
-    /// entry distances, so that a popped node starting beyond the closest hit is skipped.
+    /// entry distances, so that a popped node starting beyond the closest hit is skipped (in
+    /// lane order and without that check unless `NEAREST_FIRST`).
     #[inline(always)]
-    fn traverse_with(
+    fn traverse_with<const NEAREST_FIRST: bool>(
         &self,
         slab_test: impl SlabTest,
         ray: &Ray,
@@ -295,6 +302,16 @@ impl Bvh {
                         current = node.children[first];
                         continue;
                     }
+                    if !NEAREST_FIRST {
+                        let mut rest = rest;
+                        while rest != 0 {
+                            let lane = lane(rest);
+                            rest &= rest - 1;
+                            stack.push((node.children[lane], entry[lane]));
+                        }
+                        current = node.children[first];
+                        continue;
+                    }
                     let (second, rest) = (lane(rest), rest & (rest - 1));
                     if rest == 0 {
                         let a = (node.children[first], entry[first]);
@@ -332,7 +349,7 @@ impl Bvh {
                 let Some((node, t_entry)) = stack.pop() else {
                     return false;
                 };
-                if t_entry <= ray.tmax * EXIT_SLACK {
+                if !NEAREST_FIRST || t_entry <= ray.tmax * EXIT_SLACK {
                     current = node;
                     break;
                 }
@@ -345,14 +362,14 @@ impl Bvh {
 /// caller's primitive test, uses the 8-lane registers).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn traverse_avx(
+fn traverse_avx<const NEAREST_FIRST: bool>(
     bvh: &Bvh,
     avx: Avx,
     ray: &Ray,
     leaf: impl FnMut(usize, usize, &mut Ray) -> bool,
     stats: &mut impl Counter,
 ) -> bool {
-    bvh.traverse_with(avx, ray, leaf, stats)
+    bvh.traverse_with::<NEAREST_FIRST>(avx, ray, leaf, stats)
 }
 
 /// Entries of the traversal stack kept in place; deeper ones spill to the heap.

@@ -105,7 +105,7 @@ impl TriangleBvh {
     fn closest_hit_watertight_with(&self, ray: &Ray, stats: &mut impl Counter) -> Option<MeshHit> {
         let prepared = TriangleRay::new(ray);
         let mut closest = None;
-        self.bvh.traverse_leaves(
+        self.bvh.traverse_leaves::<true>(
             ray,
             |first, count, ray| {
                 for (b, block) in (first / BLOCK..).zip(self.leaf_blocks(first, count)) {
@@ -150,7 +150,7 @@ impl TriangleBvh {
     #[inline(always)]
     fn any_hit_watertight_with(&self, ray: &Ray, stats: &mut impl Counter) -> bool {
         let prepared = TriangleRay::new(ray);
-        self.bvh.traverse_leaves(
+        self.bvh.traverse_leaves::<false>(
             ray,
             |first, count, ray| {
                 self.leaf_blocks(first, count)
