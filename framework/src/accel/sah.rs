@@ -77,7 +77,7 @@ pub(crate) fn build(bounds: &[Aabb]) -> BinaryTree {
 }
 
 /// A primitive during the build; the builder reorders these in place.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct BuildPrim {
     bounds: Aabb,
     centroid: Vec3,
@@ -138,6 +138,24 @@ impl Bin {
     }
 }
 
+impl BuildPrim {
+    /// The primitive's place in the order along `axis` of ordered splits: by centroid, ties
+    /// broken by primitive index (a total order, so the split is deterministic). One integer,
+    /// so that sorting compares integers: the centroid's bits mapped so that their order as
+    /// integers is the numbers' (`-0.0` made `0.0` first, which compares equal to it), then
+    /// the index.
+    #[inline(always)]
+    fn order_key(&self, axis: usize) -> u64 {
+        let bits = (self.centroid[axis] + 0.0).to_bits();
+        let ordered = if bits >> 31 != 0 {
+            !bits
+        } else {
+            bits | 1 << 31
+        };
+        (ordered as u64) << 32 | self.index as u64
+    }
+}
+
 /// How to split a node's primitive range.
 enum Split {
     /// Primitives whose centroid's bin along `axis` is below `bin` go left.
@@ -175,9 +193,7 @@ impl Builder {
                 partition(prims, |p| binning.bin(p.centroid) < bin)
             }
             Some(Split::Ordered { axis, mid }) => {
-                // Ties broken by primitive index: a total order, so the split is deterministic.
-                let key = |p: &BuildPrim| (p.centroid[axis], p.index);
-                prims.select_nth_unstable_by(mid, |a, b| key(a).partial_cmp(&key(b)).unwrap());
+                prims.select_nth_unstable_by_key(mid, |p| p.order_key(axis));
                 mid
             }
         };
@@ -276,16 +292,14 @@ fn sweep_small(prims: &[BuildPrim]) -> Split {
     debug_assert!((2..=SMALL_NODE).contains(&n));
     let mut best = (f32::INFINITY, 0, n / 2);
     let mut order = [0u8; SMALL_NODE];
+    let mut keys = [0u64; SMALL_NODE];
     for axis in 0..3 {
         let order = &mut order[..n];
-        for (i, o) in order.iter_mut().enumerate() {
+        for (i, (o, k)) in order.iter_mut().zip(&mut keys).enumerate() {
             *o = i as u8;
+            *k = prims[i].order_key(axis);
         }
-        let key = |i: &u8| {
-            let p = &prims[*i as usize];
-            (p.centroid[axis], p.index)
-        };
-        order.sort_unstable_by(|a, b| key(a).partial_cmp(&key(b)).unwrap());
+        order.sort_unstable_by_key(|&i| keys[i as usize]);
         // right[k]: the bounds of order[k..].
         let mut right = [Bin::EMPTY; SMALL_NODE];
         let mut acc = Bin::EMPTY;
@@ -349,6 +363,30 @@ fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
 mod tests {
     use super::*;
     use crate::test_rng::Rng;
+
+    #[test]
+    fn order_key_orders_by_centroid_then_index() {
+        let mut rng = Rng::new(8);
+        let prim = |rng: &mut Rng| {
+            // Centroids at every scale, both zeros and ±1 among them, few indices so that
+            // ties happen.
+            let centroid = rng.coords() * [1e-4, 1.0, 1e3][rng.below(3)];
+            BuildPrim {
+                bounds: Aabb::new(centroid, centroid),
+                centroid,
+                index: rng.below(4) as u32,
+            }
+        };
+        for _ in 0..20_000 {
+            let (a, b) = (prim(&mut rng), prim(&mut rng));
+            for axis in 0..3 {
+                let by_tuple =
+                    (a.centroid[axis], a.index).partial_cmp(&(b.centroid[axis], b.index));
+                let by_key = a.order_key(axis).cmp(&b.order_key(axis));
+                assert_eq!(Some(by_key), by_tuple, "{a:?} {b:?} axis {axis}");
+            }
+        }
+    }
 
     #[test]
     fn binary_tree_is_well_formed_down_to_single_primitives() {
