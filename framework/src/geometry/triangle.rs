@@ -165,8 +165,7 @@ impl TriangleRay {
     #[inline(always)]
     pub(crate) fn intersect4(&self, ray: &Ray, block: &TriangleBlock) -> BlockHits {
         let [kx, ky, kz] = self.axes;
-        let origin = self.origin.to_array();
-        let o = [kx, ky, kz].map(|k| Vec4::splat(origin[k]));
+        let o = permute(self.origin, self.axes).to_array().map(Vec4::splat);
         let (sx, sy, sz) = (
             Vec4::splat(self.sx),
             Vec4::splat(self.sy),
