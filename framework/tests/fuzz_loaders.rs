@@ -143,6 +143,14 @@ fn scratch(target: &str) -> PathBuf {
     dir
 }
 
+/// Writes a case's file as a new one: the old one is removed first, since a file truncated and
+/// written again is flushed to the disk when closed on ext4 (its `auto_da_alloc`), which made
+/// every case wait for the disk.
+fn write_case(path: &Path, data: &[u8]) {
+    let _ = std::fs::remove_file(path);
+    std::fs::write(path, data).unwrap();
+}
+
 // ---- mutation ----------------------------------------------------------------------------
 
 const INTERESTING_U32: [u32; 10] = [
@@ -364,7 +372,7 @@ fn image_target(
             if is_png && rng.next_below(8) != 0 {
                 fix_png_crcs(&mut data);
             }
-            std::fs::write(&file, &data).unwrap();
+            write_case(&file, &data);
             (file.clone(), data.len())
         },
         || load(&file),
@@ -469,8 +477,8 @@ fn fuzz_obj_and_mtl() {
                     mutate(&mut mtl, rng, &all, OBJ_WORDS);
                 }
             }
-            std::fs::write(&obj_file, &obj).unwrap();
-            std::fs::write(&mtl_file, &mtl).unwrap();
+            write_case(&obj_file, &obj);
+            write_case(&mtl_file, &mtl);
             // A failure keeps the OBJ; its MTL is beside it in the scratch directory.
             (obj_file.clone(), obj.len() + mtl.len())
         },
@@ -536,7 +544,7 @@ fn fuzz_scene_files() {
         |rng| {
             let mut text = seeds[below(rng, seeds.len())].clone();
             mutate(&mut text, rng, &seeds, SCENE_WORDS);
-            std::fs::write(&file, &text).unwrap();
+            write_case(&file, &text);
             (file.clone(), text.len() + (256 << 10))
         },
         || load_scene_file(&file).map(drop),
