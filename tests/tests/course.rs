@@ -3,6 +3,7 @@
 //! reference; every lab crate is on the list; exercise numbers belong to their lab; the tests'
 //! list of the labs' types (`for_each_lab!`) is the course.
 
+use std::collections::BTreeSet;
 use std::fs;
 
 use framework::labs::COURSE;
@@ -74,18 +75,11 @@ fn the_tests_list_of_lab_types_is_the_course() {
     );
 }
 
-/// The units (package and features) `cargo tree` lists for `args`: what cargo would build.
-fn build_units(args: &[&str]) -> std::collections::BTreeSet<(String, Vec<String>)> {
+/// The lines `cargo tree --prefix none --format FORMAT ARGS` prints.
+fn cargo_tree(format: &str, args: &[&str]) -> Vec<String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = std::process::Command::new(cargo)
-        .args([
-            "tree",
-            "--offline",
-            "--prefix",
-            "none",
-            "--format",
-            "{p}|{f}",
-        ])
+        .args(["tree", "--offline", "--prefix", "none", "--format", format])
         .args(args)
         .current_dir(root())
         .output()
@@ -97,10 +91,16 @@ fn build_units(args: &[&str]) -> std::collections::BTreeSet<(String, Vec<String>
     );
     String::from_utf8_lossy(&output.stdout)
         .lines()
+        .map(str::to_string)
+        .collect()
+}
+
+/// The units (package and features) `cargo tree` lists for `args`: what cargo would build.
+fn build_units(args: &[&str]) -> BTreeSet<(String, Vec<String>)> {
+    cargo_tree("{p}|{f}", args)
+        .iter()
         .filter_map(|line| {
             let (package, features) = line.split_once('|')?;
-            // "name v1.2.3 (path)" or "… (*)": the name and version say which package.
-            let package: Vec<&str> = package.split_whitespace().take(2).collect();
             let mut features: Vec<String> = features
                 .replace("(*)", "")
                 .split(',')
@@ -108,22 +108,52 @@ fn build_units(args: &[&str]) -> std::collections::BTreeSet<(String, Vec<String>
                 .filter(|f| !f.is_empty())
                 .collect();
             features.sort();
+            // "name v1.2.3 (path)" or "… (*)": the name and version say which package.
+            let package: Vec<&str> = package.split_whitespace().take(2).collect();
             Some((package.join(" "), features))
         })
         .collect()
 }
 
+/// The units linked into what `args` builds: those reached through `edges` without passing
+/// through a proc macro. The dev profile has `lto = "off"`, and cargo passes `-C lto=off` to these
+/// but not to a unit only proc macros or build scripts need, so a unit on this side in one
+/// command and not in another is compiled twice, and so is every crate compiled above it.
+fn run_time_units(edges: &str, args: &[&str]) -> BTreeSet<(String, Vec<String>)> {
+    let edges = format!("{edges},no-proc-macro");
+    let mut all = vec!["-e", &edges];
+    all.extend(args);
+    build_units(&all)
+}
+
+/// The units of `units` linked into one command's programs and not into the other's, or the
+/// other way round: each would be compiled twice.
+fn run_time_disagreements<'a>(
+    units: &'a BTreeSet<(String, Vec<String>)>,
+    one: &BTreeSet<(String, Vec<String>)>,
+    other: &BTreeSet<(String, Vec<String>)>,
+) -> Vec<&'a (String, Vec<String>)> {
+    units
+        .iter()
+        .filter(|u| one.contains(*u) != other.contains(*u))
+        .collect()
+}
+
 /// One build for everything a student runs: every unit `cargo test -p labNN` needs is one that
 /// `cargo run -p raylab` (the README's first command) has built already, with the same features
-/// — in the course repository and in a handout, whose command line has no instructor features.
-/// A dependency added to the command line with features the labs do not ask for breaks this;
-/// the framework's manifest ("One build") is where to ask for them.
+/// and the same `-C lto` — in the course repository and in a handout, whose command line has no
+/// instructor features. A dependency added to the command line with features the labs do not ask
+/// for, or one linked into it that the labs need only at build time, breaks this; the
+/// framework's manifest ("One build") is where to ask for them.
 #[test]
 fn a_lab_s_tests_reuse_the_command_line_s_build() {
     for cli in [&[][..], &["--no-default-features"][..]] {
         let mut args = vec!["-p", "raylab", "-e", "normal,build"];
         args.extend(cli);
         let built = build_units(&args);
+        let mut cli_args = vec!["-p", "raylab"];
+        cli_args.extend(cli);
+        let cli_run_time = run_time_units("normal", &cli_args);
         for lab in COURSE {
             let name = format!("lab{:02}", lab.number);
             let needed = build_units(&["-p", &name, "-e", "normal,build,dev"]);
@@ -133,13 +163,20 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
                 "`cargo test -p {name}` would build these again, with other features than `cargo run -p raylab {}` did: {missing:?}",
                 cli.join(" ")
             );
+            let lab_run_time = run_time_units("normal,dev", &["-p", &name]);
+            let twice = run_time_disagreements(&needed, &lab_run_time, &cli_run_time);
+            assert!(
+                twice.is_empty(),
+                "`cargo test -p {name}` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in the other's (`cargo run -p raylab {}`): {twice:?}; make them a dependency of the framework",
+                cli.join(" ")
+            );
         }
     }
 }
 
 /// One build in CI: `cargo run -p raylab --features reference` (the golden data) builds no unit
 /// that the whole workspace's test build (`cargo test --workspace --features reference`) then
-/// builds again with other features.
+/// builds again with other features or another `-C lto`.
 #[test]
 fn the_workspace_s_tests_reuse_the_command_line_s_build() {
     let built = build_units(&[
@@ -161,5 +198,14 @@ fn the_workspace_s_tests_reuse_the_command_line_s_build() {
     assert!(
         missing.is_empty(),
         "`cargo test --workspace --features reference` would build these again, with other features than `cargo run -p raylab --features reference` did: {missing:?}"
+    );
+    let twice = run_time_disagreements(
+        &built,
+        &run_time_units("normal", &["-p", "raylab", "--features", "reference"]),
+        &run_time_units("normal,dev", &["--workspace", "--features", "reference"]),
+    );
+    assert!(
+        twice.is_empty(),
+        "`cargo test --workspace --features reference` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in the other's: {twice:?}; make them a dependency of the framework"
     );
 }
