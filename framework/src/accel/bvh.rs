@@ -233,8 +233,9 @@ impl Bvh {
     /// `NEAREST_FIRST` visits the children a node's slab test hits front to back, so that a
     /// shrinking `tmax` (a closest-hit search) skips the nodes behind the closest hit; without
     /// it, for a search that stops at the first hit (any-hit, whose `tmax` stays put and so
-    /// reaches the same leaves in any order), they are visited in lane order, unsorted, as
-    /// Embree's occlusion queries do.
+    /// reaches the same leaves in any order), the nearer of two children hit goes first and
+    /// three or more are visited in lane order, unsorted, as Embree's occlusion queries visit
+    /// them: sorting them cost shadow-like rays more than it saved (docs/performance.md).
     ///
     /// Runs the AVX slab test where the CPU has AVX and the portable one elsewhere; both give
     /// the same answers, so the visit order (and which of two hits at the same `t` wins) does
@@ -302,7 +303,20 @@ impl Bvh {
                         current = node.children[first];
                         continue;
                     }
+                    // Two children hit: the nearer first, in both orders (for an any-hit
+                    // search, the nearer is the likelier to hold a hit, and the comparison
+                    // costs next to nothing).
+                    let (second, rest_of_rest) = (lane(rest), rest & (rest - 1));
+                    if rest_of_rest == 0 {
+                        let a = (node.children[first], entry[first]);
+                        let b = (node.children[second], entry[second]);
+                        let (near, far) = if a.1 > b.1 { (b, a) } else { (a, b) };
+                        stack.push(far);
+                        current = near.0;
+                        continue;
+                    }
                     if !NEAREST_FIRST {
+                        // Three or more: the first lane now, the others in lane order.
                         let mut rest = rest;
                         while rest != 0 {
                             let lane = lane(rest);
@@ -310,15 +324,6 @@ impl Bvh {
                             stack.push((node.children[lane], entry[lane]));
                         }
                         current = node.children[first];
-                        continue;
-                    }
-                    let (second, rest) = (lane(rest), rest & (rest - 1));
-                    if rest == 0 {
-                        let a = (node.children[first], entry[first]);
-                        let b = (node.children[second], entry[second]);
-                        let (near, far) = if a.1 > b.1 { (b, a) } else { (a, b) };
-                        stack.push(far);
-                        current = near.0;
                         continue;
                     }
                     // Three or more children hit, nearest first (insertion sort).
