@@ -2,6 +2,10 @@
 //! Bounding Volume Hierarchies"): a binary tree over primitive bounding boxes, stored depth
 //! first, down to one primitive per leaf. The collapse into wide nodes (`wide.rs`) decides
 //! which subtrees become leaves.
+//!
+//! For primitives tested a block at a time (four triangles in SIMD lanes), the SAH counts each
+//! side of a split in blocks, `⌈n / block⌉`, as Embree's builders do: splits then tend to leave
+//! subtrees of whole blocks, so that the leaves the collapse makes of them fill their blocks.
 
 use glam::{Vec3, Vec3A};
 
@@ -39,13 +43,14 @@ pub(crate) struct BinaryTree {
 }
 
 /// Builds the binary tree over at least one primitive with the given bounds (binned SAH,
-/// deterministic), down to one primitive per leaf.
+/// deterministic), down to one primitive per leaf, for primitives tested `block` at a time
+/// (see the module's documentation; 1 counts primitives one by one).
 ///
 /// Flat (zero-thickness) boxes, many primitives with the same centroid and empty boxes
 /// (primitives that no ray can hit) are all fine.
-pub(crate) fn build(bounds: &[Aabb]) -> BinaryTree {
+pub(crate) fn build(bounds: &[Aabb], block: usize) -> BinaryTree {
     let n = bounds.len();
-    debug_assert!(n > 0 && n <= u32::MAX as usize);
+    debug_assert!(n > 0 && n <= u32::MAX as usize && block > 0);
     let prims = bounds
         .iter()
         .zip(0..)
@@ -63,6 +68,7 @@ pub(crate) fn build(bounds: &[Aabb]) -> BinaryTree {
         prims,
         nodes: Vec::with_capacity(2 * n),
         depth: 0,
+        block,
     };
     builder.build_node(0, n, 1);
     assert!(
@@ -89,6 +95,14 @@ struct Builder {
     prims: Vec<BuildPrim>,
     nodes: Vec<Node>,
     depth: usize,
+    /// Primitives per block: the SAH's unit of count.
+    block: usize,
+}
+
+/// The SAH weight of `n` primitives tested `block` at a time: the number of blocks.
+#[inline(always)]
+fn blocks(n: usize, block: usize) -> f32 {
+    n.div_ceil(block) as f32
 }
 
 /// One SAH bin: the bounds (corners in SIMD registers) and number of the primitives whose
@@ -186,7 +200,7 @@ impl Builder {
             max: bounds.max,
             count: prims.len() as u32,
         });
-        let mid = match choose_split(prims, depth, &centroids) {
+        let mid = match choose_split(prims, depth, &centroids, self.block) {
             None => return node_index,
             Some(Split::Sah { axis, bin }) => {
                 let binning = Binning::new(&centroids, axis);
@@ -208,8 +222,13 @@ impl Builder {
 
 /// The split for `prims` (with the given centroid bounds), or `None` for a leaf:
 /// every node of more than one primitive is split, at the plane of least SAH cost (each side's
-/// surface area times its number of primitives).
-fn choose_split(prims: &[BuildPrim], depth: usize, centroids: &Aabb) -> Option<Split> {
+/// surface area times its number of blocks of `block` primitives).
+fn choose_split(
+    prims: &[BuildPrim],
+    depth: usize,
+    centroids: &Aabb,
+    block: usize,
+) -> Option<Split> {
     let count = prims.len();
     if count <= 1 {
         return None;
@@ -225,7 +244,7 @@ fn choose_split(prims: &[BuildPrim], depth: usize, centroids: &Aabb) -> Option<S
         });
     }
     if count <= SMALL_NODE {
-        return Some(sweep_small(prims));
+        return Some(sweep_small(prims, block));
     }
     // Binned SAH over all three axes in one pass; costs are scaled by the parent's area. The
     // three bins of a primitive are found at once, and its box grows each in two SIMD
@@ -254,12 +273,12 @@ fn choose_split(prims: &[BuildPrim], depth: usize, centroids: &Aabb) -> Option<S
         if extent[axis] <= 0.0 {
             continue;
         }
-        // right_cost[k]: area × count of bins k.. (the right side of a split before bin k).
+        // right_cost[k]: area × blocks of bins k.. (the right side of a split before bin k).
         let mut right_cost = [0.0f32; BINS];
         let mut acc = Bin::EMPTY;
         for k in (1..BINS).rev() {
             acc.add(&bins[k]);
-            right_cost[k] = acc.surface_area() * acc.count as f32;
+            right_cost[k] = acc.surface_area() * blocks(acc.count, block);
         }
         let mut acc = Bin::EMPTY;
         for k in 1..BINS {
@@ -268,7 +287,7 @@ fn choose_split(prims: &[BuildPrim], depth: usize, centroids: &Aabb) -> Option<S
             if n == 0 || n == count {
                 continue;
             }
-            let cost = acc.surface_area() * n as f32 + right_cost[k];
+            let cost = acc.surface_area() * blocks(n, block) + right_cost[k];
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, k));
             }
@@ -287,7 +306,7 @@ fn choose_split(prims: &[BuildPrim], depth: usize, centroids: &Aabb) -> Option<S
 /// The split of a small node (at most [`SMALL_NODE`] primitives) of least SAH cost over every
 /// position along every axis with the primitives ordered by centroid: exact where binning is
 /// coarse, and cheaper than binning for so few.
-fn sweep_small(prims: &[BuildPrim]) -> Split {
+fn sweep_small(prims: &[BuildPrim], block: usize) -> Split {
     let n = prims.len();
     debug_assert!((2..=SMALL_NODE).contains(&n));
     let mut best = (f32::INFINITY, 0, n / 2);
@@ -312,7 +331,8 @@ fn sweep_small(prims: &[BuildPrim]) -> Split {
         for k in 1..n {
             let b = &prims[order[k - 1] as usize].bounds;
             left.grow(b.min.into(), b.max.into());
-            let cost = left.surface_area() * k as f32 + right[k].surface_area() * (n - k) as f32;
+            let cost = left.surface_area() * blocks(k, block)
+                + right[k].surface_area() * blocks(n - k, block);
             if cost < best.0 {
                 best = (cost, axis, k);
             }
@@ -390,6 +410,13 @@ mod tests {
 
     #[test]
     fn binary_tree_is_well_formed_down_to_single_primitives() {
+        // Counting primitives one by one and in blocks of four.
+        for block in [1, 4] {
+            check_binary_tree(block);
+        }
+    }
+
+    fn check_binary_tree(block: usize) {
         let mut rng = Rng::new(5);
         // Random boxes of every size, some flat, with repeated centroids among them.
         let bounds: Vec<Aabb> = (0..3000)
@@ -406,7 +433,7 @@ mod tests {
                 Aabb::new(c - h, c + h)
             })
             .collect();
-        let tree = build(&bounds);
+        let tree = build(&bounds, block);
         let nodes = &tree.nodes;
         // `order` is a permutation of the primitives.
         let mut seen = tree.order.clone();
