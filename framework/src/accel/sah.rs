@@ -43,14 +43,15 @@ pub(crate) struct BinaryTree {
 }
 
 /// Builds the binary tree over at least one primitive with the given bounds (binned SAH,
-/// deterministic), down to one primitive per leaf, for primitives tested `block` at a time
-/// (see the module's documentation; 1 counts primitives one by one).
+/// deterministic), down to one primitive per leaf, for primitives tested `block` at a time, a
+/// power of two (see the module's documentation; 1 counts primitives one by one).
 ///
 /// Flat (zero-thickness) boxes, many primitives with the same centroid and empty boxes
 /// (primitives that no ray can hit) are all fine.
 pub(crate) fn build(bounds: &[Aabb], block: usize) -> BinaryTree {
     let n = bounds.len();
-    debug_assert!(n > 0 && n <= u32::MAX as usize && block > 0);
+    debug_assert!(n > 0 && n <= u32::MAX as usize);
+    assert!(block.is_power_of_two(), "block of {block} primitives");
     let prims = bounds
         .iter()
         .zip(0..)
@@ -68,7 +69,7 @@ pub(crate) fn build(bounds: &[Aabb], block: usize) -> BinaryTree {
         prims,
         nodes: Vec::with_capacity(2 * n),
         depth: 0,
-        block,
+        block_shift: block.trailing_zeros(),
     };
     builder.build_node(0, n, 1);
     assert!(
@@ -95,14 +96,15 @@ struct Builder {
     prims: Vec<BuildPrim>,
     nodes: Vec<Node>,
     depth: usize,
-    /// Primitives per block: the SAH's unit of count.
-    block: usize,
+    /// Primitives per block, the SAH's unit of count, as a power of two: `1 << block_shift`.
+    block_shift: u32,
 }
 
-/// The SAH weight of `n` primitives tested `block` at a time: the number of blocks.
+/// The SAH weight of `n` primitives tested `1 << block_shift` at a time: the number of blocks
+/// (by a shift: a division by a number known only at run time would slow the sweeps down).
 #[inline(always)]
-fn blocks(n: usize, block: usize) -> f32 {
-    n.div_ceil(block) as f32
+fn blocks(n: usize, block_shift: u32) -> f32 {
+    ((n + (1 << block_shift) - 1) >> block_shift) as f32
 }
 
 /// One SAH bin: the bounds (corners in SIMD registers) and number of the primitives whose
@@ -200,7 +202,7 @@ impl Builder {
             max: bounds.max,
             count: prims.len() as u32,
         });
-        let mid = match choose_split(prims, depth, &centroids, self.block) {
+        let mid = match choose_split(prims, depth, &centroids, self.block_shift) {
             None => return node_index,
             Some(Split::Sah { axis, bin }) => {
                 let binning = Binning::new(&centroids, axis);
@@ -222,12 +224,12 @@ impl Builder {
 
 /// The split for `prims` (with the given centroid bounds), or `None` for a leaf:
 /// every node of more than one primitive is split, at the plane of least SAH cost (each side's
-/// surface area times its number of blocks of `block` primitives).
+/// surface area times its number of blocks of `1 << block_shift` primitives).
 fn choose_split(
     prims: &[BuildPrim],
     depth: usize,
     centroids: &Aabb,
-    block: usize,
+    block_shift: u32,
 ) -> Option<Split> {
     let count = prims.len();
     if count <= 1 {
@@ -244,7 +246,7 @@ fn choose_split(
         });
     }
     if count <= SMALL_NODE {
-        return Some(sweep_small(prims, block));
+        return Some(sweep_small(prims, block_shift));
     }
     // Binned SAH over all three axes in one pass; costs are scaled by the parent's area. The
     // three bins of a primitive are found at once, and its box grows each in two SIMD
@@ -278,7 +280,7 @@ fn choose_split(
         let mut acc = Bin::EMPTY;
         for k in (1..BINS).rev() {
             acc.add(&bins[k]);
-            right_cost[k] = acc.surface_area() * blocks(acc.count, block);
+            right_cost[k] = acc.surface_area() * blocks(acc.count, block_shift);
         }
         let mut acc = Bin::EMPTY;
         for k in 1..BINS {
@@ -287,7 +289,7 @@ fn choose_split(
             if n == 0 || n == count {
                 continue;
             }
-            let cost = acc.surface_area() * blocks(n, block) + right_cost[k];
+            let cost = acc.surface_area() * blocks(n, block_shift) + right_cost[k];
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, k));
             }
@@ -306,7 +308,7 @@ fn choose_split(
 /// The split of a small node (at most [`SMALL_NODE`] primitives) of least SAH cost over every
 /// position along every axis with the primitives ordered by centroid: exact where binning is
 /// coarse, and cheaper than binning for so few.
-fn sweep_small(prims: &[BuildPrim], block: usize) -> Split {
+fn sweep_small(prims: &[BuildPrim], block_shift: u32) -> Split {
     let n = prims.len();
     debug_assert!((2..=SMALL_NODE).contains(&n));
     let mut best = (f32::INFINITY, 0, n / 2);
@@ -331,8 +333,8 @@ fn sweep_small(prims: &[BuildPrim], block: usize) -> Split {
         for k in 1..n {
             let b = &prims[order[k - 1] as usize].bounds;
             left.grow(b.min.into(), b.max.into());
-            let cost = left.surface_area() * blocks(k, block)
-                + right[k].surface_area() * blocks(n - k, block);
+            let cost = left.surface_area() * blocks(k, block_shift)
+                + right[k].surface_area() * blocks(n - k, block_shift);
             if cost < best.0 {
                 best = (cost, axis, k);
             }
