@@ -69,7 +69,8 @@ pub fn context(lab: u32) -> LabContext {
 /// labs whose slot counts as the answer key: without `lab` among them, the checks judge by
 /// golden cases and properties alone, as in a handout before the lab's solution is released.
 pub fn keyed_context(lab: u32, keys: &[u32]) -> LabContext {
-    let mut ctx = LabContext::new(lab, &lab_dir(lab), reference::pipeline(lab)).with_key_labs(keys);
+    let id = framework::grading::LabId::of(lab);
+    let mut ctx = LabContext::new(id, &lab_dir(lab), reference::pipeline(lab)).with_key_labs(keys);
     ctx.failure_dir = std::env::temp_dir()
         .join(format!("raylab-tests-{}", std::process::id()))
         .join(format!("lab{lab:02}"));
@@ -84,7 +85,7 @@ pub fn run_all<S: ?Sized>(
 ) -> Vec<(&'static str, Result<(), String>)> {
     exercises
         .iter()
-        .map(|e| (e.id, run_exercise(e, subject, ctx)))
+        .map(|e| (e.info.id.as_str(), run_exercise(e, subject, ctx)))
         .collect()
 }
 
@@ -105,7 +106,7 @@ pub fn judge_in<S: ?Sized>(
     exercises: &[Exercise<S>],
     variants: Vec<(&'static str, Verdict, Arc<S>)>,
 ) -> Vec<String> {
-    let lab = ctx.lab;
+    let (lab, number) = (ctx.lab, ctx.lab.number());
     let mut problems = Vec::new();
     let (mut wrong, mut rejected) = (0, 0);
     for (name, verdict, subject) in variants {
@@ -121,10 +122,10 @@ pub fn judge_in<S: ?Sized>(
                     Err(message) => {
                         rejected += 1;
                         let first = message.lines().nth(1).unwrap_or_default();
-                        println!("lab{lab:02} rejects  [{id}] {name}: {first}");
+                        println!("{lab} rejects  [{id}] {name}: {first}");
                     }
                     Ok(()) => problems.push(format!(
-                        "lab {lab}: exercise {id} accepts the mistake '{name}'"
+                        "lab {number}: exercise {id} accepts the mistake '{name}'"
                     )),
                 }
             }
@@ -133,16 +134,16 @@ pub fn judge_in<S: ?Sized>(
                     match r {
                         Ok(()) => {}
                         Err(m) => problems.push(format!(
-                            "lab {lab}: exercise {id} rejects the correct '{name}':\n{m}"
+                            "lab {number}: exercise {id} rejects the correct '{name}':\n{m}"
                         )),
                     }
                 }
-                println!("lab{lab:02} accepts  {name}");
+                println!("{lab} accepts  {name}");
             }
         }
     }
     println!(
-        "lab{lab:02}: {rejected}/{wrong} mistakes rejected ({:.0}%)",
+        "{lab}: {rejected}/{wrong} mistakes rejected ({:.0}%)",
         100.0 * rejected as f64 / wrong.max(1) as f64
     );
     problems

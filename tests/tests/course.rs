@@ -6,41 +6,33 @@
 use std::collections::BTreeSet;
 use std::fs;
 
-use framework::labs::COURSE;
 use raylab_tests::workflow::{read, root};
 
 #[test]
 fn every_lab_of_the_course_has_its_crate_docs_and_readme_row() {
     let readme = read(&root().join("README.md"));
-    for lab in COURSE {
-        let name = format!("lab{:02}", lab.number);
+    for id in course::labs() {
+        let lab = course::lab(id).unwrap_or_else(|e| panic!("{e}"));
         assert!(
-            root().join("labs").join(&name).join("Cargo.toml").is_file(),
-            "no crate labs/{name}"
+            root().join(id.folder()).join("Cargo.toml").is_file(),
+            "no crate {}",
+            id.folder()
+        );
+        assert!(root().join(id.docs()).is_file(), "no {}", id.docs());
+        assert!(
+            readme
+                .lines()
+                .any(|l| l.starts_with(&format!("| {id} |"))
+                    && l.contains(&format!("({})", id.docs()))),
+            "README.md's table has no row for {id} linking {}",
+            id.docs()
         );
         assert!(
-            root().join(format!("docs/{name}.md")).is_file(),
-            "no docs/{name}.md"
-        );
-        assert!(
-            readme.lines().any(|l| l.starts_with(&format!("| {name} |"))
-                && l.contains(&format!("(docs/{name}.md)"))),
-            "README.md's table has no row for {name} linking docs/{name}.md"
-        );
-        assert!(
-            reference::KEYS.contains(&lab.number),
+            reference::KEYS.contains(&id.number()),
             "reference::KEYS lacks lab {}",
-            lab.number
+            id.number()
         );
-        let exercises = (lab.exercises)();
-        assert!(!exercises.is_empty(), "{name} has no exercises");
-        for e in &exercises {
-            assert!(
-                e.id.starts_with(&format!("{}.", lab.number)),
-                "{name}'s exercise {} is numbered for another lab",
-                e.id
-            );
-        }
+        assert!(!lab.exercises.is_empty(), "{id} has no exercises");
     }
 }
 
@@ -48,12 +40,12 @@ fn every_lab_of_the_course_has_its_crate_docs_and_readme_row() {
 fn every_lab_crate_is_on_the_course_list() {
     for entry in fs::read_dir(root().join("labs")).unwrap() {
         let name = entry.unwrap().file_name().to_string_lossy().into_owned();
-        let Some(number) = name.strip_prefix("lab").and_then(|n| n.parse::<u32>().ok()) else {
+        let Ok(id) = name.parse::<course::LabId>() else {
             continue;
         };
         assert!(
-            framework::labs::lab(number).is_some(),
-            "labs/{name} is not in framework::labs::COURSE"
+            course::title(id).is_some(),
+            "labs/{name} is not in labs/course.toml"
         );
     }
 }
@@ -64,14 +56,14 @@ fn the_tests_list_of_lab_types_is_the_course() {
     macro_rules! list {
         ($number:expr, $module:ident, $contract:ident, $key:ident) => {
             assert_eq!(stringify!($module), format!("lab{:02}", $number));
-            listed.push($number);
+            listed.push(course::LabId::of($number));
         };
     }
     raylab_tests::for_each_lab!(list);
     assert_eq!(
         listed,
-        framework::labs::NUMBERS,
-        "raylab_tests::for_each_lab lists other labs than framework::labs::COURSE"
+        course::labs(),
+        "raylab_tests::for_each_lab lists other labs than labs/course.toml"
     );
 }
 
@@ -154,8 +146,8 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
         let mut cli_args = vec!["-p", "raylab"];
         cli_args.extend(cli);
         let cli_run_time = run_time_units("normal", &cli_args);
-        for lab in COURSE {
-            let name = format!("lab{:02}", lab.number);
+        for lab in course::labs() {
+            let name = lab.to_string();
             let needed = build_units(&["-p", &name, "-e", "normal,build,dev"]);
             let missing: Vec<_> = needed.difference(&built).collect();
             assert!(

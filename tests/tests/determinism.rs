@@ -29,7 +29,7 @@ fn render_on(threads: usize, scene: &str) -> framework::film::Film {
     pool.install(|| {
         render(
             &scene,
-            &reference::pipeline(framework::labs::LAST_LAB),
+            &reference::pipeline(course::last().number()),
             &settings,
         )
     })

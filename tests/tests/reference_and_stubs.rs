@@ -22,7 +22,7 @@ fn assert_all_fail_cleanly<S: ?Sized>(
     for (exercise, (id, r)) in exercises.iter().zip(results) {
         let message = r.expect_err(&format!("the stub passes exercise {id}"));
         assert!(message.contains(&format!("Exercise {id}")), "{message}");
-        assert!(message.contains(exercise.function), "{message}");
+        assert!(message.contains(&exercise.function), "{message}");
         assert!(message.contains("not implemented yet"), "{message}");
     }
 }

@@ -11,13 +11,13 @@ use std::sync::Arc;
 
 use libtest_mimic::{Arguments, Failed, Trial};
 
-use super::{Exercise, LabContext, Visibility, run_exercise, verdict};
+use super::{Exercise, LabContext, LabId, Visibility, run_exercise, verdict};
 use crate::pipeline::Pipeline;
 
 /// What a lab's checks run on.
 pub struct LabChecks<S: ?Sized + 'static> {
-    /// Lab number.
-    pub lab: u32,
+    /// The lab.
+    pub lab: LabId,
     /// The lab crate's directory (its `CARGO_MANIFEST_DIR`).
     pub lab_dir: &'static str,
     /// The lab's exercise table.
@@ -52,7 +52,7 @@ pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
         .iter()
         .filter(|e| hidden || e.visibility == Visibility::Visible)
         .map(|exercise| {
-            let name = format!("{}{}", exercise.info(lab).test_prefix(), exercise.function);
+            let name = exercise.test_name();
             let (exercise, subject, ctx) = (exercise.clone(), subject.clone(), ctx.clone());
             Trial::test(name, move || check(&exercise, &subject, &ctx))
         })
@@ -70,7 +70,7 @@ fn check<S: ?Sized>(
     let channel = verdict::VerdictChannel::take();
     let outcome = run_exercise(exercise, subject, ctx);
     if let Some(channel) = channel {
-        channel.report(exercise.id, &outcome);
+        channel.report(&exercise.id, &outcome);
     }
     outcome.map_err(Failed::from)
 }

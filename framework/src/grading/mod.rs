@@ -3,7 +3,6 @@
 //! all go through [`run_exercise`], so they judge student code the same way.
 
 pub mod chi2;
-mod denied;
 mod golden;
 pub mod harness;
 mod property;
@@ -12,7 +11,7 @@ pub mod stats;
 mod strata;
 pub mod verdict;
 
-pub use denied::DeniedItem;
+pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
 pub use property::for_all;
 pub use snapshot::{
@@ -25,82 +24,79 @@ use std::sync::Arc;
 
 use crate::pipeline::Pipeline;
 
-/// One exercise of a lab: what it is called, what it is worth, and its check.
+/// The check of one exercise: `Ok` when the student's code is right, otherwise what is wrong.
+pub type Check<S> = fn(&Arc<S>, &LabContext) -> Result<(), String>;
+
+/// One exercise of a lab: its row of the lab's exercise table (`labs/labNN/exercises.toml`)
+/// and its check.
 pub struct Exercise<S: ?Sized> {
-    /// Exercise number as in the docs, e.g. `"2.2"`.
-    pub id: &'static str,
-    /// The student function the exercise is about.
-    pub function: &'static str,
-    /// One-line description.
-    pub title: &'static str,
-    /// Points it is worth.
-    pub points: u32,
-    /// Whether students see the exercise's test before grading.
-    pub visibility: Visibility,
-    /// The next step for a student who is stuck, shown by `raylab hint N.M`: where to look
-    /// or what to try, without the formula (the stub and the docs state that).
-    pub hint: &'static str,
-    /// The check: `Ok` when the student's code is right, otherwise what is wrong.
-    pub check: fn(&Arc<S>, &LabContext) -> Result<(), String>,
+    /// What the table says of it: number, function, title, points, visibility, hint.
+    pub info: &'static ExerciseInfo,
+    /// The check.
+    pub check: Check<S>,
 }
 
-/// Whether students see an exercise's test before grading (Gradescope's `visibility`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Visibility {
-    /// In the handout: `cargo test` and `raylab status` run it.
-    Visible,
-    /// Left out of the handout's tests; run only by `raylab grade` (the lab's golden data and
-    /// snapshots still ship, since the other exercises share them).
-    Hidden,
-}
+impl<S: ?Sized> std::ops::Deref for Exercise<S> {
+    type Target = ExerciseInfo;
 
-/// What the gradebook needs of an exercise, without its check.
-#[derive(Clone, Debug)]
-pub struct ExerciseInfo {
-    /// Lab number.
-    pub lab: u32,
-    /// Exercise number, e.g. `"2.2"`.
-    pub id: &'static str,
-    /// The student function it is about.
-    pub function: &'static str,
-    /// One-line description.
-    pub title: &'static str,
-    /// Points it is worth.
-    pub points: u32,
-    /// Whether students see it before grading.
-    pub visibility: Visibility,
-    /// The next step for a student who is stuck.
-    pub hint: &'static str,
-}
-
-impl ExerciseInfo {
-    /// Name of the exercise's `#[test]` in `labs/labNN/tests/checks.rs` starts with this:
-    /// `exercise_2_2_` for Exercise 2.2.
-    pub fn test_prefix(&self) -> String {
-        format!("exercise_{}_", self.id.replace('.', "_"))
+    fn deref(&self) -> &ExerciseInfo {
+        self.info
     }
 }
 
-impl<S: ?Sized> Exercise<S> {
-    /// The exercise's description in lab `lab`, without its check.
-    pub fn info(&self, lab: u32) -> ExerciseInfo {
-        ExerciseInfo {
-            lab,
-            id: self.id,
-            function: self.function,
-            title: self.title,
-            points: self.points,
-            visibility: self.visibility,
-            hint: self.hint,
-        }
+/// `[("exercise_1_1", exercise_1_1), …]`: a lab's checks by the names of their functions,
+/// `exercise_N_M` for Exercise N.M, for [`exercises`].
+#[macro_export]
+macro_rules! checks {
+    ($($check:ident),* $(,)?) => {
+        vec![$((stringify!($check), $check as $crate::grading::Check<_>)),*]
+    };
+}
+
+/// The exercises of lab `lab`: every row of its table with the check named for it
+/// (`exercise_N_M`, see [`checks!`](crate::checks)), in the table's order.
+///
+/// # Panics
+/// When the table does not parse, or a row has no check or a check no row: the lab's checks
+/// and its table disagree, which `cargo test` shows its author at once.
+pub fn exercises<S: ?Sized>(lab: LabId, checks: Vec<(&'static str, Check<S>)>) -> Vec<Exercise<S>> {
+    let table = course::lab(lab).unwrap_or_else(|e| panic!("{e}"));
+    let name = |id: &str| format!("exercise_{}", id.replace('.', "_"));
+    if let Some((orphan, _)) = checks
+        .iter()
+        .find(|(c, _)| !table.exercises.iter().any(|e| name(&e.id) == *c))
+    {
+        panic!(
+            "{lab}'s check `{orphan}` has no row in {}/exercises.toml",
+            lab.folder()
+        );
     }
+    table
+        .exercises
+        .iter()
+        .map(|info| Exercise {
+            info,
+            check: checks
+                .iter()
+                .find(|(c, _)| *c == name(&info.id))
+                .unwrap_or_else(|| {
+                    panic!(
+                        "Exercise {} of {}/exercises.toml has no check `{}` in its lab's checks",
+                        info.id,
+                        lab.folder(),
+                        name(&info.id)
+                    )
+                })
+                .1,
+        })
+        .collect()
 }
 
 /// Where a lab's data lives and what the rest of the pipeline is.
 #[derive(Clone)]
 pub struct LabContext {
-    /// Lab number.
-    pub lab: u32,
+    /// The lab.
+    pub lab: LabId,
     /// The lab crate's directory (holding `golden/` and `snapshots/`).
     pub lab_dir: PathBuf,
     /// Where failing checks write their images.
@@ -109,21 +105,21 @@ pub struct LabContext {
     pub base: Pipeline,
     /// The labs whose slot of `base` is the answer key (`reference::KEYS`); a slot of any other
     /// lab holds the student's own code (a handout before that lab's solution is released).
-    pub key_labs: Vec<u32>,
+    pub key_labs: Vec<LabId>,
 }
 
 impl LabContext {
     /// The context of lab `lab` whose crate lives in `lab_dir` (its `CARGO_MANIFEST_DIR`).
     /// Failure images go to `$CARGO_TARGET_DIR/raylab-failures/labNN` (default target dir:
     /// `target/` at the workspace root).
-    pub fn new(lab: u32, lab_dir: &Path, base: Pipeline) -> Self {
+    pub fn new(lab: LabId, lab_dir: &Path, base: Pipeline) -> Self {
         let target = std::env::var_os("CARGO_TARGET_DIR")
             .map(PathBuf::from)
             .unwrap_or_else(|| lab_dir.join("../../target"));
         Self {
             lab,
             lab_dir: lab_dir.to_path_buf(),
-            failure_dir: target.join("raylab-failures").join(format!("lab{lab:02}")),
+            failure_dir: target.join("raylab-failures").join(lab.to_string()),
             base,
             key_labs: Vec::new(),
         }
@@ -133,12 +129,12 @@ impl LabContext {
     /// `reference::KEYS`). Without it no slot counts as the key, and the checks judge by golden
     /// cases and properties alone.
     pub fn with_key_labs(mut self, labs: &[u32]) -> Self {
-        self.key_labs = labs.to_vec();
+        self.key_labs = labs.iter().filter_map(|&n| LabId::new(n)).collect();
         self
     }
 
     /// Whether `base`'s slot of lab `lab` is the answer key.
-    pub fn has_key(&self, lab: u32) -> bool {
+    pub fn has_key(&self, lab: LabId) -> bool {
         self.key_labs.contains(&lab)
     }
 
@@ -167,12 +163,15 @@ pub fn run_exercise<S: ?Sized>(
     subject: &Arc<S>,
     ctx: &LabContext,
 ) -> Result<(), String> {
-    let lab = ctx.lab;
+    let lab = exercise.lab;
     let place = format!(
-        "Exercise {} — `{}` ({}) in labs/lab{lab:02}/src/lib.rs",
-        exercise.id, exercise.function, exercise.title
+        "Exercise {} — `{}` ({}) in {}",
+        exercise.id,
+        exercise.function,
+        exercise.title,
+        lab.source()
     );
-    let docs = format!("see docs/lab{lab:02}.md, Exercise {}", exercise.id);
+    let docs = format!("see {}, Exercise {}", lab.docs(), exercise.id);
     let outcome = match crate::panic::quietly(|| {
         crate::panic::catch_panic(|| (exercise.check)(subject, ctx))
     }) {

@@ -23,7 +23,7 @@ fn subject() -> Arc<dyn Lab02> {
 
 fn main() {
     harness::run(LabChecks {
-        lab: 2,
+        lab: checks::LAB,
         lab_dir: env!("CARGO_MANIFEST_DIR"),
         exercises: checks::exercises(),
         subject: subject(),

@@ -21,7 +21,7 @@ fn subject() -> Arc<dyn Radiometry> {
 
 fn main() {
     harness::run(LabChecks {
-        lab: 5,
+        lab: checks::LAB,
         lab_dir: env!("CARGO_MANIFEST_DIR"),
         exercises: checks::exercises(),
         subject: subject(),

@@ -23,7 +23,7 @@ fn subject() -> Arc<dyn Radiosity> {
 
 fn main() {
     harness::run(LabChecks {
-        lab: 6,
+        lab: checks::LAB,
         lab_dir: env!("CARGO_MANIFEST_DIR"),
         exercises: checks::exercises(),
         subject: subject(),

@@ -23,7 +23,7 @@ fn subject() -> Arc<dyn PhotonMapping> {
 
 fn main() {
     harness::run(LabChecks {
-        lab: 8,
+        lab: checks::LAB,
         lab_dir: env!("CARGO_MANIFEST_DIR"),
         exercises: checks::exercises(),
         subject: subject(),

@@ -21,7 +21,7 @@ fn subject() -> Arc<dyn AmbientOcclusion> {
 
 fn main() {
     harness::run(LabChecks {
-        lab: 11,
+        lab: checks::LAB,
         lab_dir: env!("CARGO_MANIFEST_DIR"),
         exercises: checks::exercises(),
         subject: subject(),

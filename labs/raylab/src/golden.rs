@@ -1,6 +1,7 @@
 //! `raylab golden`: regenerate every lab's golden cases and snapshots from the reference, and
 //! beside each snapshot `NAME.exr` the reference image `NAME.png` students look at.
 
+use course::LabId;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -17,7 +18,7 @@ use crate::students::{LabCode, LabVisitor};
 pub struct GoldenArgs {
     /// Only this lab (default: all).
     #[arg(long)]
-    pub lab: Option<u32>,
+    pub lab: Option<LabId>,
     /// The raylab workspace (default: found from the current directory upwards).
     #[arg(long)]
     pub root: Option<PathBuf>,
@@ -55,13 +56,13 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
         Some(r) => r.clone(),
         None => find_root()?,
     };
-    let labs: Vec<u32> = match args.lab {
+    let labs: Vec<LabId> = match args.lab {
         Some(l) => vec![l],
-        None => crate::students::labs().to_vec(),
+        None => crate::students::labs(),
     };
     for lab in labs {
-        let dir = root.join("labs").join(format!("lab{lab:02}"));
-        let ctx = LabContext::new(lab, &dir, reference::pipeline(lab));
+        let dir = root.join("labs").join(format!("{lab}"));
+        let ctx = LabContext::new(lab, &dir, reference::pipeline(lab.number()));
         let written = crate::students::visit(lab, Generate(&ctx))??;
         let pngs = write_reference_pngs(&written)?;
         for path in written.iter().chain(&pngs) {

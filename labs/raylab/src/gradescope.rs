@@ -14,6 +14,7 @@
 //!   one machine — with `--results-json`, in bubblewrap where the container allows it and
 //!   otherwise each exercise as the unprivileged user `nobody` (`--run-as`).
 
+use course::LabId;
 use std::fs;
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
@@ -33,10 +34,10 @@ pub struct GradescopeArgs {
     /// Grade only this lab (repeatable; default: every lab) — one Gradescope assignment per
     /// lab has `--lab N`.
     #[arg(long = "lab")]
-    pub labs: Vec<u32>,
+    pub labs: Vec<LabId>,
     /// Labs whose solution was released in the students' handout (as for `raylab grade`).
     #[arg(long, value_delimiter = ',')]
-    pub release_solutions: Vec<u32>,
+    pub release_solutions: Vec<LabId>,
     /// Seconds an exercise may run before it is stopped and fails.
     #[arg(long, default_value_t = 60)]
     pub timeout: u64,
@@ -128,10 +129,14 @@ fn toolchain() -> Result<String, Error> {
 fn grade_options(args: &GradescopeArgs) -> String {
     let mut options = format!("--timeout {}", args.timeout);
     for lab in &args.labs {
-        options.push_str(&format!(" --lab {lab}"));
+        options.push_str(&format!(" --lab {}", lab.number()));
     }
     if !args.release_solutions.is_empty() {
-        let labs: Vec<String> = args.release_solutions.iter().map(u32::to_string).collect();
+        let labs: Vec<String> = args
+            .release_solutions
+            .iter()
+            .map(|l| l.number().to_string())
+            .collect();
         options.push_str(&format!(" --release-solutions {}", labs.join(",")));
     }
     options
@@ -228,8 +233,8 @@ mod tests {
     fn args(labs: Vec<u32>, released: Vec<u32>) -> GradescopeArgs {
         GradescopeArgs {
             out: PathBuf::from("x"),
-            labs,
-            release_solutions: released,
+            labs: labs.into_iter().map(LabId::of).collect(),
+            release_solutions: released.into_iter().map(LabId::of).collect(),
             timeout: 30,
             allow_dirty: false,
         }

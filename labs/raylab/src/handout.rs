@@ -12,6 +12,7 @@
 //! - the instructor's parts stay behind: `tests/` (the mutant corpus holds solutions), `.ci/`,
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
 
+use course::LabId;
 use std::collections::BTreeSet;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -28,7 +29,7 @@ pub struct HandoutArgs {
     /// Labs whose reference solution goes into the handout, e.g. `--release-solutions 1,2`
     /// (default: none).
     #[arg(long, value_delimiter = ',')]
-    pub release_solutions: Vec<u32>,
+    pub release_solutions: Vec<LabId>,
     /// Build the handout even though files that go into it differ from the last commit (they
     /// are named on stderr). Without it such a tree is refused: a handout should be a commit.
     #[arg(long)]
@@ -39,7 +40,7 @@ pub struct HandoutArgs {
 #[derive(Clone, Debug, Default)]
 pub struct TreeOptions {
     /// Labs whose solution is in the tree.
-    pub released: BTreeSet<u32>,
+    pub released: BTreeSet<LabId>,
     /// The whole answer key instead (the grading tree): `reference/` as in the repository, and
     /// every lab's checks run on the student's code with the key in every other slot. Its
     /// sources are kept out of sight while student code compiles (`grade::sandbox`).
@@ -191,8 +192,9 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
         )?,
     )?;
 
-    for &lab in crate::students::labs() {
-        let name = format!("lab{lab:02}");
+    copy_file(&root.join("labs/course.toml"), &out.join("labs/course.toml"))?;
+    for lab in crate::students::labs() {
+        let name = format!("{lab}");
         copy_dir(
             &root.join("labs").join(&name),
             &out.join("labs").join(&name),
@@ -234,16 +236,19 @@ pub fn check_clean(root: &Path, allow_dirty: bool) -> Result<(), Error> {
 
 /// A released lab's solution may use another lab's solution (`crate::labNN`); that lab must
 /// be released too.
-fn check_releasable(root: &Path, released: &BTreeSet<u32>) -> Result<(), Error> {
+fn check_releasable(root: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     for &lab in released {
         crate::students::check_lab(lab)?;
-        let source = read(&root.join(format!("reference/src/lab{lab:02}.rs")))?;
-        for &other in crate::students::labs() {
-            if source.contains(&format!("crate::lab{other:02}")) && !released.contains(&other) {
+        let source = read(&root.join(format!("reference/src/{lab}.rs")))?;
+        for other in crate::students::labs() {
+            if source.contains(&format!("crate::{other}")) && !released.contains(&other) {
                 return Err(Error::Invalid {
                     what: format!("--release-solutions {released:?}"),
                     reason: format!(
-                        "the solution of lab {lab} uses the solution of lab {other}; release lab {other} as well"
+                        "the solution of lab {} uses the solution of lab {}; release lab {} as well",
+                        lab.number(),
+                        other.number(),
+                        other.number()
                     ),
                 });
             }
@@ -255,24 +260,21 @@ fn check_releasable(root: &Path, released: &BTreeSet<u32>) -> Result<(), Error> 
 /// Writes `reference/`: the released solutions, and the manifest whose default features are
 /// their keys, so that `pipeline()` has the student's code in the slots of the labs not
 /// released (see `reference/src/lib.rs`).
-fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<(), Error> {
+fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     let dir = out.join("reference");
     fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
     for file in ["build.rs", "src/lib.rs"] {
         copy_file(&root.join("reference").join(file), &dir.join(file))?;
     }
     for &lab in released {
-        let file = format!("src/lab{lab:02}.rs");
+        let file = format!("src/{lab}.rs");
         copy_file(&root.join("reference").join(&file), &dir.join(&file))?;
     }
     let all: Vec<String> = crate::students::labs()
         .iter()
-        .map(|l| format!("\"key-lab{l:02}\""))
+        .map(|l| format!("\"key-{l}\""))
         .collect();
-    let keys: Vec<String> = released
-        .iter()
-        .map(|l| format!("\"key-lab{l:02}\""))
-        .collect();
+    let keys: Vec<String> = released.iter().map(|l| format!("\"key-{l}\"")).collect();
     let manifest = replace_once(
         &read(&root.join("reference/Cargo.toml"))?,
         &format!("default = [{}]\n", all.join(", ")),
@@ -283,19 +285,17 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<u32>) -> Result<
 }
 
 /// The handout's README: what is in it and how to work with it.
-fn readme(released: &BTreeSet<u32>) -> String {
+fn readme(released: &BTreeSet<LabId>) -> String {
     let mut labs = String::new();
-    for &framework::labs::Lab {
-        number: lab, title, ..
-    } in framework::labs::COURSE
-    {
+    for lab in course::labs() {
+        let title = course::title(lab).unwrap_or_default();
         let solution = if released.contains(&lab) {
-            format!("`reference/src/lab{lab:02}.rs`")
+            format!("`reference/src/{lab}.rs`")
         } else {
             "not released yet".to_string()
         };
         labs.push_str(&format!(
-            "| lab{lab:02} | {title} | [docs/lab{lab:02}.md](docs/lab{lab:02}.md) | {solution} |\n"
+            "| {lab} | {title} | [docs/{lab}.md](docs/{lab}.md) | {solution} |\n"
         ));
     }
     format!(

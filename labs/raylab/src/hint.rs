@@ -3,8 +3,8 @@
 //! points; the stub says what to compute and the docs give the formula.
 
 use clap::Args;
+use course::{ExerciseInfo, LabId};
 use framework::Error;
-use framework::grading::ExerciseInfo;
 
 /// Options of `raylab hint`.
 #[derive(Args, Debug)]
@@ -25,10 +25,10 @@ pub fn hint(id: &str) -> Result<String, Error> {
     let exercise = find(id)?;
     let lab = exercise.lab;
     Ok(format!(
-        "Exercise {id} — {title} (`{function}` in labs/lab{lab:02}/src/lib.rs)\n\n\
+        "Exercise {id} — {title} (`{function}` in labs/{lab}/src/lib.rs)\n\n\
          {hint}\n\n\
-         The exercise is in docs/lab{lab:02}.md, Exercise {id}; check your code with \
-         `cargo test -p lab{lab:02} exercise_{test}`.",
+         The exercise is in docs/{lab}.md, Exercise {id}; check your code with \
+         `cargo test -p {lab} exercise_{test}`.",
         id = exercise.id,
         title = exercise.title,
         function = exercise.function,
@@ -38,23 +38,20 @@ pub fn hint(id: &str) -> Result<String, Error> {
 }
 
 /// The exercise numbered `id` in the course.
-fn find(id: &str) -> Result<ExerciseInfo, Error> {
-    let invalid = |reason: String| Error::Invalid {
-        what: format!("exercise '{id}'"),
-        reason,
-    };
-    let lab: u32 = id
+fn find(id: &str) -> Result<&'static ExerciseInfo, Error> {
+    let lab = id
         .split_once('.')
-        .and_then(|(lab, _)| lab.parse().ok())
-        .ok_or_else(|| invalid("expected an exercise number N.M, such as 2.3".into()))?;
-    crate::students::check_lab(lab)?;
-    let exercises = framework::labs::exercise_infos(lab).unwrap_or_default();
-    let ids: Vec<&str> = exercises.iter().map(|e| e.id).collect();
-    exercises
-        .iter()
-        .find(|e| e.id == id)
-        .cloned()
-        .ok_or_else(|| invalid(format!("lab {lab} has the exercises {}", ids.join(", "))))
+        .and_then(|(lab, _)| lab.parse::<LabId>().ok());
+    if let Some(lab) = lab {
+        crate::students::check_lab(lab)?;
+    }
+    course::exercise(id).map_err(|e| Error::Invalid {
+        what: format!("exercise '{id}'"),
+        reason: e
+            .0
+            .split_once(": ")
+            .map_or(e.0.clone(), |(_, why)| why.to_string()),
+    })
 }
 
 #[cfg(test)]
@@ -64,12 +61,16 @@ mod tests {
     #[test]
     fn every_exercise_of_every_lab_has_a_hint_of_its_own() {
         let mut seen = std::collections::HashSet::new();
-        for &lab in crate::students::labs() {
-            for e in framework::labs::exercise_infos(lab).unwrap() {
-                let text = hint(e.id).unwrap();
+        for lab in crate::students::labs() {
+            for e in crate::students::exercises(lab) {
+                let text = hint(&e.id).unwrap();
                 assert!(e.hint.len() >= 40, "Exercise {}'s hint is too short", e.id);
-                assert!(text.contains(e.hint) && text.contains(e.function));
-                assert!(seen.insert(e.hint), "Exercise {} repeats a hint", e.id);
+                assert!(text.contains(&e.hint) && text.contains(&e.function));
+                assert!(
+                    seen.insert(e.hint.clone()),
+                    "Exercise {} repeats a hint",
+                    e.id
+                );
             }
         }
     }

@@ -1,5 +1,6 @@
 //! `raylab render`.
 
+use course::LabId;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -79,7 +80,7 @@ pub struct RenderArgs {
     /// The lab whose features (and, with --pipeline student, whose code) to use; default: the
     /// last lab.
     #[arg(long)]
-    pub lab: Option<u32>,
+    pub lab: Option<LabId>,
     /// What the image shows.
     #[arg(long, value_enum, default_value_t = ViewChoice::Shaded)]
     pub view: ViewChoice,
@@ -223,7 +224,7 @@ pub fn prepare_output(output: &Path) -> Result<PathBuf, Error> {
 /// Runs `raylab render`.
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let tonemap: ToneMap = args.tonemap.parse()?;
-    let lab = args.lab.unwrap_or(framework::labs::LAST_LAB);
+    let lab = args.lab.unwrap_or_else(course::last);
     crate::students::check_lab(lab)?;
     if args.light_samples == 0 || args.light_samples > 64 {
         return Err(Error::Invalid {
@@ -256,7 +257,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     if let Some(warning) = empty_scene_warning(&scene, &args.scene) {
         eprintln!("{warning}");
     }
-    let mut pipeline = reference::pipeline(lab);
+    let mut pipeline = reference::pipeline(lab.number());
     if args.pipeline == PipelineChoice::Student {
         pipeline = crate::students::with_student_lab(pipeline, lab)?;
     }
@@ -277,7 +278,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         eprintln!("note: {note}");
     }
     let start = Instant::now();
-    if lab >= 8 {
+    if lab.number() >= 8 {
         pipeline.photons.validate()?;
         match with_caustics(&pipeline, &scene) {
             Ok(traced) => {
@@ -301,8 +302,13 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         write_png(&rendered.display(tonemap), &output, ToneMap::default())?;
     }
     eprintln!(
-        "rendered '{}' ({}×{}, {} spp, lab {lab}, {:?} pipeline) in {seconds:.2} s",
-        scene.name, args.width, args.height, args.spp, args.pipeline
+        "rendered '{}' ({}×{}, {} spp, lab {}, {:?} pipeline) in {seconds:.2} s",
+        scene.name,
+        args.width,
+        args.height,
+        args.spp,
+        lab.number(),
+        args.pipeline
     );
     for line in warnings(&rendered, exr) {
         eprintln!("{line}");
@@ -314,22 +320,21 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
 /// The labs up to `lab` whose slots `reference::pipeline` fills with the student's own code:
 /// those whose solution is not in this tree's `reference/src/` (a handout holds only the
 /// released ones).
-pub fn labs_without_solution(lab: u32) -> Vec<u32> {
+pub fn labs_without_solution(lab: LabId) -> Vec<LabId> {
     let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reference/src");
     crate::students::labs()
-        .iter()
-        .copied()
-        .filter(|&l| l <= lab && !reference.join(format!("lab{l:02}.rs")).is_file())
+        .into_iter()
+        .filter(|&l| l <= lab && !reference.join(format!("{l}.rs")).is_file())
         .collect()
 }
 
 /// What to say on stderr about the student's code in a `choice` pipeline at `lab`, before
 /// rendering: which slots of `reference::pipeline` hold it.
-pub fn student_code_note(choice: PipelineChoice, lab: u32) -> Option<String> {
+pub fn student_code_note(choice: PipelineChoice, lab: LabId) -> Option<String> {
     let own: Vec<String> = labs_without_solution(lab)
         .into_iter()
         .filter(|&l| choice == PipelineChoice::Reference || l != lab)
-        .map(|l| l.to_string())
+        .map(|l| l.number().to_string())
         .collect();
     if own.is_empty() {
         return None;

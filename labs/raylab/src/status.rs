@@ -1,6 +1,7 @@
 //! `raylab status`: which exercises of each lab pass with the student's code, and which to do
 //! next.
 
+use course::LabId;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -18,7 +19,7 @@ use crate::students::{LabCode, LabVisitor};
 pub struct StatusArgs {
     /// Only this lab (default: every lab).
     #[arg(long)]
-    pub lab: Option<u32>,
+    pub lab: Option<LabId>,
 }
 
 /// The outcome of one exercise.
@@ -41,14 +42,15 @@ impl LabVisitor for Judge {
 }
 
 fn judge<S: ?Sized>(
-    lab: u32,
+    lab: LabId,
     exercises: &[Exercise<S>],
     student: Arc<S>,
 ) -> Vec<(String, String, u32, State)> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("..")
-        .join(format!("lab{lab:02}"));
-    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab)).with_key_labs(reference::KEYS);
+        .join(format!("{lab}"));
+    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab.number()))
+        .with_key_labs(reference::KEYS);
     exercises
         .iter()
         // A handout has no tests for hidden exercises; the instructor's tree shows them all.
@@ -73,12 +75,12 @@ fn judge<S: ?Sized>(
 
 /// Runs `raylab status`.
 pub fn run(args: &StatusArgs) -> Result<(), Error> {
-    let labs: Vec<u32> = match args.lab {
+    let labs: Vec<LabId> = match args.lab {
         Some(l) => {
             crate::students::check_lab(l)?;
             vec![l]
         }
-        None => crate::students::labs().to_vec(),
+        None => crate::students::labs(),
     };
     let mut next: Option<String> = None;
     for lab in labs {
@@ -93,18 +95,17 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
         let hidden: u32 = if cfg!(feature = "instructor") {
             0
         } else {
-            framework::labs::exercise_infos(lab)
-                .unwrap_or_default()
+            crate::students::exercises(lab)
                 .iter()
                 .filter(|e| e.visibility == Visibility::Hidden)
                 .map(|e| e.points)
                 .sum()
         };
         match hidden {
-            0 => println!("lab{lab:02}  {earned}/{total} points"),
-            h => println!(
-                "lab{lab:02}  {earned}/{total} points (+{h} hidden points, checked when graded)"
-            ),
+            0 => println!("{lab}  {earned}/{total} points"),
+            h => {
+                println!("{lab}  {earned}/{total} points (+{h} hidden points, checked when graded)")
+            }
         }
         for (id, function, points, state) in &rows {
             let (mark, detail) = match state {
@@ -118,7 +119,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
             println!("  {id:<5} {mark} {function:<26} {points} pt{detail}");
             if next.is_none() && !matches!(state, State::Passed) {
                 next = Some(format!(
-                    "Exercise {id} (`{function}` in labs/lab{lab:02}/src/lib.rs, docs/lab{lab:02}.md); check it with `cargo test -p lab{lab:02} exercise_{}`; stuck? `raylab hint {id}`",
+                    "Exercise {id} (`{function}` in labs/{lab}/src/lib.rs, docs/{lab}.md); check it with `cargo test -p {lab} exercise_{}`; stuck? `raylab hint {id}`",
                     id.replace('.', "_")
                 ));
             }

@@ -4,14 +4,15 @@
 
 use std::sync::Arc;
 
+use course::{ExerciseInfo, LabId};
 use framework::Error;
 use framework::grading::Exercise;
 use framework::pipeline::{LabSlots, Pipeline};
 
 /// One lab's code and contract, whatever the contract's trait `S`.
 pub struct LabCode<S: ?Sized> {
-    /// The lab's number.
-    pub number: u32,
+    /// The lab.
+    pub number: LabId,
     /// Its exercise table.
     pub exercises: Vec<Exercise<S>>,
     /// The student's code (`labs/labNN/src`).
@@ -39,7 +40,7 @@ pub trait LabVisitor {
 macro_rules! lab_code {
     ($number:expr, $contract:ident, $student:expr, $key:expr, $module:ident) => {
         LabCode::<dyn framework::contracts::$module::$contract> {
-            number: $number,
+            number: LabId::of($number),
             exercises: framework::labs::$module::checks::exercises(),
             student: Arc::new($student),
             figures: crate::report::$module::figures,
@@ -52,8 +53,8 @@ macro_rules! lab_code {
 }
 
 /// Runs `visitor` on lab `lab`'s code; an error for a lab the course does not have.
-pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
-    Ok(match lab {
+pub fn visit<V: LabVisitor>(lab: LabId, visitor: V) -> Result<V::Output, Error> {
+    Ok(match lab.number() {
         1 => visitor.visit(lab_code!(
             1,
             CameraRays,
@@ -143,24 +144,34 @@ pub fn visit<V: LabVisitor>(lab: u32, visitor: V) -> Result<V::Output, Error> {
 }
 
 /// The labs of the course, in order.
-pub fn labs() -> &'static [u32] {
-    &framework::labs::NUMBERS
+pub fn labs() -> Vec<LabId> {
+    course::labs()
 }
 
 /// Checks that `lab` is one of the labs the course has.
-pub fn check_lab(lab: u32) -> Result<(), Error> {
-    if labs().contains(&lab) {
-        Ok(())
-    } else {
-        Err(Error::Invalid {
-            what: format!("lab {lab}"),
-            reason: format!("expected one of the labs {:?}", labs()),
-        })
+pub fn check_lab(lab: LabId) -> Result<(), Error> {
+    if course::title(lab).is_some() {
+        return Ok(());
     }
+    let labs: Vec<String> = labs().iter().map(|l| l.number().to_string()).collect();
+    Err(Error::Invalid {
+        what: format!("lab {}", lab.number()),
+        reason: format!(
+            "expected one of the labs {} (labs/course.toml)",
+            labs.join(", ")
+        ),
+    })
+}
+
+/// The exercises of lab `lab` (none for a lab the course does not have).
+pub fn exercises(lab: LabId) -> Vec<ExerciseInfo> {
+    course::lab(lab)
+        .map(|l| l.exercises.clone())
+        .unwrap_or_default()
 }
 
 /// `base` with the slots of lab `lab` replaced by the student's code of that lab.
-pub fn with_student_lab(base: Pipeline, lab: u32) -> Result<Pipeline, Error> {
+pub fn with_student_lab(base: Pipeline, lab: LabId) -> Result<Pipeline, Error> {
     struct Install(Pipeline);
     impl LabVisitor for Install {
         type Output = Pipeline;

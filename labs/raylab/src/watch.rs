@@ -1,6 +1,7 @@
 //! `raylab watch`: re-runs a lab's checks whenever its sources change and shows the next
 //! exercise to work on, as rustlings does.
 
+use course::LabId;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, SystemTime};
@@ -14,7 +15,7 @@ pub struct WatchArgs {
     /// The lab to watch (default: the first lab whose `src/lib.rs` still has an unfinished
     /// stub).
     #[arg(long)]
-    pub lab: Option<u32>,
+    pub lab: Option<LabId>,
     /// Run the checks once and stop, instead of waiting for the next change.
     #[arg(long)]
     pub once: bool,
@@ -26,12 +27,12 @@ fn workspace_root() -> PathBuf {
 }
 
 /// The first lab whose sources still hold a stub (`todo!("Exercise …`), else the last lab.
-fn default_lab(root: &Path) -> u32 {
+fn default_lab(root: &Path) -> LabId {
     let labs = crate::students::labs();
     labs.iter()
         .copied()
         .find(|lab| {
-            std::fs::read_to_string(root.join(format!("labs/lab{lab:02}/src/lib.rs")))
+            std::fs::read_to_string(root.join(format!("labs/{lab}/src/lib.rs")))
                 .is_ok_and(|text| text.contains("todo!(\"Exercise"))
         })
         .unwrap_or(labs[labs.len() - 1])
@@ -133,9 +134,9 @@ fn exercise_of(test: &str) -> String {
 }
 
 /// Runs the lab's checks once and prints what passes and the next exercise to do.
-fn check_once(root: &Path, lab: u32) -> Result<(), Error> {
+fn check_once(root: &Path, lab: LabId) -> Result<(), Error> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let package = format!("lab{lab:02}");
+    let package = format!("{lab}");
     let output = Command::new(cargo)
         .args([
             "test", "-p", &package, "--test", "checks", "--color", "never",
@@ -190,7 +191,7 @@ pub fn run(args: &WatchArgs) -> Result<(), Error> {
         }
         None => default_lab(&root),
     };
-    let sources = root.join(format!("labs/lab{lab:02}/src"));
+    let sources = root.join(format!("labs/{lab}/src"));
     let mut seen = newest_change(&sources);
     loop {
         // Clear the terminal and go home, as a watcher does, unless this is a single run.

@@ -99,7 +99,7 @@ fn run() -> Result<(), String> {
         }
     }
     if labs.is_empty() {
-        labs = (1..=framework::labs::LAST_LAB).collect();
+        labs = course::labs().iter().map(|l| l.number()).collect();
     }
     let work = target_dir().join("grading-bench");
     let handout = work.join("handout");

@@ -7,8 +7,8 @@ use proptest::prelude::*;
 
 use crate::contracts::lab01::{CameraBasis, CameraRays};
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec2,
-    compare_vec3, for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec2, compare_vec3,
+    for_all,
 };
 use crate::labs::strategies::{point, resolution, unit_vector};
 use crate::math::Onb;
@@ -35,64 +35,22 @@ pub type BasisInput = (Vec3, Vec3, Vec3);
 /// Input of Exercise 1.4: basis, focal distance, image-plane point.
 pub type DirectionInput = (CameraBasis, f32, Vec2);
 
-/// The exercises of lab 01, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(1);
+
+/// The exercises of lab 01 (`labs/lab01/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn CameraRays>> {
-    vec![
-        Exercise {
-            id: "1.1",
-            function: "image_plane_coords",
-            title: "pixel to image-plane coordinates",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Convert `resolution` to `f32` before any arithmetic (`resolution.x / 2` on a `UVec2` is integer division), and scale both coordinates by the height H, not x by the width. Then try the 1×1 image the check shrinks a failure to: raster (0, 0) must map to (−0.5, +0.5), so a y of −0.5 means you have not flipped the y axis.",
-            check: exercise_1_1,
-        },
-        Exercise {
-            id: "1.2",
-            function: "camera_basis",
-            title: "the camera basis",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Normalise the viewing direction `look_at − eye` first, then take its cross product with `up` in that order (the other order mirrors the image) and normalise that too, since `up` is neither unit length nor perpendicular to the view. Use `normalize()`, not a division by `length() + epsilon`, because the check also builds cameras only 10⁻³ units across; glam's `look_at_rh`/`look_to_rh` view matrices are rejected by the grader.",
-            check: exercise_1_2,
-        },
-        Exercise {
-            id: "1.3",
-            function: "field_of_view",
-            title: "field of view from focal distance",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "`f32::atan` returns radians and the check wants degrees, so finish with `to_degrees()`; a quick test is `field_of_view(0.5)`, which must be 90. Watch the precedence inside the arctangent (`1.0 / 2.0 * d` is d/2, not 1/(2d)), and keep the outer factor 2, or you get the half angle.",
-            check: exercise_1_3,
-        },
-        Exercise {
-            id: "1.4",
-            function: "ray_direction",
-            title: "direction of the ray through an image-plane point",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "If the check reports a wrong length, you forgot to normalise; if the comparison in the camera's coordinates fails, check that the focal distance multiplies `basis.ip_normal` and that you did not add the eye position (this is a direction; the eye is the ray's origin). Normalise with `normalize()` rather than dividing by `length() + epsilon`, which fails near the image centre when the focal distance is 10⁻³.",
-            check: exercise_1_4,
-        },
-        Exercise {
-            id: "1.5",
-            function: "camera_ray",
-            title: "the camera ray",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "This is a single `Ray::new` with the eye as origin and the direction passed through unchanged. The check insists on `tmin` exactly 0 (a camera ray leaves no surface, so no epsilon) and `tmax` of `f32::INFINITY`; a finite `tmax` makes distant objects vanish into the background.",
-            check: exercise_1_5,
-        },
-        Exercise {
-            id: "1.6",
-            function: "CameraRays (all of it)",
-            title: "the default scene seen through your camera",
-            points: 2,
-            visibility: Visibility::Hidden,
-            hint: "There is nothing new to write: this check renders the default scene through 1.1–1.5 together, so get those passing first. If they pass and this still fails, open `target/raylab-failures/lab01/default-base-colour-difference.png` beside the student and reference images (or run `raylab render --lab 1 --pipeline student`) and look for an image that is upside down (y not flipped), mirrored (cross product in the wrong order), stretched (x divided by W) or zoomed (focal distance ignored).",
-            check: exercise_1_6,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_1_1,
+            exercise_1_2,
+            exercise_1_3,
+            exercise_1_4,
+            exercise_1_5,
+            exercise_1_6
+        ],
+    )
 }
 
 /// A camera setup whose eye, look-at and up are well apart.

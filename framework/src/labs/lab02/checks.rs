@@ -9,8 +9,7 @@ use super::builtin::BuiltinIntersection;
 use crate::contracts::lab02::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
-    for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
 use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::Ray;
@@ -77,64 +76,22 @@ pub type PointLightInput = (Vec3, Vec3, Vec3);
 /// Input of Exercise 2.6: ρ_d, normal, light samples (direction, radiance).
 pub type LambertianInput = (Vec3, Vec3, Vec<(Vec3, Vec3)>);
 
-/// The exercises of lab 02, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(2);
+
+/// The exercises of lab 02 (`labs/lab02/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Lab02>> {
-    vec![
-        Exercise {
-            id: "2.1",
-            function: "intersect_plane",
-            title: "ray–plane intersection",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute the denominator `ω·n` first and return `None` when it is zero, then compute `t` and let `ray.accepts(t)` decide; add no epsilon of your own such as `t > 1e-3`, because the check repeats every case at scales down to 10⁻⁴ units. If the sky takes the ground's colour in `raylab render --lab 2 --pipeline student --view normals`, you are accepting hits behind the ray: `tmin` is not respected.",
-            check: exercise_2_1,
-        },
-        Exercise {
-            id: "2.2",
-            function: "intersect_triangle",
-            title: "ray–triangle intersection",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Compute `e1`, `e2` and the determinant first and give up only when it is exactly zero (a threshold like `|D| < 1e-6` rejects the tiny triangles of the scaled checks); then reject as soon as β or γ is negative or their sum exceeds 1, and test `t` with `ray.accepts(t)` last. Keep β as the weight of `v1` and γ as that of `v2`: swapped, `t` is still right but the golden cases fail and the torus's interpolated normals look wrong in `--view normals`.",
-            check: exercise_2_2,
-        },
-        Exercise {
-            id: "2.3",
-            function: "intersect_sphere",
-            title: "ray–sphere intersection",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Compute `o − c`, then b/2 and c′, and return `None` for a negative discriminant (no epsilon: the check shrinks spheres to 10⁻⁴ units); then try the near root first and fall back to the far root only when `ray.accepts` rejects the near one. The check starts one ray in four inside the sphere and also puts `tmin` just past the near root, so returning only the near root fails; the normal points from the centre to the hit point and has unit length.",
-            check: exercise_2_3,
-        },
-        Exercise {
-            id: "2.4",
-            function: "sample_point_light",
-            title: "point light and the inverse-square law",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute the vector from the shaded point to the light first, and its length r; the unit direction, the distance and the inverse-square falloff all follow from those two. The check verifies that `position + distance·direction` lands on the light, so a direction pointing from the light towards the point fails at once, and it tests the square by expecting a quarter of the radiance at twice the distance.",
-            check: exercise_2_4,
-        },
-        Exercise {
-            id: "2.5",
-            function: "sample_directional_light",
-            title: "directional light",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "The shaded point plays no part here: the check compares two different points and expects the same sample. The two usual failures are forgetting to negate `light.direction`, which is the way the light travels rather than the way towards it, and returning a large finite distance instead of `f32::INFINITY`, which the check compares exactly and lab 03's shadow rays will use as `tmax`.",
-            check: exercise_2_5,
-        },
-        Exercise {
-            id: "2.6",
-            function: "shade_lambertian",
-            title: "Lambertian shading",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Start from `Vec3::ZERO` and add one term per light sample, with the cosine between `normal` and the sample's `direction` clamped at zero, so a light below the surface adds nothing instead of subtracting. Keep the 1/π of the BRDF (without it the image is about three times too bright) and multiply the colours per channel with `*` on `Vec3`; with no lights the result must be black.",
-            check: exercise_2_6,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_2_1,
+            exercise_2_2,
+            exercise_2_3,
+            exercise_2_4,
+            exercise_2_5,
+            exercise_2_6
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -29,8 +29,8 @@ use crate::grading::stats::{
     normal_two_sided_quantile, sidak, z_score_map,
 };
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_of,
-    check_one_per_cell, compare_f32, compare_vec3, for_all, mark_non_finite,
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_of, check_one_per_cell,
+    compare_f32, compare_vec3, for_all, mark_non_finite,
 };
 use crate::labs::lab02::checks::triangle_strategy;
 use crate::labs::strategies::{point, scale, unit_vector};
@@ -85,46 +85,15 @@ pub enum Part {
 /// Input of Exercise 3.4: surface point, light point, light normal, emission, pdf.
 pub type AreaSampleInput = (Vec3, Vec3, Vec3, Vec3, f32);
 
-/// The exercises of lab 03, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(3);
+
+/// The exercises of lab 03 (`labs/lab03/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
-    vec![
-        Exercise {
-            id: "3.1",
-            function: "shadow_ray",
-            title: "shadow rays and hard shadows",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Start the ray exactly at `position` with `light.direction` unchanged, and put both offsets into the interval with `framework::math::RAY_EPSILON`: the check rejects an origin moved along the normal. The usual failure is `tmax`: it must stop just short of `light.distance` (`f32::INFINITY` lets the ceiling above the lamp shadow the whole room, exactly `light.distance` lets an area light shadow itself), while for a directional light the same expression stays infinite, as it should.",
-            check: exercise_3_1,
-        },
-        Exercise {
-            id: "3.2",
-            function: "stratified_samples",
-            title: "stratified jittered samples",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Loop over rows and columns and call `rng.next_vec2()` inside the inner loop, so that every cell gets its own fresh offset; cell centres, one offset drawn before the loop, or one number used for both x and y all fail the χ² test of the positions within the cells. Convert `i`, `j` and `n` to `f32` before dividing, and return exactly n² points.",
-            check: exercise_3_2,
-        },
-        Exercise {
-            id: "3.3",
-            function: "sample_triangle",
-            title: "uniform sampling of a triangle",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "The check counts 12 800 samples in 16 equal sub-triangles, so a χ² in the thousands means your points are not uniform by area: usually the square root of `u.x` is missing (points pile up near `v0`) or is applied to both numbers. Make sure the three weights add up to 1 and are never negative; taking (1 − u.x − u.y, u.x, u.y) without folding the square puts half the points outside the triangle.",
-            check: exercise_3_3,
-        },
-        Exercise {
-            id: "3.4",
-            function: "area_light_sample",
-            title: "area-light sample and soft shadows",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Compute the vector from `position` to `light_point` first: its length is the distance, and dividing by that length gives the direction. The cosine at the light uses the negated `light_normal` and is clamped at zero (points behind the lamp get black), and the radiance is divided by both r² and `pdf_area`; do not clamp r² or drop close samples, because the check repeats every case at scales down to 10⁻⁴.",
-            check: exercise_3_4,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![exercise_3_1, exercise_3_2, exercise_3_3, exercise_3_4],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -22,8 +22,7 @@ use crate::contracts::lab02::LightSample;
 use crate::contracts::lab04::{Interface, Reflection};
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
-    for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
 use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::{RAY_EPSILON, Ray};
@@ -138,64 +137,22 @@ material = "red"
 // ---------------------------------------------------------------------------------------------
 // Exercises
 
-/// The exercises of lab 04, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(4);
+
+/// The exercises of lab 04 (`labs/lab04/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Reflection>> {
-    vec![
-        Exercise {
-            id: "4.1",
-            function: "reflect",
-            title: "the law of reflection",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute the scalar `ω·n` first: only the part of `direction` along the normal changes (it flips sign), while the part along the surface stays. Do not flip `normal` towards the ray, since the result must not depend on which side it faces, and do not call glam's `Vec3::reflect`, which the grader rejects; reflecting twice must give `direction` back, which the check tries on 500 random pairs.",
-            check: exercise_4_1,
-        },
-        Exercise {
-            id: "4.2",
-            function: "reflected_ray",
-            title: "the reflected ray",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Reuse your own `self.reflect` on `ray.direction` about `hit.shading_normal` (not `hit.geometric_normal`, which the check tilts away from it), and start the new ray at `hit.position`. Build it with `Ray::unbounded` and `RAY_EPSILON` instead of copying the incoming interval: the incoming `tmax` is the distance to this very hit, and `tmin = 0` makes the ray hit its own surface.",
-            check: exercise_4_2,
-        },
-        Exercise {
-            id: "4.3",
-            function: "interface",
-            title: "entering or leaving: the medium bookkeeping",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Decide everything from the sign of `direction · hit.shading_normal` (using `hit.geometric_normal` gives faceted glass on a smooth mesh, and the check tilts the two apart). When the ray leaves, return the negated normal so that it faces the ray, and remember that on the way out the other side is air, index 1, not `hit.ior`.",
-            check: exercise_4_3,
-        },
-        Exercise {
-            id: "4.4",
-            function: "refract",
-            title: "Snell's law and total internal reflection",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Compute cos θ₁ from the negated dot product, then sin²θ₂, and return `None` as soon as sin²θ₂ exceeds 1, before any square root, so that no NaN can escape. Here `normal` already faces the incident side (4.3 sees to that) and η is `eta_i / eta_t` in that order; compare with exactly 1, without a tolerance, because the check probes directions 0.2 % on either side of the critical angle.",
-            check: exercise_4_4,
-        },
-        Exercise {
-            id: "4.5",
-            function: "refracted_ray",
-            title: "the refracted ray",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Do not redo the maths: call your own `self.interface` with `ray.direction`, pass its normal and both indices to `self.refract`, and return `None` when that does. Otherwise build the ray from `hit.position` with `Ray::unbounded` and `RAY_EPSILON`, and return the index of the medium the ray enters (the interface's `eta_transmitted`), which becomes the next hit's `hit.ior`.",
-            check: exercise_4_5,
-        },
-        Exercise {
-            id: "4.6",
-            function: "shade_phong",
-            title: "the normalized Phong model",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Loop over the light samples and skip those with `n·ω_i ≤ 0`; for the rest, get the mirror direction of the negated light direction with your own `self.reflect`, and clamp its dot product with `view` at zero before `powf(shininess)`, because a negative base to a fractional power is NaN. Keep both the diffuse 1/π and the lobe's normalisation factor: the check measures the exact peak with `rho_d = 0` and the view along the mirror direction.",
-            check: exercise_4_6,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_4_1,
+            exercise_4_2,
+            exercise_4_3,
+            exercise_4_4,
+            exercise_4_5,
+            exercise_4_6
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

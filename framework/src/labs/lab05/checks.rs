@@ -32,7 +32,7 @@ use crate::contracts::lab05::{
     luminous_efficiency,
 };
 use crate::grading::stats::{normal_two_sided_quantile, sidak};
-use crate::grading::{Exercise, GoldenFile, LabContext, Visibility, for_all};
+use crate::grading::{Exercise, GoldenFile, LabContext, for_all};
 use crate::labs::lab03::checks::irradiance_polygon;
 use crate::sampling::Rng;
 
@@ -140,91 +140,25 @@ impl RadianceProfile {
     }
 }
 
-/// The exercises of lab 05, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(5);
+
+/// The exercises of lab 05 (`labs/lab05/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Radiometry>> {
-    vec![
-        Exercise {
-            id: "5.1",
-            function: "photons_per_second",
-            title: "photons per second of a lamp",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Convert the wavelength from nanometres to metres before computing the photon energy with `PLANCK_J_S` and `SPEED_OF_LIGHT_M_PER_S`, then divide the light output (the efficiency times the power, not the electrical power) by it. The checks compare to 10⁻⁹ relative, so a rounded c = 3·10⁸ fails the worksheet's question 1 even though it looks right to four digits.",
-            check: exercise_5_1,
-        },
-        Exercise {
-            id: "5.2",
-            function: "spherical_bulb",
-            title: "flux, intensity, exitance and energy of a bulb",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute the flux first (the bulb is lossless, so it is the electrical power) and derive the other three fields from it; the check tests that 4π·I, M times the bulb's surface and Q/t each give that flux back. The two usual slips are losing the π of the 4π steradians and using a unit sphere for the exitance: the surface is that of a sphere of the given diameter, whose radius is half of it.",
-            check: exercise_5_2,
-        },
-        Exercise {
-            id: "5.3",
-            function: "observe_point_source",
-            title: "irradiance by the inverse-square law, power through a pupil",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Compute the irradiance first by spreading the whole flux over the sphere whose radius is the distance, then multiply by the pupil's area. The argument is the pupil's diameter, so halve it before squaring; no cosine is needed, since the pupil faces the source.",
-            check: exercise_5_3,
-        },
-        Exercise {
-            id: "5.4",
-            function: "illuminance_lux",
-            title: "illuminance from irradiance and V(λ)",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Look V(λ) up with the contract's `luminous_efficiency(wavelength_nm)` rather than typing in a value, and scale by `PEAK_LUMINOUS_EFFICACY_LM_PER_W`, so that 1 W/m² at 555 nm gives exactly 683 lx, which the check tests. The worksheet hand-in's 685 lm/W and V(650 nm) = 0.1 are both rejected.",
-            check: exercise_5_4,
-        },
-        Exercise {
-            id: "5.5",
-            function: "equivalent_intensity_cd",
-            title: "two lamps by the inverse-square law",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Write the illuminance each lamp gives the screen, set the two equal and solve for the unknown intensity; then check which distance ended up on top, because the farther lamp must be the brighter one. The check also multiplies both distances by 10 and expects the same answer, so only their ratio may enter.",
-            check: exercise_5_5,
-        },
-        Exercise {
-            id: "5.6",
-            function: "diffuse_emitter",
-            title: "flux and radiosity of a diffuse emitter",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Find the radiosity first, from the radiance alone (the check compares an emitter three times as large and expects the same radiosity), then multiply by `area_m2` for the flux. The factor between radiance and radiosity is the projected solid angle of the hemisphere, not its 2π steradians.",
-            check: exercise_5_6,
-        },
-        Exercise {
-            id: "5.7",
-            function: "radiosity_from_radiance",
-            title: "radiosity as the cosine-weighted integral of radiance",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute Δθ and Δφ once as `f64` (convert `steps` before dividing), then in two nested loops evaluate `radiance` at the cell midpoints, half a step in, and weight each value by cos θ and by the sin θ that the solid-angle element contributes. θ runs over [0, π/2] only: over [0, π] the cosine cancels and you get 0, which the check rejects for a positive radiance.",
-            check: exercise_5_7,
-        },
-        Exercise {
-            id: "5.8",
-            function: "irradiance_area_sampling",
-            title: "irradiance from an area light by uniform area sampling",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Loop `samples` times, drawing one `rng.next_vec2()` per sample from the generator you are given (the check tests that it has advanced), and compute the vector from `receiver.position` to `light.point(u.x, u.y)`; its length and direction give r² and both cosines, each clamped at zero, the light's with the negated `light.normal()`. Dividing by the pdf means multiplying by `light.area_m2()`; include the light's radiance and average over all the samples as `f64`.",
-            check: exercise_5_8,
-        },
-        Exercise {
-            id: "5.9",
-            function: "irradiance_cosine_sampling",
-            title: "irradiance from an area light by cosine-weighted sampling",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "First build an orthonormal tangent frame about `receiver.normal` (a cross product with an axis that is not parallel to it, normalised, then a second cross product), then turn each `rng.next_vec2()` into a cosine-weighted direction in that frame and ask `light.radiance_along` what it sees. With the pdf cos θ/π the cosine cancels, so each sample contributes π times the radiance found; if the mean is off, check that your directions are unit length and distributed as cos θ, not uniformly.",
-            check: exercise_5_9,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_5_1,
+            exercise_5_2,
+            exercise_5_3,
+            exercise_5_4,
+            exercise_5_5,
+            exercise_5_6,
+            exercise_5_7,
+            exercise_5_8,
+            exercise_5_9
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

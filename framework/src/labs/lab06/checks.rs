@@ -38,7 +38,7 @@ use proptest::prelude::*;
 use super::closed_forms;
 use crate::contracts::lab06::Radiosity;
 use crate::film::Film;
-use crate::grading::{Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, for_all};
+use crate::grading::{Exercise, GoldenFile, LabContext, PixelTolerance, for_all};
 use crate::labs::strategies::{SCALES, point, scale, unit_vector};
 use crate::pipeline::{PartSlot, Pipeline};
 use crate::radiosity::solver::{FormFactors, Shading, SolveSettings, render_solution, solve};
@@ -105,82 +105,24 @@ pub fn area_bound(n: u32) -> f64 {
     0.2 / n as f64 + 2e-3
 }
 
-/// The exercises of lab 06, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(6);
+
+/// The exercises of lab 06 (`labs/lab06/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Radiosity>> {
-    vec![
-        Exercise {
-            id: "6.1",
-            function: "point_form_factor",
-            title: "the analytic point-to-patch form factor",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute `d = y − x` and its squared length first, normalise `d` for the two cosines, and clamp each cosine at zero separately before multiplying: the check turns `n_y` away and expects exactly 0. Use r² and keep the π, since the check swaps x and y for reciprocity and scales every length from 10⁻⁴ to 10³ (the area by the square), expecting the same form factor.",
-            check: exercise_6_1,
-        },
-        Exercise {
-            id: "6.2",
-            function: "delta_form_factor_top",
-            title: "delta form factors of the hemicube's top face",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Compute x² + y² + 1 once, then count the powers of r carefully: the distance enters through both cosines (each 1/r) and through the 1/r² of the form factor. If the check says that the hemicube's delta form factors do not sum to 1, the power of r or the π is wrong.",
-            check: exercise_6_2,
-        },
-        Exercise {
-            id: "6.3",
-            function: "delta_form_factor_side",
-            title: "delta form factors of the hemicube's side faces",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Start from your 6.2 and change only what differs on a side face: the patch's normal now gives the cosine z/r, while the pixel's own normal still gives 1/r. Check two values by hand: at z = 0 the result must be exactly 0, and `delta_form_factor_side(t, 1, a)` must equal `delta_form_factor_top(1, t, a)` on the shared edge.",
-            check: exercise_6_3,
-        },
-        Exercise {
-            id: "6.4",
-            function: "accumulate_form_factors",
-            title: "form factors from the hemicube's item buffer",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Allocate one zero per patch, loop over `HemicubeFace::ALL`, and walk `items.face(face)` and `delta.face(face)` together with `zip`, adding each pixel's delta form factor to the patch it sees (cast the `u32` id to `usize`) and skipping `None`. Do not index the side-face table yourself: `delta.face` already hands the shared table to each of the four sides.",
-            check: exercise_6_4,
-        },
-        Exercise {
-            id: "6.5",
-            function: "select_shooter",
-            title: "the patch with the most unshot power",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "For every patch compute its unshot power, the sum of the three channels of `unshot[i]` times `patches[i].area`, and keep the index of the largest; return `None` if even the largest is not above 0. Comparing unshot radiosity without the area fails, because the check draws areas from 10⁻⁸ to 10⁶.",
-            check: exercise_6_5,
-        },
-        Exercise {
-            id: "6.6",
-            function: "shoot",
-            title: "one shot of progressive refinement",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Copy the shooter's unshot radiosity and area into locals before the loop (you zero `unshot[shooter]` at the end, and the loop must skip the shooter itself), then give every other patch the same received amount in both `radiosity[j]` and `unshot[j]`. The amount is per channel, with `patches[j].reflectance` as a `Vec3`, and the ratio of areas is the shooter's over the receiver's; the check's energy balance catches it the other way round.",
-            check: exercise_6_6,
-        },
-        Exercise {
-            id: "6.7",
-            function: "patch_colours",
-            title: "colour reconstruction, B/π",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Map every radiosity to its colour with one constant divisor, channel by channel, and return a new `Vec` of the same length (`iter().map(...).collect()`). The divisor is the factor that linked radiance and radiosity in lab 05's Exercise 5.6, and the colour must come out smaller than the radiosity.",
-            check: exercise_6_7,
-        },
-        Exercise {
-            id: "6.8",
-            function: "vertex_colours",
-            title: "nodal averaging",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Make two vectors of length `vertex_count`, a colour sum and a count; for each patch add `patch_colours[i]` to every index in `patch.vertices` (cast the `u32` to `usize`) and increment its count. Then divide each sum by its count, leaving vertices with count 0 black instead of dividing by zero, which would give NaN.",
-            check: exercise_6_8,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_6_1,
+            exercise_6_2,
+            exercise_6_3,
+            exercise_6_4,
+            exercise_6_5,
+            exercise_6_6,
+            exercise_6_7,
+            exercise_6_8
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

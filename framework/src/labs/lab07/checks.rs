@@ -44,7 +44,7 @@ use crate::grading::stats::{
     chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z,
 };
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, Visibility, cell_name, cell_of,
+    Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_name, cell_of,
     check_one_per_cell, compare_vec3, for_all,
 };
 use crate::pipeline::{PartSlot, Pipeline, View};
@@ -89,28 +89,12 @@ pub const FAMILY_ALPHA: f64 = 1e-4;
 /// 30 subpixels).
 pub const STATISTICAL_TESTS: usize = 8 + 120 + 4 + 6 + 120;
 
-/// The exercises of lab 07, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(7);
+
+/// The exercises of lab 07 (`labs/lab07/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Antialiasing>> {
-    vec![
-        Exercise {
-            id: "7.1",
-            function: "compute_jitters",
-            title: "jittered subpixel offsets",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Loop over subpixel rows `j` and columns `i` (as `f32`), calling `rng.next_vec2()` inside the inner loop, and add the subpixel index before dividing by s: the random offset divided by s alone puts every jitter in the top-left subpixel. Draw from the `rng` you are given, not from `Rng::new` or `rng.clone()`: the check tests that the generator has moved on and that what it gives next is uncorrelated with your jitters.",
-            check: exercise_7_1,
-        },
-        Exercise {
-            id: "7.2",
-            function: "compute_pixel",
-            title: "the average over the subpixel rays",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Turn the pixel into a `Vec2` with `pixel.as_vec2()`, call `radiance` exactly once per jitter at that corner plus the jitter, and sum the results. Divide by the number of jitters (`jitters.len()` as `f32`, which is s², not s) so that a constant radiance comes back unchanged; an image burnt out white in `raylab render --lab 7 --pipeline student --subdivisions 4` means you returned the sum.",
-            check: exercise_7_2,
-        },
-    ]
+    crate::grading::exercises(LAB, crate::checks![exercise_7_1, exercise_7_2])
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -54,7 +54,7 @@ use crate::contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatte
 use crate::grading::stats::{
     chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z,
 };
-use crate::grading::{Exercise, GoldenFile, LabContext, Visibility, compare_vec3, for_all};
+use crate::grading::{Exercise, GoldenFile, LabContext, compare_vec3, for_all};
 use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::{Onb, RAY_EPSILON};
 use crate::photon::{PhotonSettings, PhotonTrace, StoreRule, trace_photons};
@@ -105,46 +105,15 @@ pub const PLANE_MAX_RADIUS: f32 = 0.5;
 /// The consistency check: photons emitted and the (fixed) radius, from coarse to fine.
 pub const CONSISTENCY_STEPS: [(u32, f32); 3] = [(25_000, 0.4), (100_000, 0.2), (400_000, 0.1)];
 
-/// The exercises of lab 08, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(8);
+
+/// The exercises of lab 08 (`labs/lab08/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn PhotonMapping>> {
-    vec![
-        Exercise {
-            id: "8.1",
-            function: "emit_point_light",
-            title: "a photon from a point light",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Write a `loop` that draws three `rng.next_f32()`, maps each from [0, 1) to [−1, 1), and breaks only for a point of squared length at most 1 (and not exactly zero); normalise only that point. The power is the same for every photon, the light's total flux (its intensity times the 4π steradians of the sphere) shared among `emitted`; normalising a cube point without the rejection test fails the χ² test on the sphere.",
-            check: exercise_8_1,
-        },
-        Exercise {
-            id: "8.2",
-            function: "emit_area_light",
-            title: "a photon from an area light",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Draw two numbers from `rng`, make the local cosine-weighted direction (the disc radius is the square root of the first), and turn it into world space with `Onb::from_w(normal).to_world`, not a hand-made tangent frame, which often breaks for the axis normals the check uses. Start the ray with `Ray::unbounded(position, direction, RAY_EPSILON)`, and give each photon its share of the emitter's flux (π times radiance times area, as in lab 05's Exercise 5.6), not of its radiance.",
-            check: exercise_8_2,
-        },
-        Exercise {
-            id: "8.3",
-            function: "russian_roulette",
-            title: "Russian roulette at glass",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Draw exactly one `rng.next_f32()` and compare it with `reflectance` so that the photon reflects with that probability; mind the edge cases, since with R = 0 it must always refract and with R = 1 always reflect (the check tries each 200 times). Return `power` unchanged: multiplying it by R or 1 − R as well counts the split twice, and the closed mirror box of the check then stores less power than was emitted.",
-            check: exercise_8_3,
-        },
-        Exercise {
-            id: "8.4",
-            function: "caustic_radiance",
-            title: "the caustic radiance estimate",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Decide the disc first: if `photons.len()` reaches `k`, its squared radius is the last photon's `distance_squared` (they come nearest first, and it is already squared), otherwise it is `max_radius` squared. Then add up the power of only the photons whose `direction` has a negative dot product with `normal`, divide by the disc's area and apply the Lambertian ρ_d/π; `raylab render --lab 8 --pipeline student --scene cornell-spheres --view caustics` shows the caustic alone.",
-            check: exercise_8_4,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![exercise_8_1, exercise_8_2, exercise_8_3, exercise_8_4],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -34,8 +34,7 @@ use proptest::prelude::*;
 use crate::contracts::lab09::{Addressing, TextureFilter, Texturing};
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_vec2, compare_vec3,
-    for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_vec2, compare_vec3, for_all,
 };
 use crate::labs::strategies::{point, scale, unit_vector};
 use crate::math::Onb;
@@ -67,64 +66,22 @@ pub const GROUND_TEX_SCALE: f32 = 2.0;
 /// Step, in texels, over which Exercise 9.6's continuity check bounds the change.
 pub const CONTINUITY_STEP_TEXELS: f32 = 1e-3;
 
-/// The exercises of lab 09, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(9);
+
+/// The exercises of lab 09 (`labs/lab09/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Texturing>> {
-    vec![
-        Exercise {
-            id: "9.1",
-            function: "plane_texcoord",
-            title: "texture coordinates on a plane",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Subtract the plane's point closest to the origin, `−plane.d · plane.normal`, from `position`, then take the dot products with `plane.tangent` and `plane.bitangent` and divide both by `plane.tex_scale` (dividing, not multiplying: a larger scale stretches the texture). Use the frame stored in the plane rather than one built from the normal: the check turns it about the normal by a random angle.",
-            check: exercise_9_1,
-        },
-        Exercise {
-            id: "9.2",
-            function: "sphere_texcoord",
-            title: "spherical texture coordinates",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Normalise `position − sphere.center` first (divide by `sphere.radius`), then get the longitude from `atan2` and the latitude from `asin` of the y component clamped into [−1, 1], so that rounding at the poles gives no NaN. Mind the argument order of Rust's `y.atan2(x)`: with the components swapped the texture comes out rotated or mirrored, which the check reports as a wrong direction.",
-            check: exercise_9_2,
-        },
-        Exercise {
-            id: "9.3",
-            function: "triangle_texcoord",
-            title: "interpolated texture coordinates on a triangle",
-            points: 1,
-            visibility: Visibility::Visible,
-            hint: "Take β and γ from `barycentrics.x` and `barycentrics.y`, and give vertex 0 the weight that is left over. Test the corners by hand: (0, 0), (1, 0) and (0, 1) must return `uvs[0]`, `uvs[1]` and `uvs[2]`; giving `uvs[0]` the weight β is the usual slip.",
-            check: exercise_9_3,
-        },
-        Exercise {
-            id: "9.4",
-            function: "address",
-            title: "repeat, mirror and clamp addressing",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Write repeat first with `f32::floor` (not `%` or `fract`, which keep the sign of a negative `t`, and not glam's `fract_gl`, which the grader rejects), then build mirror on it by testing whether the floor is odd, remembering that `%` of a negative odd number is −1, not 1. Try t = −0.25 by hand: repeat must give 0.75, mirror 0.25 and clamp 0.",
-            check: exercise_9_4,
-        },
-        Exercise {
-            id: "9.5",
-            function: "sample_nearest",
-            title: "nearest-texel lookup",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Call the `address` closure you are given on both coordinates (the check also passes one that is none of the three modes), then turn u into a column by scaling with `texture.width` and flooring, and v into a row counted from the top, so flip it first. Clamp both indices to the last column and row because `address` may return exactly 1 (or v = 0), and avoid the hand-in's rounding over w − 1 steps, which drifts by up to half a texel at the edges.",
-            check: exercise_9_5,
-        },
-        Exercise {
-            id: "9.6",
-            function: "sample_bilinear",
-            title: "bilinear lookup",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Work in texel-centre coordinates: scale by the width and height, subtract half a texel, floor for the lower neighbours and keep the fractional parts as the blend weights, counting rows from the bottom and converting to `texture.texel`'s rows from the top only when you read a texel. Find each of the four neighbours by applying `address` to its centre coordinate, as in 9.5; a texel's centre must return that texel exactly, which is the first thing to test.",
-            check: exercise_9_6,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_9_1,
+            exercise_9_2,
+            exercise_9_3,
+            exercise_9_4,
+            exercise_9_5,
+            exercise_9_6
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -24,8 +24,7 @@ use crate::contracts::lab04::Reflection;
 use crate::contracts::lab10::Fresnel;
 use crate::film::Film;
 use crate::grading::{
-    Exercise, GoldenFile, LabContext, PixelTolerance, Visibility, compare_f32, compare_vec3,
-    for_all,
+    Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
 use crate::labs::lab04::checks::{glossy_default_scene, index_strategy};
 use crate::pipeline::{PartSlot, Pipeline, View};
@@ -61,55 +60,21 @@ pub const WORKSHEET_ABSORPTION_COLOUR: Vec3 = Vec3::new(0.8, 0.1, 0.3);
 // ---------------------------------------------------------------------------------------------
 // Exercises
 
-/// The exercises of lab 10, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(10);
+
+/// The exercises of lab 10 (`labs/lab10/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn Fresnel>> {
-    vec![
-        Exercise {
-            id: "10.1",
-            function: "fresnel_r_s",
-            title: "the perpendicular (s) reflection coefficient",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Pair each index with its own side's cosine (η₁ with `cos_theta_i`, η₂ with `cos_theta_t`) and keep the result signed, with no square and no `abs`: the check expects a negative value whenever light enters a denser medium and exactly −1 at `cos_theta_i = 0`. Check normal incidence by hand: from 1 into 1.5 the result must be −0.2.",
-            check: exercise_10_1,
-        },
-        Exercise {
-            id: "10.2",
-            function: "fresnel_r_p",
-            title: "the parallel (p) reflection coefficient",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Start from your 10.1 and swap only which cosine goes with which index, keeping the order of the numerator so that the sign convention holds: at normal incidence from 1 into 1.5 the result must be +0.2, the negative of `r_s`. Then check Brewster's angle: for 1 into 1.5 at θ₁ = 56.31°, where cos θ₂ = sin θ₁, the result must be about 0.",
-            check: exercise_10_2,
-        },
-        Exercise {
-            id: "10.3",
-            function: "fresnel_R",
-            title: "the reflectance of unpolarised light",
-            points: 2,
-            visibility: Visibility::Visible,
-            hint: "Call `self.fresnel_r_s` and `self.fresnel_r_p` with the same four arguments, square each amplitude, and average the squares; squaring the average instead gives 0 at normal incidence, where the two amplitudes cancel. Head-on glass in air must give 0.04, grazing incidence into a denser medium 1.",
-            check: exercise_10_3,
-        },
-        Exercise {
-            id: "10.4",
-            function: "fresnel_reflectance",
-            title: "the reflectance at an interface, with total internal reflection",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Compute sin²θ₂ from Snell's law first, with the ratio `eta_i / eta_t` squared, and return exactly 1 when it is 1 or more, before any square root; only then take cos θ₂ and pass it on to `self.fresnel_R`. Schlick's approximation is rejected (the check compares with the Fresnel equations to 2·10⁻⁵), and `raylab render --lab 10 --pipeline student` should show the glass sphere's rim mirroring the sky.",
-            check: exercise_10_4,
-        },
-        Exercise {
-            id: "10.5",
-            function: "transmittance",
-            title: "the Bouguer–Lambert–Beer transmittance",
-            points: 3,
-            visibility: Visibility::Visible,
-            hint: "Handle each channel of `material.diffuse` on its own (`Vec3::map` helps): find its absorption coefficient by the DTU convention, substituting 10⁷ for a channel below 10⁻⁶ instead of dividing by zero, then apply the Bouguer–Lambert–Beer law. Multiply the coefficient by the distance inside the exponential rather than raising `exp(−σ)` to the power `distance`, which underflows for dark channels; the check wants exactly 1 at distance 0, even for a black material.",
-            check: exercise_10_5,
-        },
-    ]
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
+            exercise_10_1,
+            exercise_10_2,
+            exercise_10_3,
+            exercise_10_4,
+            exercise_10_5
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -29,7 +29,7 @@ use crate::contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
 use crate::film::RgbeImage;
 use crate::grading::chi2::SphereGrid;
 use crate::grading::stats::{normal_two_sided_quantile, sidak};
-use crate::grading::{Exercise, GoldenFile, LabContext, Visibility, for_all};
+use crate::grading::{Exercise, GoldenFile, LabContext, for_all};
 use crate::labs::strategies::unit_vector;
 use crate::math::{Onb, RAY_EPSILON, Ray};
 use crate::sampling::Rng;
@@ -71,91 +71,25 @@ pub const ANGLE_TOL: f32 = 1e-3;
 /// Random inputs per property.
 const CASES: u32 = 256;
 
-/// The exercises of lab 11, in order.
+/// This lab.
+pub const LAB: course::LabId = course::LabId::of(11);
+
+/// The exercises of lab 11 (`labs/lab11/exercises.toml`), each with its check.
 pub fn exercises() -> Vec<Exercise<dyn AmbientOcclusion>> {
-    let e = |id, function, title, points, hint, check| Exercise {
-        id,
-        function,
-        title,
-        points,
-        visibility: Visibility::Visible,
-        hint,
-        check,
-    };
-    vec![
-        e(
-            "11.1",
-            "sample_hemisphere_rejection",
-            "uniform hemisphere directions by rejection",
-            2,
-            "Use a `loop` that draws three `rng.next_f32()` per try, maps them to [−1, 1], and keeps a point only if it lies in the unit ball (and is not the origin) and on the side of `normal`; normalise the point you keep. The pdf is one constant, one over the hemisphere's solid angle rather than the sphere's 4π, and the check compares it with the density of every direction you return.",
+    crate::grading::exercises(
+        LAB,
+        crate::checks![
             exercise_11_1,
-        ),
-        e(
-            "11.2",
-            "sample_hemisphere_cosine",
-            "cosine-weighted hemisphere directions",
-            2,
-            "Draw one `rng.next_vec2()`, take the disc radius as the square root of the first number (r = ξ₁ crowds the centre of the disc, which the χ² test shows), lift the disc point to unit length, and map it to world space with `Onb::from_w(normal).to_world`. Return as `pdf` the density of the direction you actually produced, its cosine with `normal` over π, not a constant.",
             exercise_11_2,
-        ),
-        e(
-            "11.3",
-            "ambient_occlusion",
-            "accessibility and bent normal",
-            3,
-            "Call `sampler(rng)` once per sample and trace `Ray::unbounded(position, sample.direction, RAY_EPSILON)` with `occluded`; weight every free sample by its cosine over its own `pdf`, both for the accessibility and for the bent-normal sum, because the check passes a sampler of its own whose pdf is not cos θ/π. Divide the accessibility by all `samples`, not by the free ones, and when every ray is blocked return accessibility 0 with `normal` as the bent normal (`normalize_or(normal)` does that).",
             exercise_11_3,
-        ),
-        e(
-            "11.4",
-            "rgbe_to_rgb",
-            "RGBE pixels to floating-point RGB",
-            1,
-            "Return black for an exponent byte of 0 first; otherwise compute the shared scale 2^(e − 128) with `f32::exp2` on the exponent as `f32` (`2f32.powi(-135)` returns 0) and apply it to each mantissa as a fraction of 256. The golden cases want the centre of the mantissa's interval, so `m / 256` alone is half a step too dark.",
             exercise_11_4,
-        ),
-        e(
-            "11.5",
-            "angular_map_uv",
-            "direction to angular-map coordinates",
-            2,
-            "Handle the two axis directions first, where the x–y part has length 0: −z is the centre (½, ½) but +z is on the rim, so return (1, ½) there, unlike the hand-in. Elsewhere take the angle from −z with `atan2` (more accurate near the axis than `acos`), remember that v grows downwards while y grows up, and check by hand that +x gives (¾, ½) and +y gives (½, ¼).",
             exercise_11_5,
-        ),
-        e(
-            "11.6",
-            "angular_map_direction",
-            "angular-map coordinates to direction",
-            1,
-            "Map `uv` to (a, b) in [−1, 1]² first, flipping the sign of the v part because v grows downwards, and return `None` only when the radius is strictly greater than 1. The angle from −z is proportional to the radius; at the centre return −z directly instead of dividing by a zero radius, and check that (¾, ½) gives back +x.",
             exercise_11_6,
-        ),
-        e(
-            "11.7",
-            "latlong_uv",
-            "direction to latitude–longitude coordinates",
-            2,
-            "Get v from the polar angle measured from +y (clamp y into [−1, 1] if you use `acos`) and u from the azimuth about +y, measured so that −z is 0 and +x a quarter turn, then shifted by ½ after dividing by 2π. Mind the argument order of Rust's `y.atan2(x)`, and check the axes by hand: −z → (½, ½), +x → (¾, ½), +y → the top row, v = 0.",
             exercise_11_7,
-        ),
-        e(
-            "11.8",
-            "latlong_direction",
-            "latitude–longitude coordinates to direction",
-            1,
-            "Turn u into the azimuth (u = ½ is −z) and v into the polar angle from +y first; the y component is the cosine of the polar angle, and x and z share its sine, with z negative in the middle of the image. The check compares your directions with the golden cases of 11.7, so `latlong_uv` of your result must give `uv` back: try (¾, ½), which must be +x.",
             exercise_11_8,
-        ),
-        e(
-            "11.9",
-            "shade_ambient_occlusion",
-            "the ambient-occlusion shader lit by the probe",
-            1,
-            "No integral is left to compute: `occlusion.accessibility` already holds the cosine-weighted visible fraction, and `environment` is the radiance along the bent normal, already looked up. Check the white furnace: with `diffuse` = 1, accessibility 1 and a uniform environment the result must equal `environment`, so any extra 1/π (the hand-in's mistake) fails, and the bent normal itself is not needed.",
-            exercise_11_9,
-        ),
-    ]
+            exercise_11_9
+        ],
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

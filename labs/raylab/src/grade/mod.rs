@@ -19,6 +19,7 @@ mod scan;
 mod submission;
 mod tree;
 
+use course::LabId;
 use std::collections::BTreeSet;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -45,12 +46,12 @@ pub struct GradeArgs {
     pub out: PathBuf,
     /// Grade only this lab (repeatable; default: every lab).
     #[arg(long = "lab")]
-    pub labs: Vec<u32>,
+    pub labs: Vec<LabId>,
     /// Labs whose solution was released in the handout the students had (as given to
     /// `raylab handout`), so that those files are not reported as changed. The checks' base is
     /// always the whole answer key.
     #[arg(long, value_delimiter = ',')]
-    pub release_solutions: Vec<u32>,
+    pub release_solutions: Vec<LabId>,
     /// Cargo's target directory for the builds (default: `DIR/.grading/target`). It may be
     /// shared with other builds of the same toolchain to save compiling the dependencies (and,
     /// between gradings of the same framework, the framework) again: the grading tree's other
@@ -205,11 +206,11 @@ impl StudentGrade {
 
     /// The grade of a submission that could not be graded: every exercise of `labs` failed,
     /// with `why`.
-    fn ungraded(student: &str, labs: &[u32], why: &str) -> Self {
+    fn ungraded(student: &str, labs: &[LabId], why: &str) -> Self {
         let reason = format!("the submission could not be graded: {why}");
         let exercises = labs
             .iter()
-            .flat_map(|&lab| framework::labs::exercise_infos(lab).unwrap_or_default())
+            .flat_map(|&lab| crate::students::exercises(lab))
             .map(|info| ExerciseGrade::failed(info, Status::NotGraded, reason.clone()))
             .collect();
         Self {
@@ -325,7 +326,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             fs::remove_dir_all(dir).map_err(io(dir))?;
         }
     }
-    let released: BTreeSet<u32> = args.release_solutions.iter().copied().collect();
+    let released: BTreeSet<LabId> = args.release_solutions.iter().copied().collect();
     fs::create_dir_all(&grading).map_err(io(&grading))?;
     let place = fs::canonicalize(&grading).map_err(io(&grading))?;
     let framework_tag = format!(
@@ -443,7 +444,7 @@ fn summary(grades: &[StudentGrade], took: Duration) -> String {
     let labs = grades
         .first()
         .map_or(0, |g| {
-            let mut labs: Vec<u32> = g.exercises.iter().map(|e| e.info.lab).collect();
+            let mut labs: Vec<LabId> = g.exercises.iter().map(|e| e.info.lab).collect();
             labs.dedup();
             labs.len()
         })
@@ -475,7 +476,7 @@ fn fnv1a(text: &str) -> u32 {
 }
 
 /// The labs to grade: `requested`, or every lab; each must be a lab of the course.
-fn graded_labs(requested: &[u32]) -> Result<Vec<u32>, Error> {
+fn graded_labs(requested: &[LabId]) -> Result<Vec<LabId>, Error> {
     if requested.is_empty() {
         return Ok(crate::students::labs().to_vec());
     }
@@ -536,7 +537,7 @@ struct ClassGrading<'a> {
     /// The grading tree and its builds.
     workspace: &'a Workspace,
     /// The graded labs.
-    labs: &'a [u32],
+    labs: &'a [LabId],
     /// The time limit of one exercise.
     timeout: Duration,
     /// The progress shown while grading.
@@ -566,22 +567,25 @@ fn grade_submission(
     // Only the graded labs' code goes in: every other slot of every check is the answer key,
     // so one lab's code never costs points in another. Sources that name files outside their
     // lab are not compiled at all.
-    let mut broken = std::collections::BTreeMap::<u32, (Status, String)>::new();
+    let mut broken = std::collections::BTreeMap::<LabId, (Status, String)>::new();
     // Exercises whose answer the code takes from the framework, with where.
-    let mut answered = std::collections::BTreeMap::<&str, Vec<String>>::new();
+    let mut answered = std::collections::BTreeMap::<String, Vec<String>>::new();
     for &lab in labs {
         let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
-        let scan::LabScan { flags, denied } =
-            scan::scan_lab(&workspace.tree, lab, framework::labs::denied_items(lab));
+        let scan::LabScan { flags, denied } = scan::scan_lab(
+            &workspace.tree,
+            lab,
+            course::lab(lab).map_or(&[][..], |l| &l.denied),
+        );
         if !flags.is_empty() {
             broken.insert(
                 lab,
                 (
                     Status::Flagged,
                     format!(
-                        "labs/lab{lab:02}/src was flagged and not compiled: it names files outside labs/lab{lab:02}/src/ at compile time:\n{}",
+                        "labs/{lab}/src was flagged and not compiled: it names files outside labs/{lab}/src/ at compile time:\n{}",
                         flags.join("\n")
                     ),
                 ),
@@ -590,21 +594,24 @@ fn grade_submission(
             continue;
         }
         for denied in denied {
-            for &id in denied.exercises {
-                answered.entry(id).or_default().push(denied.line.clone());
+            for id in denied.exercises {
+                answered
+                    .entry(id.clone())
+                    .or_default()
+                    .push(denied.line.clone());
             }
             flagged.push(denied.line);
         }
-        bar.set_message(format!("{student}: compiling labs/lab{lab:02}/src"));
+        bar.set_message(format!("{student}: compiling labs/{lab}/src"));
         let started = std::time::Instant::now();
-        let built = workspace.build_lib(&format!("lab{lab:02}"))?;
+        let built = workspace.build_lib(&format!("{lab}"))?;
         timings.build += started.elapsed().as_secs_f64();
         if let Err(errors) = built {
             broken.insert(
                 lab,
                 (
                     Status::DoesNotCompile,
-                    format!("labs/lab{lab:02}/src does not compile:\n{errors}"),
+                    format!("labs/{lab}/src does not compile:\n{errors}"),
                 ),
             );
         }
@@ -612,7 +619,7 @@ fn grade_submission(
     for &lab in broken.keys() {
         submission::install_stubs(handout, &workspace.tree, lab)?;
     }
-    let to_build: Vec<u32> = labs
+    let to_build: Vec<LabId> = labs
         .iter()
         .copied()
         .filter(|l| !broken.contains_key(l))
@@ -624,7 +631,7 @@ fn grade_submission(
 
     let mut exercises = Vec::new();
     for &lab in labs {
-        let infos = framework::labs::exercise_infos(lab).unwrap_or_default();
+        let infos = crate::students::exercises(lab);
         let executable = match (broken.get(&lab), build.executables.get(&lab)) {
             (Some((status, why)), _) => {
                 exercises.extend(
@@ -637,7 +644,7 @@ fn grade_submission(
             (None, None) => {
                 let errors = build.errors.get(&lab).cloned().unwrap_or_default();
                 let why = format!(
-                    "the lab's checks do not compile against labs/lab{lab:02}/src (was a public item renamed or removed?):\n{errors}"
+                    "the lab's checks do not compile against labs/{lab}/src (was a public item renamed or removed?):\n{errors}"
                 );
                 exercises.extend(
                     infos
@@ -648,18 +655,18 @@ fn grade_submission(
             }
             (None, Some(executable)) => executable,
         };
-        let lab_dir = workspace.tree.join(format!("labs/lab{lab:02}"));
+        let lab_dir = workspace.tree.join(format!("labs/{lab}"));
         let runs = workspace.runs.join(student);
         let started = std::time::Instant::now();
         let tests = runner::list_tests(
             &workspace.sandbox,
             executable,
             &lab_dir,
-            &runs.join(format!("list-lab{lab:02}")),
+            &runs.join(format!("list-{lab}")),
         )?;
         timings.run += started.elapsed().as_secs_f64();
         for info in infos {
-            if let Some(lines) = answered.get(info.id) {
+            if let Some(lines) = answered.get(info.id.as_str()) {
                 let why = format!(
                     "no points: the code names framework items that compute what Exercise {} asks, instead of computing it:\n{}",
                     info.id,
@@ -677,7 +684,7 @@ fn grade_submission(
                 exercises.push(ExerciseGrade::failed(info, Status::NotGraded, why));
                 continue;
             };
-            let scratch = runs.join(info.id);
+            let scratch = runs.join(&info.id);
             if scratch.exists() {
                 fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
             }
@@ -703,9 +710,7 @@ fn grade_submission(
                     info.id,
                     image.file_name().unwrap_or_default().to_string_lossy()
                 );
-                let relative = PathBuf::from("images")
-                    .join(format!("lab{lab:02}"))
-                    .join(name);
+                let relative = PathBuf::from("images").join(format!("{lab}")).join(name);
                 crate::handout::copy_file(image, &dir.join(&relative))?;
                 images.push(relative);
             }

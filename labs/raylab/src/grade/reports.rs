@@ -1,6 +1,7 @@
 //! The grade reports: per student a Markdown and an HTML report and a Gradescope
 //! `results.json`; per class a CSV gradebook, a JUnit XML file and an HTML index.
 
+use course::LabId;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -76,8 +77,8 @@ fn write(path: &Path, text: &str) -> Result<(), Error> {
 }
 
 /// The labs of a grade, in order, each with its exercises.
-fn by_lab(grade: &StudentGrade) -> Vec<(u32, Vec<&ExerciseGrade>)> {
-    let mut labs: Vec<(u32, Vec<&ExerciseGrade>)> = Vec::new();
+fn by_lab(grade: &StudentGrade) -> Vec<(LabId, Vec<&ExerciseGrade>)> {
+    let mut labs: Vec<(LabId, Vec<&ExerciseGrade>)> = Vec::new();
     for e in &grade.exercises {
         match labs.last_mut() {
             Some((lab, list)) if *lab == e.info.lab => list.push(e),
@@ -94,8 +95,8 @@ fn points(exercises: &[&ExerciseGrade]) -> (u32, u32) {
         .fold((0, 0), |(e, t), x| (e + x.score, t + x.info.points))
 }
 
-fn lab_title(lab: u32) -> &'static str {
-    framework::labs::lab(lab).map_or("", |l| l.title)
+fn lab_title(lab: LabId) -> &'static str {
+    course::title(lab).unwrap_or_default()
 }
 
 /// The CSS class of an exercise's status.
@@ -165,7 +166,8 @@ fn markdown(grade: &StudentGrade) -> String {
         let (earned, total) = points(&exercises);
         let _ = writeln!(
             md,
-            "## Lab {lab:02} — {} ({earned}/{total})\n\n| exercise | function | result | points |\n| --- | --- | --- | --- |",
+            "## Lab {:02} — {} ({earned}/{total})\n\n| exercise | function | result | points |\n| --- | --- | --- | --- |",
+            lab.number(),
             lab_title(lab)
         );
         for e in &exercises {
@@ -466,7 +468,7 @@ fn junit(grades: &[StudentGrade]) -> String {
                 format!("Exercise {} {}", e.info.id, e.info.function),
                 status,
             );
-            case.set_classname(format!("{}.lab{:02}", grade.student, e.info.lab))
+            case.set_classname(format!("{}.{}", grade.student, e.info.lab))
                 .set_time(Duration::from_secs_f64(e.seconds.max(0.0)));
             if !e.program_output.is_empty() {
                 case.set_system_out(e.program_output.as_str());
@@ -525,7 +527,7 @@ const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEac
 /// and per exercise the mean and median points and how many passed; the tables sort by any
 /// column.
 fn index(grades: &[StudentGrade]) -> String {
-    let labs: Vec<(u32, Vec<&ExerciseGrade>)> = grades.first().map(by_lab).unwrap_or_default();
+    let labs: Vec<(LabId, Vec<&ExerciseGrade>)> = grades.first().map(by_lab).unwrap_or_default();
     let body = html! {
         h1 { "Grades" }
         p { (grades.len()) " submissions." }
@@ -634,6 +636,7 @@ fn exercise_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize, S
 #[cfg(test)]
 mod tests {
     use super::*;
+    use course::ExerciseInfo;
 
     #[test]
     fn utc_time_of_known_instants() {
@@ -651,14 +654,14 @@ mod tests {
     }
 
     fn grade_of(student: &str, status: Status) -> StudentGrade {
-        let info = framework::grading::ExerciseInfo {
-            lab: 1,
-            id: "1.1",
-            function: "image_plane_coords",
-            title: "pixel to image plane",
+        let info = ExerciseInfo {
+            lab: LabId::of(1),
+            id: "1.1".into(),
+            function: "image_plane_coords".into(),
+            title: "pixel to image plane".into(),
             points: 2,
             visibility: Visibility::Visible,
-            hint: "",
+            hint: String::new(),
         };
         StudentGrade {
             student: student.into(),
@@ -765,22 +768,21 @@ mod tests {
     /// A class of two: one submission that meets every kind of failure in labs 01 and 02, one
     /// whose lab 02 does not compile.
     fn fixed_class() -> Vec<StudentGrade> {
-        let infos = |lab| framework::labs::exercise_infos(lab).expect("a lab of the course");
+        let infos = |lab| crate::students::exercises(LabId::of(lab));
         let (lab01, lab02) = (infos(1), infos(2));
-        let exercise =
-            |info: &framework::grading::ExerciseInfo, status: Status, output: &str| ExerciseGrade {
-                score: if status == Status::Passed {
-                    info.points
-                } else {
-                    0
-                },
-                info: info.clone(),
-                status,
-                output: output.into(),
-                program_output: String::new(),
-                images: Vec::new(),
-                seconds: 0.25,
-            };
+        let exercise = |info: &ExerciseInfo, status: Status, output: &str| ExerciseGrade {
+            score: if status == Status::Passed {
+                info.points
+            } else {
+                0
+            },
+            info: info.clone(),
+            status,
+            output: output.into(),
+            program_output: String::new(),
+            images: Vec::new(),
+            seconds: 0.25,
+        };
         let statuses = [
             (Status::Passed, ""),
             (

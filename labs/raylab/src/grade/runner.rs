@@ -1,6 +1,7 @@
 //! Building a submission's labs in the grading tree and running each exercise's test in a
 //! sandboxed process of its own, with a time limit; a pass is the check's verdict record.
 
+use course::LabId;
 use std::collections::BTreeMap;
 use std::fs;
 use std::io::{Read, Write};
@@ -35,9 +36,9 @@ pub struct Workspace {
 /// How a build went.
 pub struct Build {
     /// The checks' test executable of each lab that built.
-    pub executables: BTreeMap<u32, PathBuf>,
+    pub executables: BTreeMap<LabId, PathBuf>,
     /// The compiler's complaint for each lab that did not.
-    pub errors: BTreeMap<u32, String>,
+    pub errors: BTreeMap<LabId, String>,
 }
 
 impl Workspace {
@@ -112,7 +113,7 @@ impl Workspace {
     /// the compiler's messages for each that did not. The lab's own code is not compiled again
     /// here (cargo finds it fresh); should it be, the lab fails rather than compile student code
     /// with the key in view.
-    pub fn build_checks(&self, labs: &[u32]) -> Result<Build, Error> {
+    pub fn build_checks(&self, labs: &[LabId]) -> Result<Build, Error> {
         if labs.is_empty() {
             // Without a `-p`, cargo would build every package's tests.
             return Ok(Build {
@@ -130,11 +131,11 @@ impl Workspace {
         ];
         let features: Vec<String> = labs
             .iter()
-            .map(|l| format!("lab{l:02}/{HIDDEN_EXERCISES}"))
+            .map(|l| format!("{l}/{HIDDEN_EXERCISES}"))
             .collect();
         let features = features.join(",");
         args.extend(["--features", &features]);
-        let packages: Vec<String> = labs.iter().map(|l| format!("lab{l:02}")).collect();
+        let packages: Vec<String> = labs.iter().map(|l| format!("{l}")).collect();
         for package in &packages {
             args.extend(["-p", package]);
         }
@@ -149,7 +150,7 @@ impl Workspace {
                 recompiled.insert(
                     lab,
                     format!(
-                        "labs/lab{lab:02}/src was compiled again with the checks, where the answer key is in view; it was not used (a fault of the grader: please report it)"
+                        "labs/{lab}/src was compiled again with the checks, where the answer key is in view; it was not used (a fault of the grader: please report it)"
                     ),
                 );
                 continue;
@@ -164,7 +165,7 @@ impl Workspace {
             if target != "checks" {
                 continue;
             }
-            let checks_of = |l: &u32| source.ends_with(format!("labs/lab{l:02}/tests/checks.rs"));
+            let checks_of = |l: &LabId| source.ends_with(format!("labs/{l}/tests/checks.rs"));
             if let Some(&lab) = labs.iter().find(|l| checks_of(l)) {
                 executables.insert(lab, PathBuf::from(executable));
             }
@@ -178,7 +179,7 @@ impl Workspace {
         for lab in recompiled.keys() {
             executables.remove(lab);
         }
-        let mut errors: BTreeMap<u32, String> = labs
+        let mut errors: BTreeMap<LabId, String> = labs
             .iter()
             .filter(|l| !executables.contains_key(l))
             .map(|&l| (l, stderr.clone()))
@@ -199,7 +200,7 @@ const ANSWER_KEY_SOURCES: &str = "reference/src";
 
 /// The lab of `labs` whose own code (its `lib` target) cargo's `message` says was compiled
 /// rather than found fresh.
-fn recompiled_lab(message: &serde_json::Value, labs: &[u32]) -> Option<u32> {
+fn recompiled_lab(message: &serde_json::Value, labs: &[LabId]) -> Option<LabId> {
     if message["reason"] != "compiler-artifact" || message["fresh"] != false {
         return None;
     }
@@ -208,7 +209,7 @@ fn recompiled_lab(message: &serde_json::Value, labs: &[u32]) -> Option<u32> {
         return None;
     }
     let name = message["target"]["name"].as_str()?;
-    labs.iter().copied().find(|l| name == format!("lab{l:02}"))
+    labs.iter().copied().find(|l| name == format!("{l}"))
 }
 
 /// The error lines of cargo's output, without its progress lines; at most 60 lines.
@@ -456,9 +457,9 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
     let images = failure_images(
         &how.scratch
             .join("raylab-failures")
-            .join(format!("lab{:02}", info.lab)),
+            .join(format!("{}", info.lab)),
     );
-    let record = run.scanner.as_ref().and_then(|s| s.record(info.id));
+    let record = run.scanner.as_ref().and_then(|s| s.record(&info.id));
     let printed = printable(&run.text());
     let (status, output) = match (&record, run.status) {
         (_, None) => (

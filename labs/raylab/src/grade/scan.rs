@@ -18,6 +18,7 @@
 //! Every `.rs` file under `src/` is scanned, so code reached by `include!` or `#[path]` must be
 //! a `.rs` file too: another name is flagged, as its contents are not scanned.
 
+use course::LabId;
 use std::fs;
 use std::path::{Component, Path, PathBuf};
 
@@ -58,8 +59,8 @@ pub struct LabScan {
 
 /// Scans the `.rs` files under `tree/labs/labNN/src`, each read and lexed once, for what
 /// [`LabScan`] holds; `denied` are the lab's denied framework items.
-pub fn scan_lab(tree: &Path, lab: u32, denied: &'static [DeniedItem]) -> LabScan {
-    let src = PathBuf::from(format!("labs/lab{lab:02}/src"));
+pub fn scan_lab(tree: &Path, lab: LabId, denied: &[DeniedItem]) -> LabScan {
+    let src = PathBuf::from(format!("labs/{lab}/src"));
     let root = tree.join(&src);
     let mut flags = Vec::new();
     let mut denied_uses = Vec::new();
@@ -125,7 +126,7 @@ pub fn scan_lab(tree: &Path, lab: u32, denied: &'static [DeniedItem]) -> LabScan
 #[derive(Clone, Debug)]
 pub struct DeniedUse {
     /// The exercises it answers.
-    pub exercises: &'static [&'static str],
+    pub exercises: Vec<String>,
     /// Where, and what the item computes: `labs/lab02/src/lib.rs:12: \`trace_to_closest\`
     /// (the closest hit of a ray …)`.
     pub line: String,
@@ -217,7 +218,7 @@ struct Context {
 }
 
 /// Scans the tokens of one file.
-struct Scanner {
+struct Scanner<'a> {
     /// The lab's code directory, shown: `labs/lab02/src`.
     src: String,
     /// The file, shown: `labs/lab02/src/shapes/mod.rs`.
@@ -227,7 +228,7 @@ struct Scanner {
     /// The flags found so far.
     flags: Vec<String>,
     /// The lab's denied framework items.
-    denied_items: &'static [DeniedItem],
+    denied_items: &'a [DeniedItem],
     /// The places found so far that name one of them.
     denied: Vec<DeniedUse>,
 }
@@ -355,7 +356,7 @@ fn inner_context(tokens: &[TokenTree], i: usize, context: Context) -> Context {
     inner
 }
 
-impl Scanner {
+impl Scanner<'_> {
     /// Adds the flag `what` for the code at `span`.
     fn flag(&mut self, span: Span, what: String) {
         self.flags
@@ -377,7 +378,7 @@ impl Scanner {
                         .find(|d| d.name == name && counts_here(d, &tokens, i))
                     {
                         self.denied.push(DeniedUse {
-                            exercises: item.exercises,
+                            exercises: item.exercises.clone(),
                             line: format!(
                                 "{}:{}: `{name}` ({}) answers Exercise {}",
                                 self.file,
@@ -521,11 +522,11 @@ mod tests {
     impl Tree {
         /// A tree whose lab 2 holds `files` (path below `src/`, contents).
         fn with(files: &[(&str, &[u8])]) -> Tree {
-            Tree::with_lab(2, files)
+            Tree::with_lab(LabId::of(2), files)
         }
 
         /// A tree whose lab `lab` holds `files` (path below `src/`, contents).
-        fn with_lab(lab: u32, files: &[(&str, &[u8])]) -> Tree {
+        fn with_lab(lab: LabId, files: &[(&str, &[u8])]) -> Tree {
             static COUNT: AtomicUsize = AtomicUsize::new(0);
             let dir = std::env::temp_dir().join(format!(
                 "raylab-scan-{}-{}",
@@ -533,7 +534,7 @@ mod tests {
                 COUNT.fetch_add(1, Ordering::Relaxed)
             ));
             for (path, contents) in files {
-                let path = dir.join(format!("labs/lab{lab:02}/src")).join(path);
+                let path = dir.join(format!("labs/{lab}/src")).join(path);
                 fs::create_dir_all(path.parent().unwrap()).unwrap();
                 fs::write(path, contents).unwrap();
             }
@@ -555,7 +556,7 @@ mod tests {
     /// The flags of lab 2 holding only the file `path` with `code`.
     fn flags_in(path: &str, code: &str) -> Vec<String> {
         let tree = Tree::with(&[(path, code.as_bytes())]);
-        scan_lab(&tree.0, 2, &[]).flags
+        scan_lab(&tree.0, LabId::of(2), &[]).flags
     }
 
     #[test]
@@ -746,7 +747,7 @@ macro_rules! m {
         );
         let tree = Tree::with(&[("lib.rs", b"fn f() {}\n"), ("bad.rs", b"fn \xff() {}")]);
         assert_eq!(
-            scan_lab(&tree.0, 2, &[]).flags,
+            scan_lab(&tree.0, LabId::of(2), &[]).flags,
             ["labs/lab02/src/bad.rs: does not parse as Rust; it will not compile"]
         );
     }
@@ -763,7 +764,7 @@ macro_rules! m {
             ("data/notes.txt", b"include_str!(\"/etc/passwd\")"),
         ]);
         assert_eq!(
-            scan_lab(&tree.0, 2, &[]).flags,
+            scan_lab(&tree.0, LabId::of(2), &[]).flags,
             [
                 r#"labs/lab02/src/shapes/a/b.rs:1: include!("../../../../x.rs") names a file outside labs/lab02/src/"#,
                 r#"labs/lab02/src/shapes/mod.rs:3: include_str!("../../key.rs") names a file outside labs/lab02/src/"#,
@@ -773,17 +774,17 @@ macro_rules! m {
 
     #[test]
     fn denied_items_are_found_in_code_not_in_comments_or_strings() {
-        const ITEMS: &[DeniedItem] = &[DeniedItem {
-            name: "trace_to_closest",
-            own: &[],
-            exercises: &["2.1"],
-            computes: "the framework's closest hit",
+        let items = &[DeniedItem {
+            name: "trace_to_closest".into(),
+            own: Vec::new(),
+            exercises: vec!["2.1".into()],
+            computes: "the framework's closest hit".into(),
         }];
         let tree = Tree::with(&[(
             "lib.rs",
             b"// trace_to_closest in a comment\nconst S: &str = \"trace_to_closest\";\nfn f(s: &Scene) { s.r#trace_to_closest(r) }\nmacro_rules! m { () => { x.trace_to_closest(y) } }\n",
         )]);
-        let scan = scan_lab(&tree.0, 2, ITEMS);
+        let scan = scan_lab(&tree.0, LabId::of(2), items);
         assert!(scan.flags.is_empty(), "{:?}", scan.flags);
         let uses = scan.denied;
         let lines: Vec<&str> = uses.iter().map(|u| u.line.as_str()).collect();
@@ -797,7 +798,7 @@ macro_rules! m {
             "{lines:?}"
         );
         assert_eq!(uses[0].exercises, &["2.1"]);
-        assert!(scan_lab(&tree.0, 2, &[]).denied.is_empty());
+        assert!(scan_lab(&tree.0, LabId::of(2), &[]).denied.is_empty());
     }
 
     /// glam's `reflect` and `refract` answer Exercises 4.1 and 4.4, but the names are also the
@@ -805,9 +806,9 @@ macro_rules! m {
     #[test]
     fn a_denied_name_that_is_also_the_contracts_counts_only_on_another_receiver() {
         let honest = b"impl Reflection for Student {\n    fn reflect(&self, d: Vec3, n: Vec3) -> Vec3 { d - 2.0 * d.dot(n) * n }\n    fn reflected_ray(&self, r: &Ray, h: &Hit) -> Ray { let a = self.reflect(r.direction, h.shading_normal); let b = Self::reflect(self, a, h.shading_normal); let c = Reflection::reflect(self, b, h.shading_normal); todo!() }\n    fn refract(&self, d: Vec3, n: Vec3, a: f32, b: f32) -> Option<Vec3> { None }\n}\nfn helper(d: Vec3) -> Vec3 { reflect_twice(d) }\n";
-        let tree = Tree::with_lab(4, &[("lib.rs", honest)]);
-        let denied = framework::labs::denied_items(4);
-        let scan = scan_lab(&tree.0, 4, denied);
+        let tree = Tree::with_lab(LabId::of(4), &[("lib.rs", honest)]);
+        let denied = &course::lab(course::LabId::of(4)).unwrap().denied;
+        let scan = scan_lab(&tree.0, LabId::of(4), denied);
         assert!(
             scan.denied.is_empty(),
             "{:?}",
@@ -815,8 +816,8 @@ macro_rules! m {
         );
 
         let delegating = b"fn a(d: Vec3, n: Vec3) -> Vec3 { d.reflect(n) }\nfn b(d: Vec3, n: Vec3) -> Vec3 { Vec3::reflect(d, n) }\nfn c(d: Vec3, n: Vec3) -> Vec3 { (d * 1.0).refract(n, 1.5) }\nfn e(d: Vec3, n: Vec3) -> Vec3 { framework::glam::Vec3::refract(d, n, 1.5) }\n";
-        let tree = Tree::with_lab(4, &[("lib.rs", delegating)]);
-        let lines: Vec<String> = scan_lab(&tree.0, 4, denied)
+        let tree = Tree::with_lab(LabId::of(4), &[("lib.rs", delegating)]);
+        let lines: Vec<String> = scan_lab(&tree.0, LabId::of(4), denied)
             .denied
             .into_iter()
             .map(|u| u.line)

@@ -5,6 +5,7 @@
 //! a line of text, never an `Err`, so one submission cannot stop the grading of the others: an
 //! `Err` is a failure on the grading side (the tree, the handout).
 
+use course::LabId;
 use std::collections::BTreeMap;
 use std::ffi::OsStr;
 use std::fs::{self, DirEntry, FileType, OpenOptions};
@@ -311,8 +312,8 @@ impl Taken {
 }
 
 /// `labs/labNN/src` of lab `lab`.
-fn lab_src(lab: u32) -> PathBuf {
-    PathBuf::from(format!("labs/lab{lab:02}/src"))
+fn lab_src(lab: LabId) -> PathBuf {
+    PathBuf::from(format!("labs/{lab}/src"))
 }
 
 /// Checks that each of `labs`, `labs/labNN` and `labs/labNN/src` under `submission` is a real
@@ -355,7 +356,7 @@ pub fn install_lab_code(
     submission: Option<&Path>,
     handout: &Path,
     tree: &Path,
-    lab: u32,
+    lab: LabId,
 ) -> Result<LabIntake, Error> {
     let src = lab_src(lab);
     let mut intake = LabIntake::default();
@@ -418,7 +419,7 @@ fn write_files(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> Result<(), Error> {
 }
 
 /// Replaces lab `lab`'s code in the grading tree by the handout's stubs.
-pub fn install_stubs(handout: &Path, tree: &Path, lab: u32) -> Result<(), Error> {
+pub fn install_stubs(handout: &Path, tree: &Path, lab: LabId) -> Result<(), Error> {
     install_lab_code(None, handout, tree, lab).map(|_| ())
 }
 
@@ -749,7 +750,8 @@ mod tests {
         let bytes: Vec<u8> = (0..=255).collect();
         submission.write("labs/lab02/src/shapes/sphere/data.bin", &bytes);
         submission.dir("labs/lab02/src/empty");
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(intake, LabIntake::default());
         let src = tree.0.join("labs/lab02/src");
         assert_eq!(
@@ -778,7 +780,8 @@ mod tests {
         submission.link("a", "labs/lab02/src/b");
         submission.link(handout.0.join("reference/src"), "labs/lab02/src/keys");
         submission.fifo("labs/lab02/src/pipe");
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(intake.missing, None);
         assert_eq!(
             intake.rejected,
@@ -803,7 +806,8 @@ mod tests {
         let elsewhere = handout.write("reference/src/lib.rs", b"// the answer key\n");
         submission.dir("labs/lab02");
         submission.link(elsewhere.parent().unwrap(), "labs/lab02/src");
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(
             intake.missing.as_deref(),
             Some("labs/lab02/src/ is missing: graded as the handout's stubs")
@@ -822,7 +826,8 @@ mod tests {
         handout.write("elsewhere/lab02/src/lib.rs", b"// the answer key\n");
         fs::remove_dir_all(submission.0.join("labs")).unwrap();
         submission.link(handout.0.join("elsewhere"), "labs");
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert!(intake.missing.is_some());
         assert_eq!(
             intake.rejected,
@@ -838,7 +843,8 @@ mod tests {
         fs::set_permissions(&locked, fs::Permissions::from_mode(0o000)).unwrap();
         // Permissions do not stop root: then the file is copied as usual.
         let enforced = fs::File::open(&locked).is_err();
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         let names: Vec<_> = tree_files(&tree.0.join("labs/lab02/src"))
             .into_iter()
             .map(|(p, _)| p)
@@ -858,14 +864,15 @@ mod tests {
     #[test]
     fn a_missing_src_installs_the_stubs_without_a_rejection() {
         let (handout, submission, tree) = setup("missing");
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert!(intake.missing.is_some());
         assert!(intake.rejected.is_empty());
         assert_eq!(
             tree_files(&tree.0.join("labs/lab02/src")),
             vec![("lib.rs".to_string(), b"// stub\n".to_vec())]
         );
-        install_stubs(&handout.0, &tree.0, 2).unwrap();
+        install_stubs(&handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(tree_files(&tree.0.join("labs/lab02/src")).len(), 1);
     }
 
@@ -884,7 +891,8 @@ mod tests {
         submission.write("labs/lab02/src/a/b/c/d/e/f/g/deep.rs", b"// level 8\n");
         submission.write("labs/lab02/src/a/b/c/d/e/f/g/h/deeper.rs", b"// level 9\n");
         submission.write("labs/lab02/src/bad\u{1b}[2Jname.rs", b"");
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(
             intake.rejected,
             vec![
@@ -905,7 +913,8 @@ mod tests {
         for i in 0..300 {
             submission.write(&format!("labs/lab02/src/f{i:03}.rs"), b"//\n");
         }
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(
             intake.rejected,
             vec!["labs/lab02/src: more than 256 entries, the rest is not copied"]
@@ -916,7 +925,8 @@ mod tests {
         for i in 0..10 {
             submission.write(&format!("labs/lab02/src/f{i}.bin"), &vec![0; 1 << 20]);
         }
-        let intake = install_lab_code(Some(&submission.0), &handout.0, &tree.0, 2).unwrap();
+        let intake =
+            install_lab_code(Some(&submission.0), &handout.0, &tree.0, LabId::of(2)).unwrap();
         assert_eq!(
             intake.rejected,
             vec![

@@ -28,7 +28,7 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         ..PhotonSettings::DEFAULT
     };
     let base = Pipeline {
-        lab: ctx.lab.max(8),
+        lab: ctx.lab.number().max(8),
         photons,
         ..ctx.pipeline.clone()
     };

@@ -15,6 +15,7 @@ pub mod lab10;
 pub mod lab11;
 pub mod plot;
 
+use course::LabId;
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -37,7 +38,7 @@ use crate::students::{LabCode, LabVisitor};
 pub struct ReportArgs {
     /// The lab whose figures to make.
     #[arg(long)]
-    pub lab: u32,
+    pub lab: LabId,
     /// Whose code renders the lab's part of the pipeline.
     #[arg(long, value_enum, default_value_t = PipelineChoice::Reference)]
     pub pipeline: PipelineChoice,
@@ -52,7 +53,7 @@ pub struct ReportArgs {
 /// What a lab's figure code gets.
 pub struct ReportContext {
     /// The lab.
-    pub lab: u32,
+    pub lab: LabId,
     /// The pipeline at this lab, with the student's code in the lab's slots when asked for.
     pub pipeline: Pipeline,
     /// Where the figures go.
@@ -238,11 +239,11 @@ fn write_rgb8(image: &RgbImage, path: &std::path::Path) -> Result<(), Error> {
 /// Runs `raylab report`.
 pub fn run(args: &ReportArgs) -> Result<(), Error> {
     crate::students::check_lab(args.lab)?;
-    let mut pipeline = reference::pipeline(args.lab);
+    let mut pipeline = reference::pipeline(args.lab.number());
     if args.pipeline == PipelineChoice::Student {
         pipeline = crate::students::with_student_lab(pipeline, args.lab)?;
     }
-    let dir = args.out.join(format!("lab{:02}", args.lab));
+    let dir = args.out.join(format!("{}", args.lab));
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let ctx = ReportContext {
         lab: args.lab,
@@ -288,7 +289,7 @@ fn write_index(
     unfinished: &[String],
 ) -> Result<PathBuf, Error> {
     let mut md = String::new();
-    let _ = writeln!(md, "# Lab {:02} report figures\n", ctx.lab);
+    let _ = writeln!(md, "# Lab {:02} report figures\n", ctx.lab.number());
     let _ = writeln!(md, "{}\n", made_with(ctx, choice));
     if !unfinished.is_empty() {
         let _ = writeln!(
@@ -337,7 +338,7 @@ fn write_page(
     unfinished: &[String],
 ) -> Result<PathBuf, Error> {
     use maud::{DOCTYPE, html};
-    let title = format!("Lab {:02} report figures", ctx.lab);
+    let title = format!("Lab {:02} report figures", ctx.lab.number());
     let page = html! {
         (DOCTYPE)
         html lang="en" {
