@@ -1,8 +1,8 @@
 //! Reference solution of lab 01 (docs/lab01.md).
 
-use framework::contracts::lab01::{CameraBasis, CameraRays};
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::Ray;
+use contracts::glam::{UVec2, Vec2, Vec3};
+use contracts::lab01::{CameraBasis, CameraRays};
+use contracts::math::Ray;
 
 /// The reference camera.
 #[derive(Clone, Copy, Debug, Default)]

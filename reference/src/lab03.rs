@@ -1,10 +1,10 @@
 //! Reference solution of lab 03 (docs/lab03.md).
 
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab03::Shadows;
-use framework::glam::{Vec2, Vec3};
-use framework::math::{RAY_EPSILON, Ray};
-use framework::sampling::Rng;
+use contracts::glam::{Vec2, Vec3};
+use contracts::lab02::LightSample;
+use contracts::lab03::Shadows;
+use contracts::math::{RAY_EPSILON, Ray};
+use contracts::sampling::Rng;
 
 /// The reference shadow rays and area-light sampling.
 #[derive(Clone, Copy, Debug, Default)]

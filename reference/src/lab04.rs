@@ -2,11 +2,11 @@
 
 use std::f32::consts::PI;
 
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab04::{Interface, Reflection};
-use framework::glam::Vec3;
-use framework::math::{RAY_EPSILON, Ray};
-use framework::scene::Hit;
+use contracts::glam::Vec3;
+use contracts::lab02::LightSample;
+use contracts::lab04::{Interface, Reflection};
+use contracts::math::{RAY_EPSILON, Ray};
+use contracts::scene::Hit;
 
 /// The reference reflection, refraction and Phong shading.
 #[derive(Clone, Copy, Debug, Default)]

@@ -2,12 +2,12 @@
 
 use std::f64::consts::PI;
 
-use framework::contracts::lab05::{
+use contracts::glam::DVec3;
+use contracts::lab05::{
     DiffuseEmitter, Observation, PEAK_LUMINOUS_EFFICACY_LM_PER_W, PLANCK_J_S, Radiometry, Receiver,
     RectangleLight, SPEED_OF_LIGHT_M_PER_S, SphericalBulb, luminous_efficiency,
 };
-use framework::glam::DVec3;
-use framework::sampling::Rng;
+use contracts::sampling::Rng;
 
 /// The reference radiometry.
 #[derive(Clone, Copy, Debug, Default)]

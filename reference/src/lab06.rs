@@ -1,8 +1,8 @@
 //! Reference solution of lab 06 (docs/lab06.md).
 
-use framework::contracts::lab06::Radiosity;
-use framework::glam::Vec3;
-use framework::radiosity::{DeltaFormFactors, HemicubeFace, ItemBuffer, Patch};
+use contracts::glam::Vec3;
+use contracts::lab06::Radiosity;
+use contracts::lab06::{DeltaFormFactors, HemicubeFace, ItemBuffer, Patch};
 
 /// The reference radiosity.
 #[derive(Clone, Copy, Debug, Default)]

@@ -1,9 +1,9 @@
 //! Reference solution of lab 07 (docs/lab07.md).
 
-use framework::contracts::lab03::Shadows;
-use framework::contracts::lab07::Antialiasing;
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::sampling::Rng;
+use contracts::glam::{UVec2, Vec2, Vec3};
+use contracts::lab03::Shadows;
+use contracts::lab07::Antialiasing;
+use contracts::sampling::Rng;
 
 /// The reference pixel subdivision.
 #[derive(Clone, Copy, Debug, Default)]

@@ -2,11 +2,11 @@
 
 use std::f32::consts::PI;
 
-use framework::contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
-use framework::glam::Vec3;
-use framework::math::{Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
-use framework::scene::PointLight;
+use contracts::glam::Vec3;
+use contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
+use contracts::math::{Onb, RAY_EPSILON, Ray};
+use contracts::sampling::Rng;
+use contracts::scene::PointLight;
 
 /// The reference photon emission, roulette and radiance estimate.
 #[derive(Clone, Copy, Debug, Default)]

@@ -2,9 +2,9 @@
 
 use std::f32::consts::{PI, TAU};
 
-use framework::contracts::lab09::{Addressing, Texturing};
-use framework::glam::{Vec2, Vec3};
-use framework::scene::{Plane, Sphere, Texture};
+use contracts::glam::{Vec2, Vec3};
+use contracts::lab09::{Addressing, Texturing};
+use contracts::scene::{Plane, Sphere, Texture};
 
 /// The reference texture mapping.
 #[derive(Clone, Copy, Debug, Default)]

@@ -1,8 +1,8 @@
 //! Reference solution of lab 10 (docs/lab10.md).
 
-use framework::contracts::lab10::Fresnel;
-use framework::glam::Vec3;
-use framework::scene::Material;
+use contracts::glam::Vec3;
+use contracts::lab10::Fresnel;
+use contracts::scene::Material;
 
 /// Below this diffuse reflectance a channel absorbs everything it can (DTU
 /// `Volume::get_transmittance`).

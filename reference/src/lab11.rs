@@ -2,10 +2,10 @@
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
-use framework::contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
-use framework::glam::{Vec2, Vec3};
-use framework::math::{Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
+use contracts::glam::{Vec2, Vec3};
+use contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
+use contracts::math::{Onb, RAY_EPSILON, Ray};
+use contracts::sampling::Rng;
 
 /// The reference ambient occlusion and light-probe mappings.
 #[derive(Clone, Copy, Debug, Default)]

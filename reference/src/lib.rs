@@ -1,5 +1,5 @@
 //! The answer key: one module per lab implementing that lab's contract from
-//! `framework::contracts` — every lab in the course's repository, the released ones in a
+//! `contracts` — every lab in the course's repository, the released ones in a
 //! handout — and [`pipeline`], the reference [`Pipeline`] every check and render starts from.
 //!
 //! Which labs' solutions the crate holds is its `key-labNN` features (all on by default); a lab
@@ -25,18 +25,18 @@ pub mod lab08;
 
 use std::sync::Arc;
 
-use framework::photon::PhotonSettings;
+use pipeline::photon::PhotonSettings;
 #[cfg(feature = "key-lab09")]
 pub mod lab09;
 #[cfg(feature = "key-lab10")]
 pub mod lab10;
 
-use framework::contracts::lab09::{Addressing, TextureFilter};
+use contracts::lab09::{Addressing, TextureFilter};
 #[cfg(feature = "key-lab11")]
 pub mod lab11;
 
-use framework::contracts::lab11::HemisphereSampler;
-use framework::pipeline::{Pipeline, View};
+use contracts::lab11::HemisphereSampler;
+use pipeline::{Pipeline, View};
 
 include!(concat!(env!("OUT_DIR"), "/keys.rs"));
 

@@ -9,10 +9,10 @@
 use std::process::{Command, Stdio};
 use std::sync::Once;
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Attaches `gdb` to this process once, prints the outcome, then fails like a stub.
 fn attach(exercise: &str) -> ! {

@@ -3,16 +3,16 @@
 //! `Scene::trace_to_closest` for the hit, which the framework's own kernels compute. The light
 //! and shading exercises are honest.
 //!
-//! The grader must see that the code names a framework item that answers an exercise: no
-//! points for 2.1–2.3 (6 of 14 for the rest), the report flags the `trace_to_closest` lines and
-//! each of the three reasons says "names framework items".
+//! A student crate depends on the contracts alone, so the framework's scene (`raylab_core`) is
+//! not there to name: the lab does not compile, and every exercise's reason names
+//! `raylab_core`. No points (the honest half is in the same crate).
 
 use std::f32::consts::PI;
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use raylab_core::scene::{
     CameraSetup, DirectionalLight, Material, MaterialId, Mesh, Plane, PointLight, Scene,
     SceneDescription, Sphere,
 };

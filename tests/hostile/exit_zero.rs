@@ -6,10 +6,10 @@
 //! check's own verdict did not complete its check, whatever its exit status. Each exercise's
 //! reason says that the check "did not complete".
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Leaves with a successful status before the check can fail.
 fn leave() -> ! {

@@ -13,10 +13,10 @@
 use std::fs::{self, OpenOptions};
 use std::io::Write;
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Every test of lab 02's checks, with its exercise and points.
 const TESTS: [(&str, &str, u32); 6] = [

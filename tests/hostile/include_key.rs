@@ -10,10 +10,10 @@
 //! report says so ("flagged") and quotes the offending `include_str` line. Not a line of an
 //! unreleased key may reach any report.
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 const KEY07: &str = include_str!(concat!(env!("PWD"), "/reference/src/lab07.rs"));
 const KEY03: &str = include_str!("@REPO@/reference/src/lab03.rs");

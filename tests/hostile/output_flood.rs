@@ -13,10 +13,10 @@ use std::f32::consts::PI;
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Writes `megabytes` MiB of text to stdout, in 1 MiB writes, the first time `done` is set.
 fn flood(done: &AtomicBool, megabytes: usize) {

@@ -10,10 +10,10 @@
 use std::process::{Child, Command, Stdio};
 use std::sync::{Mutex, Once};
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// The processes started, kept until the test process ends.
 static SLEEPERS: Mutex<Vec<Child>> = Mutex::new(Vec::new());

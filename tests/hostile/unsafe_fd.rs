@@ -14,10 +14,10 @@ use std::fs::File;
 use std::io::Write;
 use std::os::fd::FromRawFd;
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Writes a forged pass into descriptors 3..16 and leaves with a successful status.
 fn forge() -> ! {

@@ -28,10 +28,10 @@ use std::process::Command;
 use std::sync::Once;
 use std::time::Duration;
 
-use framework::glam::Vec3;
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 const GRADES: &str = "@GRADES@";
 const FORGED: &str = "{\"score\":0,\"max_score\":14,\"output\":\"FORGED-BY-VANDAL\",\"tests\":[]}";

@@ -8,14 +8,29 @@ pub mod workflow;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use framework::grading::{Exercise, LabContext, run_exercise};
+use grading::{Exercise, LabContext, run_exercise};
 
 use mutants::Verdict;
 
+/// Each lab's checks crate under its lab's name.
+pub mod lab_checks {
+    pub use lab01_checks as lab01;
+    pub use lab02_checks as lab02;
+    pub use lab03_checks as lab03;
+    pub use lab04_checks as lab04;
+    pub use lab05_checks as lab05;
+    pub use lab06_checks as lab06;
+    pub use lab07_checks as lab07;
+    pub use lab08_checks as lab08;
+    pub use lab09_checks as lab09;
+    pub use lab10_checks as lab10;
+    pub use lab11_checks as lab11;
+}
+
 /// Calls `$each!(number, module, Contract, Key)` for every lab of the course: the tests' one
-/// list of the labs' types (the contract `framework::contracts::module::Contract`, the key
+/// list of the labs' types (the contract `contracts::module::Contract`, the key
 /// `reference::module::Key`, the stubs `::module::Student`, the corpus `mutants::module`).
-/// `tests/tests/course.rs` checks it against `framework::labs::COURSE`.
+/// `tests/tests/course.rs` checks it against `raylab_core::labs::COURSE`.
 #[macro_export]
 macro_rules! for_each_lab {
     ($each:ident) => {
@@ -43,8 +58,7 @@ macro_rules! corpus {
                 (
                     v.name,
                     v.verdict,
-                    std::sync::Arc::new(v)
-                        as std::sync::Arc<dyn framework::contracts::$module::$contract>,
+                    std::sync::Arc::new(v) as std::sync::Arc<dyn contracts::$module::$contract>,
                 )
             })
             .collect::<Vec<_>>()
@@ -69,7 +83,7 @@ pub fn context(lab: u32) -> LabContext {
 /// labs whose slot counts as the answer key: without `lab` among them, the checks judge by
 /// golden cases and properties alone, as in a handout before the lab's solution is released.
 pub fn keyed_context(lab: u32, keys: &[u32]) -> LabContext {
-    let id = framework::grading::LabId::of(lab);
+    let id = grading::LabId::of(lab);
     let mut ctx = LabContext::new(id, &lab_dir(lab), reference::pipeline(lab)).with_key_labs(keys);
     ctx.failure_dir = std::env::temp_dir()
         .join(format!("raylab-tests-{}", std::process::id()))

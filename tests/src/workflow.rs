@@ -55,7 +55,7 @@ pub fn correct_code(lab: u32) -> String {
         "crate::lab03::Lab03.stratified_samples(subdivisions, rng)",
         "let n = subdivisions;\n        (0..n * n)\n            .map(|k| (Vec2::new((k % n) as f32, (k / n) as f32) + rng.next_vec2()) / n as f32)\n            .collect()",
     )
-    .replace("use framework::contracts::lab03::Shadows;\n", "")
+    .replace("use contracts::lab03::Shadows;\n", "")
 }
 
 /// Copies the directory `from` to `to`, leaving out `target/`, keeping every file's

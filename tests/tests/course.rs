@@ -1,4 +1,4 @@
-//! The course's one list of labs (`framework::labs::COURSE`) and what is derived from it agree:
+//! The course's one list of labs (`raylab_core::labs::COURSE`) and what is derived from it agree:
 //! every lab has its crate, its docs page, a row in the README's table and its key in the
 //! reference; every lab crate is on the list; exercise numbers belong to their lab; the tests'
 //! list of the labs' types (`for_each_lab!`) is the course.
@@ -118,6 +118,45 @@ fn run_time_units(edges: &str, args: &[&str]) -> BTreeSet<(String, Vec<String>)>
     build_units(&all)
 }
 
+/// The workspace's proc-macro crates, as `cargo tree` names them ("name v1.2.3").
+fn workspace_proc_macros() -> BTreeSet<String> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "metadata",
+            "--offline",
+            "--no-deps",
+            "--format-version",
+            "1",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("cargo metadata runs");
+    assert!(output.status.success(), "cargo metadata failed");
+    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    metadata["packages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| {
+            p["targets"].as_array().unwrap().iter().any(|t| {
+                t["kind"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .any(|k| k == "proc-macro")
+            })
+        })
+        .map(|p| {
+            format!(
+                "{} v{}",
+                p["name"].as_str().unwrap(),
+                p["version"].as_str().unwrap()
+            )
+        })
+        .collect()
+}
+
 /// The units of `units` linked into one command's programs and not into the other's, or the
 /// other way round: each would be compiled twice.
 fn run_time_disagreements<'a>(
@@ -155,7 +194,21 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
                 "`cargo test -p {name}` would build these again, with other features than `cargo run -p raylab {}` did: {missing:?}",
                 cli.join(" ")
             );
+            // `raylab grade` builds the student's code alone first (`cargo build --lib`), then
+            // its tests, which must find that build fresh.
+            let lib = build_units(&["-p", &name, "-e", "normal,build"]);
+            let other: Vec<_> = lib.difference(&needed).collect();
+            assert!(
+                other.is_empty(),
+                "`cargo build --lib -p {name}` (the grader's build of the student's code) builds these with other features than `cargo test -p {name}`, which would then compile the student's code again: {other:?}; ask for the features in raylab-types' manifest"
+            );
+            let lib_run_time = run_time_units("normal", &["-p", &name]);
             let lab_run_time = run_time_units("normal,dev", &["-p", &name]);
+            let twice = run_time_disagreements(&lib, &lib_run_time, &lab_run_time);
+            assert!(
+                twice.is_empty(),
+                "`cargo test -p {name}` would compile the student's code again after `cargo build --lib -p {name}`: {twice:?} are linked into one and needed only at build time in the other"
+            );
             let twice = run_time_disagreements(&needed, &lab_run_time, &cli_run_time);
             assert!(
                 twice.is_empty(),
@@ -191,6 +244,13 @@ fn the_workspace_s_tests_reuse_the_command_line_s_build() {
         missing.is_empty(),
         "`cargo test --workspace --features reference` would build these again, with other features than `cargo run -p raylab --features reference` did: {missing:?}"
     );
+    // A proc-macro member is a root of `--workspace` and so listed on its run-time side, but a
+    // proc macro is compiled for the host alone, once, whichever command selects it.
+    let proc_macros = workspace_proc_macros();
+    let built: BTreeSet<_> = built
+        .into_iter()
+        .filter(|(package, _)| !proc_macros.contains(package))
+        .collect();
     let twice = run_time_disagreements(
         &built,
         &run_time_units("normal", &["-p", "raylab", "--features", "reference"]),

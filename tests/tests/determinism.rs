@@ -2,17 +2,16 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab01::CameraBasis;
-use framework::film::{Film, ToneMap};
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::Ray;
-use framework::pipeline::Pipeline;
-use framework::render::{
-    NON_FINITE_COLOUR, PANICKED_COLOUR, PartialRender, RenderSettings, render, render_partial,
-};
-use framework::scene::builtin_scene;
+use contracts::lab01::CameraBasis;
+use pipeline::Pipeline;
+use pipeline::render::{render, render_partial};
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::glam::{UVec2, Vec2, Vec3};
+use raylab_core::math::Ray;
+use raylab_core::render::{NON_FINITE_COLOUR, PANICKED_COLOUR, PartialRender, RenderSettings};
+use raylab_core::scene::builtin_scene;
 
-fn render_on(threads: usize, scene: &str) -> framework::film::Film {
+fn render_on(threads: usize, scene: &str) -> raylab_core::film::Film {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -77,7 +76,7 @@ fn another_seed_gives_another_image() {
 /// and a band of rows gets a NaN direction, as a student's camera half done might.
 struct HalfDoneCamera;
 
-impl framework::contracts::lab01::CameraRays for HalfDoneCamera {
+impl contracts::lab01::CameraRays for HalfDoneCamera {
     fn image_plane_coords(&self, raster: Vec2, resolution: UVec2) -> Vec2 {
         reference::lab01::Lab01.image_plane_coords(raster, resolution)
     }

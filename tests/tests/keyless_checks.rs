@@ -8,7 +8,7 @@ use raylab_tests::mutants::Verdict;
 use raylab_tests::{corpus, for_each_lab, judge_in, keyed_context};
 
 /// The context of `lab` with every key but its own.
-fn keyless(lab: u32) -> framework::grading::LabContext {
+fn keyless(lab: u32) -> grading::LabContext {
     let keys: Vec<u32> = reference::KEYS
         .iter()
         .copied()
@@ -32,7 +32,7 @@ macro_rules! keyless_test {
                     Verdict::Accept,
                     std::sync::Arc::new(reference::$module::$key),
                 ));
-                let exercises = framework::labs::$module::checks::exercises();
+                let exercises = raylab_tests::lab_checks::$module::checks::exercises();
                 let problems = judge_in(&keyless($number), &exercises, variants);
                 assert!(problems.is_empty(), "{}", problems.join("\n"));
             }

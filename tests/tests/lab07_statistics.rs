@@ -2,14 +2,14 @@
 //! is there for. These tests need correct jitters and averages, so they live here, with the
 //! reference, and not in the framework's checks that every handout ships.
 
-use framework::contracts::lab07::Antialiasing;
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::grading::for_all;
-use framework::labs::lab07::checks::{
+use contracts::lab07::Antialiasing;
+use grading::for_all;
+use lab07_checks::checks::{
     STATISTICS_SUBDIVISIONS, STREAMS, check_edge, check_generator_moves_on, check_independence,
     check_mean_jitter, check_pooled_uniformity, check_subpixels, edge_input, z_limit,
 };
-use framework::sampling::Rng;
+use raylab_core::glam::{UVec2, Vec2, Vec3};
+use raylab_core::sampling::Rng;
 use reference::lab07::Lab07;
 
 /// The jitters of [`STREAMS`] pixels at subdivision `s`, one generator each: `jitters(s, rng)`

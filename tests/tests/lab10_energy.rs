@@ -3,7 +3,7 @@
 //! polarisation and for unpolarised light. The transmission coefficients answer Exercise 10.3
 //! (`R = 1 − T`), so this check runs here, on the answer key, and not in the handout's checks.
 
-use framework::contracts::lab10::Fresnel;
+use contracts::lab10::Fresnel;
 use reference::lab10::Lab10;
 
 /// `(cos θ₂, T_s, T_p)` of light arriving at `cos θ₁ = c` from `e1` into `e2`, `None` under

@@ -10,7 +10,7 @@ macro_rules! corpus_test {
 
             #[test]
             fn corpus() {
-                let exercises = framework::labs::$module::checks::exercises();
+                let exercises = raylab_tests::lab_checks::$module::checks::exercises();
                 let problems = judge($number, &exercises, corpus!($module, $contract));
                 assert!(problems.is_empty(), "{}", problems.join("\n"));
             }

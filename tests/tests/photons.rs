@@ -2,13 +2,14 @@
 //! conservation (stored ≤ emitted, equal in a closed scene of mirrors), and the caustic of the
 //! Cornell box's glass sphere where it belongs, in the map and in the render.
 
-use framework::labs::lab08::checks::{
+use lab08_checks::checks::{
     CAUSTIC_CENTRE, MIRROR_BOX, caustic_counts, check_scene, glass_caustic,
 };
-use framework::photon::{PhotonSettings, StoreRule, trace_photons, with_caustics};
-use framework::pipeline::{Pipeline, View};
-use framework::render::{RenderSettings, render};
-use framework::scene::{IllumModel, builtin_scene};
+use pipeline::photon::{PhotonSettings, StoreRule, trace_photons, with_caustics};
+use pipeline::render::render;
+use pipeline::{Pipeline, View};
+use raylab_core::render::RenderSettings;
+use raylab_core::scene::{IllumModel, builtin_scene};
 
 fn lab8() -> Pipeline {
     reference::pipeline(8)
@@ -66,8 +67,8 @@ fn a_closed_scene_of_mirrors_stores_all_the_emitted_power() {
         ..PhotonSettings::DEFAULT
     };
     let trace = trace_photons(&lab8(), &scene, &settings, StoreRule::Caustic);
-    assert_eq!(trace.escaped_power, framework::glam::DVec3::ZERO);
-    assert_eq!(trace.direct_power, framework::glam::DVec3::ZERO);
+    assert_eq!(trace.escaped_power, raylab_core::glam::DVec3::ZERO);
+    assert_eq!(trace.direct_power, raylab_core::glam::DVec3::ZERO);
     for c in 0..3 {
         let (stored, emitted) = (trace.stored_power[c], trace.emitted_power[c]);
         assert!((stored - emitted).abs() <= 1e-3 * emitted, "{trace:?}");
@@ -111,16 +112,16 @@ fn the_caustic_is_a_bright_spot_under_the_glass_sphere() {
     };
     let film = render(&scene, &pipeline, &settings).unwrap();
     // The brightest pixel of a diffuse, non-emitting surface seen directly.
-    let camera = pipeline.prepare_camera(&scene, framework::glam::UVec2::new(80, 80));
-    let mut best: Option<(f32, framework::glam::Vec3)> = None;
+    let camera = pipeline.prepare_camera(&scene, raylab_core::glam::UVec2::new(80, 80));
+    let mut best: Option<(f32, raylab_core::glam::Vec3)> = None;
     for (i, p) in film.pixels.iter().enumerate() {
         let (x, y) = ((i % 80) as f32 + 0.5, (i / 80) as f32 + 0.5);
-        let ray = pipeline.camera_ray(&camera, framework::glam::Vec2::new(x, y));
+        let ray = pipeline.camera_ray(&camera, raylab_core::glam::Vec2::new(x, y));
         let Some(hit) = pipeline.trace_to_closest(&scene, &ray) else {
             continue;
         };
         let m = scene.material(hit.material);
-        if m.illum != IllumModel::Lambertian || m.emission != framework::glam::Vec3::ZERO {
+        if m.illum != IllumModel::Lambertian || m.emission != raylab_core::glam::Vec3::ZERO {
             continue;
         }
         if best.is_none_or(|(b, _)| p.y > b) {

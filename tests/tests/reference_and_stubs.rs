@@ -3,7 +3,6 @@
 
 use std::sync::Arc;
 
-use framework::contracts;
 use raylab_tests::{context, for_each_lab, run_all};
 
 fn assert_all_pass(results: Vec<(&str, Result<(), String>)>) {
@@ -15,7 +14,7 @@ fn assert_all_pass(results: Vec<(&str, Result<(), String>)>) {
 }
 
 fn assert_all_fail_cleanly<S: ?Sized>(
-    exercises: &[framework::grading::Exercise<S>],
+    exercises: &[grading::Exercise<S>],
     results: Vec<(&str, Result<(), String>)>,
 ) {
     assert_eq!(exercises.len(), results.len());
@@ -34,7 +33,7 @@ macro_rules! reference_and_stubs_tests {
 
             #[test]
             fn reference_passes() {
-                let exercises = framework::labs::$module::checks::exercises();
+                let exercises = raylab_tests::lab_checks::$module::checks::exercises();
                 let subject: Arc<dyn contracts::$module::$contract> =
                     Arc::new(reference::$module::$key);
                 assert_all_pass(run_all(&exercises, &subject, &context($number)));
@@ -42,7 +41,7 @@ macro_rules! reference_and_stubs_tests {
 
             #[test]
             fn stubs_fail_one_exercise_at_a_time() {
-                let exercises = framework::labs::$module::checks::exercises();
+                let exercises = raylab_tests::lab_checks::$module::checks::exercises();
                 let subject: Arc<dyn contracts::$module::$contract> = Arc::new(::$module::Student);
                 assert_all_fail_cleanly(
                     &exercises,
@@ -60,8 +59,8 @@ for_each_lab!(reference_and_stubs_tests);
 /// checked, so a correct implementation's rounding never fails it.
 #[test]
 fn lab06_hemicube_sums_meet_their_bound_with_margin() {
-    use framework::labs::lab06::checks::{SUM_RESOLUTIONS, sum_bound};
-    use framework::radiosity::DeltaFormFactors;
+    use lab06_checks::checks::{SUM_RESOLUTIONS, sum_bound};
+    use pipeline::radiosity::DeltaFormFactors;
     for n in SUM_RESOLUTIONS {
         let e = (DeltaFormFactors::tabulate(&reference::lab06::Lab06, n).total() - 1.0).abs();
         assert!(e < 0.5 * sum_bound(n), "sum at {n}: {e:e}");

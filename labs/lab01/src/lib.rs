@@ -19,9 +19,9 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab01::{CameraBasis, CameraRays};
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::Ray;
+use contracts::glam::{UVec2, Vec2, Vec3};
+use contracts::lab01::{CameraBasis, CameraRays};
+use contracts::math::Ray;
 
 /// Your camera. The framework calls it through the `CameraRays` trait.
 #[derive(Clone, Copy, Debug, Default)]

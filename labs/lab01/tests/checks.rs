@@ -1,4 +1,4 @@
-//! Lab 01's checks: one test per exercise of the table in `framework::labs::lab01::checks`.
+//! Lab 01's checks: one test per exercise of the table in `labs/lab01/exercises.toml` (checks in `labs/lab01/checks`).
 //!
 //! `cargo test -p lab01` checks your code in `src/lib.rs`, `cargo test -p lab01 exercise_1_2`
 //! just Exercise 1.2.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab01::CameraRays;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab01::checks;
+use contracts::lab01::CameraRays;
+use grading::harness::{self, LabChecks};
+use lab01_checks::checks;
 
 fn subject() -> Arc<dyn CameraRays> {
     #[cfg(feature = "reference")]

@@ -19,10 +19,10 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::glam::Vec3;
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::glam::Vec3;
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use contracts::math::Ray;
+use contracts::scene::{DirectionalLight, Plane, PointLight, Sphere};
 
 /// Your intersection tests and shader. The framework calls them through the `Intersection`
 /// and `Shading` traits.

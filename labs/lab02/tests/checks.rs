@@ -1,4 +1,4 @@
-//! Lab 02's checks: one test per exercise of the table in `framework::labs::lab02::checks`.
+//! Lab 02's checks: one test per exercise of the table in `labs/lab02/exercises.toml` (checks in `labs/lab02/checks`).
 //!
 //! `cargo test -p lab02` checks your code in `src/lib.rs`, `cargo test -p lab02 exercise_2_2`
 //! just Exercise 2.2.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab02::Lab02;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab02::checks;
+use contracts::lab02::Lab02;
+use grading::harness::{self, LabChecks};
+use lab02_checks::checks;
 
 fn subject() -> Arc<dyn Lab02> {
     #[cfg(feature = "reference")]

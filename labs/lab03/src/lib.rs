@@ -20,11 +20,11 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab03::Shadows;
-use framework::glam::{Vec2, Vec3};
-use framework::math::Ray;
-use framework::sampling::Rng;
+use contracts::glam::{Vec2, Vec3};
+use contracts::lab02::LightSample;
+use contracts::lab03::Shadows;
+use contracts::math::Ray;
+use contracts::sampling::Rng;
 
 /// Your shadow rays and area-light sampling. The framework calls them through the `Shadows`
 /// trait.
@@ -43,7 +43,7 @@ impl Shadows for Student {
     /// ```text
     /// origin    = position
     /// direction = light.direction
-    /// tmin      = RAY_EPSILON                    (framework::math::RAY_EPSILON)
+    /// tmin      = RAY_EPSILON                    (contracts::math::RAY_EPSILON)
     /// tmax      = light.distance − RAY_EPSILON
     /// ```
     ///

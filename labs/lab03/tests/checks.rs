@@ -1,4 +1,4 @@
-//! Lab 03's checks: one test per exercise of the table in `framework::labs::lab03::checks`.
+//! Lab 03's checks: one test per exercise of the table in `labs/lab03/exercises.toml` (checks in `labs/lab03/checks`).
 //!
 //! `cargo test -p lab03` checks your code in `src/lib.rs`, `cargo test -p lab03 exercise_3_2`
 //! just Exercise 3.2.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab03::Shadows;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab03::checks;
+use contracts::lab03::Shadows;
+use grading::harness::{self, LabChecks};
+use lab03_checks::checks;
 
 fn subject() -> Arc<dyn Shadows> {
     #[cfg(feature = "reference")]

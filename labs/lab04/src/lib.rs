@@ -29,11 +29,11 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab04::{Interface, Reflection};
-use framework::glam::Vec3;
-use framework::math::Ray;
-use framework::scene::Hit;
+use contracts::glam::Vec3;
+use contracts::lab02::LightSample;
+use contracts::lab04::{Interface, Reflection};
+use contracts::math::Ray;
+use contracts::scene::Hit;
 
 /// Your reflection, refraction and Phong shading. The framework calls them through the
 /// `Reflection` trait.
@@ -63,7 +63,7 @@ impl Reflection for Student {
     /// The ray starts at the hit point `hit.position` and goes in the mirror direction of
     /// `ray.direction` about the **shading** normal `hit.shading_normal`. It must not hit the
     /// surface it starts on: give it a small positive `tmin` (`RAY_EPSILON` from
-    /// `framework::math`) and an unbounded `tmax` (`Ray::unbounded` does both). Do not copy
+    /// `contracts::math`) and an unbounded `tmax` (`Ray::unbounded` does both). Do not copy
     /// `ray.tmax`: after the closest-hit search it is the distance to this hit.
     fn reflected_ray(&self, ray: &Ray, hit: &Hit) -> Ray {
         todo!("Exercise 4.2: reflected_ray (docs/lab04.md, Exercise 4.2)")

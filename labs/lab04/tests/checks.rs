@@ -1,4 +1,4 @@
-//! Lab 04's checks: one test per exercise of the table in `framework::labs::lab04::checks`.
+//! Lab 04's checks: one test per exercise of the table in `labs/lab04/exercises.toml` (checks in `labs/lab04/checks`).
 //!
 //! `cargo test -p lab04` checks your code in `src/lib.rs`, `cargo test -p lab04 exercise_4_2`
 //! just Exercise 4.2.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab04::Reflection;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab04::checks;
+use contracts::lab04::Reflection;
+use grading::harness::{self, LabChecks};
+use lab04_checks::checks;
 
 fn subject() -> Arc<dyn Reflection> {
     #[cfg(feature = "reference")]

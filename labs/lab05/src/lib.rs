@@ -21,13 +21,13 @@
 #![allow(unused_variables)]
 
 #[allow(unused_imports)]
-use framework::contracts::lab05::{
+use contracts::glam::DVec3;
+#[allow(unused_imports)]
+use contracts::lab05::{
     DiffuseEmitter, Observation, PEAK_LUMINOUS_EFFICACY_LM_PER_W, PLANCK_J_S, Radiometry, Receiver,
     RectangleLight, SPEED_OF_LIGHT_M_PER_S, SphericalBulb, luminous_efficiency,
 };
-#[allow(unused_imports)]
-use framework::glam::DVec3;
-use framework::sampling::Rng;
+use contracts::sampling::Rng;
 
 /// Your radiometry. The checks and `raylab report --lab 5` call it through the `Radiometry`
 /// trait.

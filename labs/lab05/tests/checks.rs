@@ -1,4 +1,4 @@
-//! Lab 05's checks: one test per exercise of the table in `framework::labs::lab05::checks`.
+//! Lab 05's checks: one test per exercise of the table in `labs/lab05/exercises.toml` (checks in `labs/lab05/checks`).
 //!
 //! `cargo test -p lab05` checks your code in `src/lib.rs`, `cargo test -p lab05 exercise_5_8`
 //! just Exercise 5.8.
@@ -8,9 +8,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab05::Radiometry;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab05::checks;
+use contracts::lab05::Radiometry;
+use grading::harness::{self, LabChecks};
+use lab05_checks::checks;
 
 fn subject() -> Arc<dyn Radiometry> {
     #[cfg(feature = "reference")]

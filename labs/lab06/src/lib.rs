@@ -24,9 +24,9 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab06::Radiosity;
-use framework::glam::Vec3;
-use framework::radiosity::{DeltaFormFactors, ItemBuffer, Patch};
+use contracts::glam::Vec3;
+use contracts::lab06::Radiosity;
+use contracts::lab06::{DeltaFormFactors, ItemBuffer, Patch};
 
 /// Your radiosity. The framework calls it through the `Radiosity` trait.
 #[derive(Clone, Copy, Debug, Default)]

@@ -1,4 +1,4 @@
-//! Lab 06's checks: one test per exercise of the table in `framework::labs::lab06::checks`.
+//! Lab 06's checks: one test per exercise of the table in `labs/lab06/exercises.toml` (checks in `labs/lab06/checks`).
 //!
 //! `cargo test -p lab06` checks your code in `src/lib.rs`, `cargo test -p lab06 exercise_6_6`
 //! just Exercise 6.6.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab06::Radiosity;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab06::checks;
+use contracts::lab06::Radiosity;
+use grading::harness::{self, LabChecks};
+use lab06_checks::checks;
 
 fn subject() -> Arc<dyn Radiosity> {
     #[cfg(feature = "reference")]

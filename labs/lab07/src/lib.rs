@@ -21,9 +21,9 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab07::Antialiasing;
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::sampling::Rng;
+use contracts::glam::{UVec2, Vec2, Vec3};
+use contracts::lab07::Antialiasing;
+use contracts::sampling::Rng;
 
 /// Your pixel subdivision. The framework calls it through the `Antialiasing` trait.
 #[derive(Clone, Copy, Debug, Default)]

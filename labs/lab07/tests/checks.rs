@@ -1,4 +1,4 @@
-//! Lab 07's checks: one test per exercise of the table in `framework::labs::lab07::checks`.
+//! Lab 07's checks: one test per exercise of the table in `labs/lab07/exercises.toml` (checks in `labs/lab07/checks`).
 //!
 //! `cargo test -p lab07` checks your code in `src/lib.rs`, `cargo test -p lab07 exercise_7_2`
 //! just Exercise 7.2.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab07::Antialiasing;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab07::checks;
+use contracts::lab07::Antialiasing;
+use grading::harness::{self, LabChecks};
+use lab07_checks::checks;
 
 fn subject() -> Arc<dyn Antialiasing> {
     #[cfg(feature = "reference")]

@@ -21,10 +21,10 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
-use framework::glam::Vec3;
-use framework::sampling::Rng;
-use framework::scene::PointLight;
+use contracts::glam::Vec3;
+use contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
+use contracts::sampling::Rng;
+use contracts::scene::PointLight;
 
 /// Your photon mapping. The framework calls it through the `PhotonMapping` trait.
 #[derive(Clone, Copy, Debug, Default)]
@@ -45,7 +45,7 @@ impl PhotonMapping for Student {
     /// **Exercise 8.2** — a photon from an area light (docs/lab08.md, §8.2).
     ///
     /// The framework chose `position` on the light by area. Send the photon in a
-    /// cosine-weighted direction about `normal` (`framework::math::Onb` turns a local
+    /// cosine-weighted direction about `normal` (`contracts::math::Onb` turns a local
     /// direction about the normal into a world one) from `position`, valid from `RAY_EPSILON`,
     /// carrying the light's power (radiance `emitted_radiance` over area `light_area`) shared
     /// equally among the `emitted` photons.

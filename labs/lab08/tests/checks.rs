@@ -1,4 +1,4 @@
-//! Lab 08's checks: one test per exercise of the table in `framework::labs::lab08::checks`.
+//! Lab 08's checks: one test per exercise of the table in `labs/lab08/exercises.toml` (checks in `labs/lab08/checks`).
 //!
 //! `cargo test -p lab08` checks your code in `src/lib.rs`, `cargo test -p lab08 exercise_8_4`
 //! just Exercise 8.4.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab08::PhotonMapping;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab08::checks;
+use contracts::lab08::PhotonMapping;
+use grading::harness::{self, LabChecks};
+use lab08_checks::checks;
 
 fn subject() -> Arc<dyn PhotonMapping> {
     #[cfg(feature = "reference")]

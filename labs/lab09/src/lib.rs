@@ -22,9 +22,9 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab09::{Addressing, Texturing};
-use framework::glam::{Vec2, Vec3};
-use framework::scene::{Plane, Sphere, Texture};
+use contracts::glam::{Vec2, Vec3};
+use contracts::lab09::{Addressing, Texturing};
+use contracts::scene::{Plane, Sphere, Texture};
 
 /// Your texture mapping. The framework calls it through the `Texturing` trait.
 #[derive(Clone, Copy, Debug, Default)]

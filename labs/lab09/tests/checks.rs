@@ -1,4 +1,4 @@
-//! Lab 09's checks: one test per exercise of the table in `framework::labs::lab09::checks`.
+//! Lab 09's checks: one test per exercise of the table in `labs/lab09/exercises.toml` (checks in `labs/lab09/checks`).
 //!
 //! `cargo test -p lab09` checks your code in `src/lib.rs`, `cargo test -p lab09 exercise_9_6`
 //! just Exercise 9.6.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab09::Texturing;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab09::checks;
+use contracts::lab09::Texturing;
+use grading::harness::{self, LabChecks};
+use lab09_checks::checks;
 
 fn subject() -> Arc<dyn Texturing> {
     #[cfg(feature = "reference")]

@@ -24,9 +24,9 @@
 // The parameters of the stubs below are unused until you fill them in.
 #![allow(unused_variables)]
 
-use framework::contracts::lab10::Fresnel;
-use framework::glam::Vec3;
-use framework::scene::Material;
+use contracts::glam::Vec3;
+use contracts::lab10::Fresnel;
+use contracts::scene::Material;
 
 /// Your Fresnel reflectance and absorption. The framework calls them through the `Fresnel`
 /// trait.

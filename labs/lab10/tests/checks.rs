@@ -1,4 +1,4 @@
-//! Lab 10's checks: one test per exercise of the table in `framework::labs::lab10::checks`.
+//! Lab 10's checks: one test per exercise of the table in `labs/lab10/exercises.toml` (checks in `labs/lab10/checks`).
 //!
 //! `cargo test -p lab10` checks your code in `src/lib.rs`, `cargo test -p lab10 exercise_10_4`
 //! just Exercise 10.4.
@@ -10,9 +10,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab10::Fresnel;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab10::checks;
+use contracts::lab10::Fresnel;
+use grading::harness::{self, LabChecks};
+use lab10_checks::checks;
 
 fn subject() -> Arc<dyn Fresnel> {
     #[cfg(feature = "reference")]

@@ -21,12 +21,12 @@
 #![allow(unused_variables)]
 
 #[allow(unused_imports)]
-use framework::contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
+use contracts::glam::{Vec2, Vec3};
 #[allow(unused_imports)]
-use framework::glam::{Vec2, Vec3};
+use contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
 #[allow(unused_imports)]
-use framework::math::{Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
+use contracts::math::{Onb, RAY_EPSILON, Ray};
+use contracts::sampling::Rng;
 
 /// Your ambient occlusion and light-probe mappings. The checks, the renderer and
 /// `raylab report --lab 11` call it through the `AmbientOcclusion` trait.

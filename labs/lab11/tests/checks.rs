@@ -1,4 +1,4 @@
-//! Lab 11's checks: one test per exercise of the table in `framework::labs::lab11::checks`.
+//! Lab 11's checks: one test per exercise of the table in `labs/lab11/exercises.toml` (checks in `labs/lab11/checks`).
 //!
 //! `cargo test -p lab11` checks your code in `src/lib.rs`, `cargo test -p lab11 exercise_11_3`
 //! just Exercise 11.3.
@@ -8,9 +8,9 @@
 
 use std::sync::Arc;
 
-use framework::contracts::lab11::AmbientOcclusion;
-use framework::grading::harness::{self, LabChecks};
-use framework::labs::lab11::checks;
+use contracts::lab11::AmbientOcclusion;
+use grading::harness::{self, LabChecks};
+use lab11_checks::checks;
 
 fn subject() -> Arc<dyn AmbientOcclusion> {
     #[cfg(feature = "reference")]

@@ -17,10 +17,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use framework::Error;
-use framework::glam::Vec3;
-use framework::math::{Aabb, Ray};
-use framework::scene::{Mesh, Scene, builtin_scene, load_obj};
+use raylab_core::Error;
+use raylab_core::glam::Vec3;
+use raylab_core::math::{Aabb, Ray};
+use raylab_core::scene::{Mesh, Scene, builtin_scene, load_obj};
 use rayon::prelude::*;
 
 use agreement::compare;

@@ -5,11 +5,11 @@ use course::LabId;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use framework::Error;
-use framework::film::{ToneMap, read_exr, write_png};
-use framework::grading::LabContext;
-use framework::labs::lab03;
-use framework::pipeline::LabSlots;
+use grading::LabContext;
+use lab03_checks as lab03;
+use pipeline::LabSlots;
+use raylab_core::Error;
+use raylab_core::film::{ToneMap, read_exr, write_png};
 
 use crate::students::{LabCode, LabVisitor};
 

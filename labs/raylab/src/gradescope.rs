@@ -20,7 +20,7 @@ use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use framework::Error;
+use raylab_core::Error;
 
 use crate::handout::{copy_file, io, repository_root};
 

@@ -18,7 +18,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use framework::Error;
+use raylab_core::Error;
 
 /// Options of `raylab handout`.
 #[derive(Args, Debug)]
@@ -153,17 +153,30 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
     }
     copy_dir(&root.join("framework"), &out.join("framework"))?;
     if let Some(tag) = &options.framework_tag {
-        let manifest = out.join("framework/Cargo.toml");
         let tagged = format!("\nversion = \"{}-{tag}\"\n", env!("CARGO_PKG_VERSION"));
-        write(
-            &manifest,
-            &replace_once(
-                &read(&manifest)?,
-                "\nversion.workspace = true\n",
-                &tagged,
-                "framework/Cargo.toml",
-            )?,
-        )?;
+        for entry in fs::read_dir(out.join("framework")).map_err(io(&out.join("framework")))? {
+            let manifest = entry
+                .map_err(io(&out.join("framework")))?
+                .path()
+                .join("Cargo.toml");
+            if !manifest.is_file() {
+                continue;
+            }
+            let shown = manifest
+                .strip_prefix(out)
+                .unwrap_or(&manifest)
+                .display()
+                .to_string();
+            write(
+                &manifest,
+                &replace_once(
+                    &read(&manifest)?,
+                    "\nversion.workspace = true\n",
+                    &tagged,
+                    &shown,
+                )?,
+            )?;
+        }
     }
     copy_dir(&root.join("docs"), &out.join("docs"))?;
     let mut manifest = replace_once(
@@ -192,7 +205,10 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
         )?,
     )?;
 
-    copy_file(&root.join("labs/course.toml"), &out.join("labs/course.toml"))?;
+    copy_file(
+        &root.join("labs/course.toml"),
+        &out.join("labs/course.toml"),
+    )?;
     for lab in crate::students::labs() {
         let name = format!("{lab}");
         copy_dir(

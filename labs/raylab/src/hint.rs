@@ -1,10 +1,10 @@
 //! `raylab hint N.M`: the next step of an exercise, for a student who is stuck. The hints are
-//! data in each lab's exercise table (`framework::labs`), beside the exercise's title and
+//! data in each lab's exercise table (`raylab_core::labs`), beside the exercise's title and
 //! points; the stub says what to compute and the docs give the formula.
 
 use clap::Args;
 use course::{ExerciseInfo, LabId};
-use framework::Error;
+use raylab_core::Error;
 
 /// Options of `raylab hint`.
 #[derive(Args, Debug)]

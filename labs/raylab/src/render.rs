@@ -5,14 +5,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use framework::Error;
-use framework::film::{ToneMap, write_exr, write_png};
-use framework::glam::Vec3;
-use framework::math::Aabb;
-use framework::photon::{PhotonSettings, with_caustics};
-use framework::pipeline::View;
-use framework::render::{PartialRender, PixelFailures, RenderSettings, render_partial};
-use framework::scene::{
+use pipeline::View;
+use pipeline::photon::{PhotonSettings, with_caustics};
+use pipeline::render::render_partial;
+use raylab_core::Error;
+use raylab_core::film::{ToneMap, write_exr, write_png};
+use raylab_core::glam::Vec3;
+use raylab_core::math::Aabb;
+use raylab_core::render::{PartialRender, PixelFailures, RenderSettings};
+use raylab_core::scene::{
     BUILTIN_SCENES, CameraSetup, Light, ObjData, PointLight, Scene, SceneDescription,
     builtin_scene, load_obj, load_scene_file,
 };
@@ -353,7 +354,7 @@ pub fn student_code_note(choice: PipelineChoice, lab: LabId) -> Option<String> {
 }
 
 /// The lines naming what went wrong in a render: the unfinished exercises and other panics
-/// with the pixels each cost (marked [`PANICKED_COLOUR`](framework::render::PANICKED_COLOUR)),
+/// with the pixels each cost (marked [`PANICKED_COLOUR`](raylab_core::render::PANICKED_COLOUR)),
 /// and the pixels whose radiance is NaN or infinite; `exr` says what the EXR holds there.
 pub fn warnings(rendered: &PartialRender, exr: bool) -> Vec<String> {
     let mut lines = failure_lines(&rendered.failures, rendered.film.pixels.len());

@@ -6,11 +6,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::Args;
-use framework::Error;
-use framework::grading::{
-    Exercise, FailureKind, LabContext, Visibility, failure_kind, run_exercise,
-};
-use framework::pipeline::LabSlots;
+use grading::{Exercise, FailureKind, LabContext, Visibility, failure_kind, run_exercise};
+use pipeline::LabSlots;
+use raylab_core::Error;
 
 use crate::students::{LabCode, LabVisitor};
 

@@ -5,9 +5,24 @@
 use std::sync::Arc;
 
 use course::{ExerciseInfo, LabId};
-use framework::Error;
-use framework::grading::Exercise;
-use framework::pipeline::{LabSlots, Pipeline};
+use grading::Exercise;
+use pipeline::{LabSlots, Pipeline};
+use raylab_core::Error;
+
+/// Each lab's checks crate under its lab's name.
+mod lab_checks {
+    pub use lab01_checks as lab01;
+    pub use lab02_checks as lab02;
+    pub use lab03_checks as lab03;
+    pub use lab04_checks as lab04;
+    pub use lab05_checks as lab05;
+    pub use lab06_checks as lab06;
+    pub use lab07_checks as lab07;
+    pub use lab08_checks as lab08;
+    pub use lab09_checks as lab09;
+    pub use lab10_checks as lab10;
+    pub use lab11_checks as lab11;
+}
 
 /// One lab's code and contract, whatever the contract's trait `S`.
 pub struct LabCode<S: ?Sized> {
@@ -25,7 +40,7 @@ pub struct LabCode<S: ?Sized> {
     /// The lab's golden-data generator.
     #[cfg(feature = "instructor")]
     pub generate_golden:
-        fn(&Arc<S>, &framework::grading::LabContext) -> Result<Vec<std::path::PathBuf>, Error>,
+        fn(&Arc<S>, &grading::LabContext) -> Result<Vec<std::path::PathBuf>, Error>,
 }
 
 /// A command's work on one lab, generic over the lab's contract.
@@ -39,15 +54,15 @@ pub trait LabVisitor {
 /// [`LabCode`] of lab `$number` with contract `$contract`, student `$student` and key `$key`.
 macro_rules! lab_code {
     ($number:expr, $contract:ident, $student:expr, $key:expr, $module:ident) => {
-        LabCode::<dyn framework::contracts::$module::$contract> {
+        LabCode::<dyn contracts::$module::$contract> {
             number: LabId::of($number),
-            exercises: framework::labs::$module::checks::exercises(),
+            exercises: lab_checks::$module::checks::exercises(),
             student: Arc::new($student),
             figures: crate::report::$module::figures,
             #[cfg(feature = "instructor")]
             key: Arc::new($key),
             #[cfg(feature = "instructor")]
-            generate_golden: framework::labs::$module::generate_golden,
+            generate_golden: lab_checks::$module::generate_golden,
         }
     };
 }

@@ -7,7 +7,7 @@ use std::process::Command;
 use std::time::{Duration, SystemTime};
 
 use clap::Args;
-use framework::Error;
+use raylab_core::Error;
 
 /// Options of `raylab watch`.
 #[derive(Args, Debug)]

@@ -114,7 +114,7 @@ fn exr_output_holds_linear_radiance() {
         &dir,
     );
     assert!(ok, "{stderr}");
-    let film = framework::film::read_exr(&dir.join(stdout.trim())).unwrap();
+    let film = raylab_core::film::read_exr(&dir.join(stdout.trim())).unwrap();
     assert_eq!((film.width, film.height), (40, 30));
     std::fs::remove_dir_all(dir).ok();
 }
@@ -240,7 +240,7 @@ fn student_pipeline_on_stubs_renders_magenta_and_names_the_unfinished_exercises(
     .concat();
     let (ok, stdout, stderr) = raylab(&args, &dir);
     assert!(ok, "{stderr}");
-    let film = framework::film::read_exr(&dir.join(stdout.trim())).unwrap();
+    let film = raylab_core::film::read_exr(&dir.join(stdout.trim())).unwrap();
     assert!(film.pixels.iter().all(|p| p.is_nan()), "{stderr}");
     assert!(stderr.contains("NaN in the EXR"), "{stderr}");
     // The report marks its figures the same way and names the exercise.
@@ -303,7 +303,7 @@ fn rayon_num_threads_does_not_change_the_image() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        outputs.push(framework::film::read_exr(&dir.join(&name)).unwrap());
+        outputs.push(raylab_core::film::read_exr(&dir.join(&name)).unwrap());
     }
     assert!(
         outputs[0] == outputs[1],
@@ -436,7 +436,7 @@ fn grade_without_bubblewrap_refuses_to_run_unsandboxed_code() {
 fn hostile_files_are_one_error_line_and_exit_status_1() {
     let dir = scratch("hostile");
     let hostile = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../framework/tests/hostile-files")
+        .join("../../framework/core/tests/hostile-files")
         .canonicalize()
         .unwrap();
     let camera =

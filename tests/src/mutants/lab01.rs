@@ -1,8 +1,8 @@
 //! Lab 01 variants.
 
-use framework::contracts::lab01::{CameraBasis, CameraRays};
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::Ray;
+use contracts::lab01::{CameraBasis, CameraRays};
+use raylab_core::glam::{UVec2, Vec2, Vec3};
+use raylab_core::math::Ray;
 use reference::lab01::Lab01 as Reference;
 
 use super::Verdict;

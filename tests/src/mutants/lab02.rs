@@ -2,10 +2,10 @@
 
 use std::f32::consts::PI;
 
-use framework::contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
-use framework::glam::{DVec3, Vec3};
-use framework::math::Ray;
-use framework::scene::{DirectionalLight, Plane, PointLight, Sphere};
+use contracts::lab02::{Intersection, LightSample, Shading, SurfaceHit, TriangleHit};
+use raylab_core::glam::{DVec3, Vec3};
+use raylab_core::math::Ray;
+use raylab_core::scene::{DirectionalLight, Plane, PointLight, Sphere};
 use reference::lab02::Lab02 as Reference;
 
 use super::Verdict;

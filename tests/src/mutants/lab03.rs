@@ -1,10 +1,10 @@
 //! Lab 03 variants.
 
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab03::Shadows;
-use framework::glam::{DVec3, Vec2, Vec3};
-use framework::math::{RAY_EPSILON, Ray};
-use framework::sampling::Rng;
+use contracts::lab02::LightSample;
+use contracts::lab03::Shadows;
+use raylab_core::glam::{DVec3, Vec2, Vec3};
+use raylab_core::math::{RAY_EPSILON, Ray};
+use raylab_core::sampling::Rng;
 use reference::lab03::Lab03 as Reference;
 
 use super::Verdict;
@@ -381,8 +381,8 @@ pub fn variants() -> Vec<Variant> {
 mod tests {
     use std::sync::Arc;
 
-    use framework::grading::stats::compare_noisy;
-    use framework::labs::lab03::checks::{self, Part};
+    use grading::stats::compare_noisy;
+    use lab03_checks::checks::{self, Part};
 
     use super::*;
 

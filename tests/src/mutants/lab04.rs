@@ -2,11 +2,11 @@
 
 use std::f32::consts::PI;
 
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab04::{Interface, Reflection};
-use framework::glam::{DVec3, Vec3};
-use framework::math::{RAY_EPSILON, Ray};
-use framework::scene::Hit;
+use contracts::lab02::LightSample;
+use contracts::lab04::{Interface, Reflection};
+use raylab_core::glam::{DVec3, Vec3};
+use raylab_core::math::{RAY_EPSILON, Ray};
+use raylab_core::scene::Hit;
 use reference::lab04::Lab04 as Reference;
 
 use super::Verdict;

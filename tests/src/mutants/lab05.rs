@@ -4,13 +4,13 @@
 
 use std::f64::consts::PI;
 
-use framework::contracts::lab05::{
+use contracts::lab05::{
     DiffuseEmitter, Observation, PEAK_LUMINOUS_EFFICACY_LM_PER_W, PLANCK_J_S, Radiometry, Receiver,
     RectangleLight, SPEED_OF_LIGHT_M_PER_S, SphericalBulb,
 };
-use framework::glam::DVec3;
-use framework::math::Onb;
-use framework::sampling::Rng;
+use raylab_core::glam::DVec3;
+use raylab_core::math::Onb;
+use raylab_core::sampling::Rng;
 use reference::lab05::Lab05 as Reference;
 
 use super::Verdict;

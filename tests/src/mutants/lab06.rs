@@ -2,9 +2,9 @@
 
 use std::f32::consts::PI;
 
-use framework::contracts::lab06::Radiosity;
-use framework::glam::Vec3;
-use framework::radiosity::{DeltaFormFactors, HemicubeFace, ItemBuffer, Patch};
+use contracts::lab06::Radiosity;
+use pipeline::radiosity::{DeltaFormFactors, HemicubeFace, ItemBuffer, Patch};
+use raylab_core::glam::Vec3;
 use reference::lab06::Lab06 as Reference;
 
 use super::Verdict;

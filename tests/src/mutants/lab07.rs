@@ -1,8 +1,8 @@
 //! Lab 07 variants.
 
-use framework::contracts::lab07::Antialiasing;
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::sampling::Rng;
+use contracts::lab07::Antialiasing;
+use raylab_core::glam::{UVec2, Vec2, Vec3};
+use raylab_core::sampling::Rng;
 use reference::lab07::Lab07 as Reference;
 
 use super::Verdict;

@@ -2,11 +2,11 @@
 
 use std::f32::consts::PI;
 
-use framework::contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
-use framework::glam::Vec3;
-use framework::math::{Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
-use framework::scene::PointLight;
+use contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
+use raylab_core::glam::Vec3;
+use raylab_core::math::{Onb, RAY_EPSILON, Ray};
+use raylab_core::sampling::Rng;
+use raylab_core::scene::PointLight;
 use reference::lab08::Lab08 as Reference;
 
 use super::Verdict;

@@ -2,10 +2,10 @@
 
 use std::f32::consts::{PI, TAU};
 
-use framework::contracts::lab09::{Addressing, Texturing};
-use framework::glam::{Vec2, Vec3};
-use framework::math::Onb;
-use framework::scene::{Plane, Sphere, Texture};
+use contracts::lab09::{Addressing, Texturing};
+use raylab_core::glam::{Vec2, Vec3};
+use raylab_core::math::Onb;
+use raylab_core::scene::{Plane, Sphere, Texture};
 use reference::lab09::Lab09 as Reference;
 
 use super::Verdict;

@@ -1,8 +1,8 @@
 //! Lab 10 variants.
 
-use framework::contracts::lab10::Fresnel;
-use framework::glam::Vec3;
-use framework::scene::Material;
+use contracts::lab10::Fresnel;
+use raylab_core::glam::Vec3;
+use raylab_core::scene::Material;
 use reference::lab10::Lab10 as Reference;
 
 use super::Verdict;

@@ -4,10 +4,10 @@
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
-use framework::contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
-use framework::glam::{Vec2, Vec3};
-use framework::math::{Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
+use contracts::lab11::{AmbientOcclusion, HemisphereSample, Occlusion};
+use raylab_core::glam::{Vec2, Vec3};
+use raylab_core::math::{Onb, RAY_EPSILON, Ray};
+use raylab_core::sampling::Rng;
 use reference::lab11::Lab11 as Reference;
 
 use super::Verdict;

@@ -198,15 +198,14 @@ fn csv_row<'a>(csv: &'a str, student: &str) -> Option<Vec<&'a str>> {
 }
 
 /// The points submission `name` is due for Exercise `id` (or `"total"`): full marks for the
-/// honest ones, `output_flood`'s honest 11, `delegate_to_framework`'s honest 6, nothing for an
-/// attack.
+/// honest ones, `output_flood`'s honest 11, nothing for an attack (`delegate_to_framework` does
+/// not compile, its honest half with it).
 fn due(name: &str, id: &str) -> u32 {
     let points = |id: &str| {
         let full = EXERCISES.iter().find(|(e, _)| *e == id).map_or(0, |e| e.1);
         match name {
             "a-honest" | "z-honest" => full,
             "output_flood" if id != "2.2" => full,
-            "delegate_to_framework" if !["2.1", "2.2", "2.3"].contains(&id) => full,
             _ => 0,
         }
     };
@@ -776,23 +775,7 @@ fn hostile_submissions_gain_nothing() {
         every_reason(&mut problems, "memory_hog", &["out of memory", "crashed"]);
     }
     if seen("delegate_to_framework") {
-        let name = "delegate_to_framework";
-        for (id, why) in reasons(name) {
-            if ["2.1", "2.2", "2.3"].contains(&id.as_str()) {
-                problems.check(why.contains("names framework items"), name, || {
-                    format!("the reason of Exercise {id} does not say \"names framework items\": {why:.300}")
-                });
-            }
-        }
-        let r = report(name);
-        problems.check(
-            r.lines().any(|l| {
-                l.starts_with("- flagged: labs/lab02/src/lib.rs:")
-                    && l.contains("`trace_to_closest`")
-            }),
-            name,
-            || format!("report.md flags no `trace_to_closest` line:\n{r:.1500}"),
-        );
+        every_reason(&mut problems, "delegate_to_framework", &["raylab_core"]);
     }
     if seen("output_flood") {
         for file in [

@@ -1,6 +1,6 @@
 //! Whether two engines find the same hits on the same rays.
 
-use framework::math::Ray;
+use raylab_core::math::Ray;
 
 use super::engine::{Engine, EngineHit};
 
@@ -76,8 +76,8 @@ pub fn compare(engine: &dyn Engine, rays: &[Ray], reference: &[Option<EngineHit>
 
 #[cfg(test)]
 mod tests {
-    use framework::glam::Vec3;
-    use framework::scene::builtin_scene;
+    use raylab_core::glam::Vec3;
+    use raylab_core::scene::builtin_scene;
 
     use super::super::engine::Core;
     use super::super::peer_obvhs::{Kernel, Obvhs};

@@ -1,11 +1,11 @@
 //! What the benchmark compares: an engine answers closest-hit and any-hit queries over one
 //! triangle mesh. This file holds the interface and the framework's own core.
 
-use framework::Error;
-use framework::accel::{TraversalStats, TriangleBvh};
-use framework::glam::Vec3;
-use framework::math::Ray;
-use framework::scene::Scene;
+use raylab_core::Error;
+use raylab_core::accel::{TraversalStats, TriangleBvh};
+use raylab_core::glam::Vec3;
+use raylab_core::math::Ray;
+use raylab_core::scene::Scene;
 
 /// A closest hit: the ray parameter and, where the engine tells, which triangle (face index).
 #[derive(Clone, Copy, Debug, PartialEq)]

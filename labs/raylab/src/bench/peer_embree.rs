@@ -7,9 +7,9 @@ use embree3::{
     BufferUsage, Config, Device, Format, GeometryKind, IntersectContext, Ray as EmRay, RayHit,
     Scene as EmScene, SceneFlags,
 };
-use framework::Error;
-use framework::glam::Vec3;
-use framework::math::Ray;
+use raylab_core::Error;
+use raylab_core::glam::Vec3;
+use raylab_core::math::Ray;
 
 use super::engine::{Engine, EngineHit};
 

@@ -5,14 +5,14 @@
 use std::cell::Cell;
 use std::time::Duration;
 
-use framework::geometry::TriangleRay;
-use framework::glam::{Vec3, Vec3A};
-use framework::math::Ray;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::ray::{Ray as ObRay, RayHit as ObHit};
 use obvhs::triangle::Triangle;
+use raylab_core::geometry::TriangleRay;
+use raylab_core::glam::{Vec3, Vec3A};
+use raylab_core::math::Ray;
 
 use super::engine::{Engine, EngineHit, Work};
 

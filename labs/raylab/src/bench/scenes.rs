@@ -1,11 +1,11 @@
 //! The benchmark's scenes and ray sets: the Cornell box or a mesh framed by a camera, camera rays
 //! through pixel centres, and one diffuse bounce from each of their hits.
 
-use framework::Error;
-use framework::glam::{UVec2, Vec2, Vec3};
-use framework::math::{Onb, RAY_EPSILON, Ray};
-use framework::sampling::Rng;
-use framework::scene::{Material, MaterialId, Mesh, ObjData, Scene};
+use raylab_core::Error;
+use raylab_core::glam::{UVec2, Vec2, Vec3};
+use raylab_core::math::{Onb, RAY_EPSILON, Ray};
+use raylab_core::sampling::Rng;
+use raylab_core::scene::{Material, MaterialId, Mesh, ObjData, Scene};
 
 /// A sphere of `rings × segments × 2` triangles with a few percent of radial bumps.
 pub fn bumpy_sphere(rings: u32, segments: u32) -> Mesh {

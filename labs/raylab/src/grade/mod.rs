@@ -26,9 +26,9 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use clap::Args;
-use framework::Error;
-use framework::grading::{ExerciseInfo, FailureKind};
+use grading::{ExerciseInfo, FailureKind};
 use indicatif::{ProgressBar, ProgressStyle};
+use raylab_core::Error;
 
 use crate::handout::{TreeOptions, build_tree, io, repository_root};
 use runner::{ExerciseRun, Workspace};
@@ -124,9 +124,9 @@ impl Status {
         }
     }
 
-    /// The status of a check's failure message (see [`framework::grading::failure_kind`]).
+    /// The status of a check's failure message (see [`grading::failure_kind`]).
     pub fn of_failure(message: &str) -> Self {
-        match framework::grading::failure_kind(message) {
+        match grading::failure_kind(message) {
             Some(FailureKind::NotStarted) => Self::NotStarted,
             Some(FailureKind::Blocked(other)) => Self::BlockedBy(other),
             Some(FailureKind::Panicked) => Self::Crashed,

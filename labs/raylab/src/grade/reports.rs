@@ -7,9 +7,9 @@ use std::fs;
 use std::path::Path;
 use std::time::Duration;
 
-use framework::Error;
-use framework::grading::Visibility;
+use grading::Visibility;
 use maud::{DOCTYPE, Markup, PreEscaped, html};
+use raylab_core::Error;
 
 use crate::bench::median;
 

@@ -10,9 +10,9 @@ use std::process::{Command, ExitStatus, Stdio};
 use std::sync::{Arc, Mutex, mpsc};
 use std::time::{Duration, Instant};
 
-use framework::Error;
-use framework::grading::ExerciseInfo;
-use framework::grading::verdict::{self, RecordScanner};
+use grading::ExerciseInfo;
+use grading::verdict::{self, RecordScanner};
+use raylab_core::Error;
 
 use super::Status;
 use super::sandbox::{LINGERING, Sandbox};

@@ -33,7 +33,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use framework::Error;
+use raylab_core::Error;
 
 /// Resource limits of one build or exercise.
 #[derive(Clone, Debug)]

@@ -24,7 +24,7 @@ use std::path::{Component, Path, PathBuf};
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
-use framework::grading::DeniedItem;
+use grading::DeniedItem;
 
 use super::submission::{MAX_FILE_BYTES, read_regular, shown};
 
@@ -815,7 +815,7 @@ macro_rules! m {
             scan.denied.iter().map(|u| &u.line).collect::<Vec<_>>()
         );
 
-        let delegating = b"fn a(d: Vec3, n: Vec3) -> Vec3 { d.reflect(n) }\nfn b(d: Vec3, n: Vec3) -> Vec3 { Vec3::reflect(d, n) }\nfn c(d: Vec3, n: Vec3) -> Vec3 { (d * 1.0).refract(n, 1.5) }\nfn e(d: Vec3, n: Vec3) -> Vec3 { framework::glam::Vec3::refract(d, n, 1.5) }\n";
+        let delegating = b"fn a(d: Vec3, n: Vec3) -> Vec3 { d.reflect(n) }\nfn b(d: Vec3, n: Vec3) -> Vec3 { Vec3::reflect(d, n) }\nfn c(d: Vec3, n: Vec3) -> Vec3 { (d * 1.0).refract(n, 1.5) }\nfn e(d: Vec3, n: Vec3) -> Vec3 { raylab_core::glam::Vec3::refract(d, n, 1.5) }\n";
         let tree = Tree::with_lab(LabId::of(4), &[("lib.rs", delegating)]);
         let lines: Vec<String> = scan_lab(&tree.0, LabId::of(4), denied)
             .denied

@@ -14,7 +14,7 @@ use std::ops::Bound;
 use std::os::unix::fs::{FileTypeExt, OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
-use framework::Error;
+use raylab_core::Error;
 
 use crate::handout::io;
 

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use framework::Error;
+use raylab_core::Error;
 use sha2::{Digest, Sha256};
 
 use super::submission::is_lab_sources;

@@ -1,9 +1,9 @@
 //! Lab 01's figure: the default scene through the camera, in flat colours.
 
-use framework::Error;
-use framework::film::ToneMap;
-use framework::pipeline::View;
-use framework::scene::builtin_scene;
+use pipeline::View;
+use raylab_core::Error;
+use raylab_core::film::ToneMap;
+use raylab_core::scene::builtin_scene;
 
 use super::{Figure, ReportContext, settings, timed};
 
@@ -11,7 +11,7 @@ use super::{Figure, ReportContext, settings, timed};
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let (w, h) = ctx.size(512, 384);
     let scene = builtin_scene("default")?;
-    let pipeline = framework::pipeline::Pipeline {
+    let pipeline = pipeline::Pipeline {
         view: View::BaseColour,
         ..ctx.pipeline.clone()
     };

@@ -1,10 +1,10 @@
 //! Lab 02's figures: the default scene and the Cornell box with Lambertian shading, and the
 //! normals of the default scene.
 
-use framework::Error;
-use framework::film::ToneMap;
-use framework::pipeline::{Pipeline, View};
-use framework::scene::builtin_scene;
+use pipeline::{Pipeline, View};
+use raylab_core::Error;
+use raylab_core::film::ToneMap;
+use raylab_core::scene::builtin_scene;
 
 use super::{Figure, ReportContext, settings, timed};
 

@@ -6,15 +6,15 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-use framework::Error;
-use framework::contracts::lab02::LightSample;
-use framework::contracts::lab03::Shadows;
-use framework::film::{Film, ToneMap};
-use framework::glam::{Vec2, Vec3};
-use framework::labs::lab03::checks::snapshot_scene;
-use framework::math::Ray;
-use framework::pipeline::Pipeline;
-use framework::sampling::Rng;
+use contracts::lab02::LightSample;
+use contracts::lab03::Shadows;
+use lab03_checks::checks::snapshot_scene;
+use pipeline::Pipeline;
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::glam::{Vec2, Vec3};
+use raylab_core::math::Ray;
+use raylab_core::sampling::Rng;
 
 use super::{Figure, Panel, ReportContext, settings, timed};
 

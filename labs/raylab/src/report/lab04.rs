@@ -3,11 +3,12 @@
 //! each with its render time; the Cornell box with a mirror and a glass sphere; and two facing
 //! mirrors at growing depth limits.
 
-use framework::Error;
-use framework::film::{Film, ToneMap};
-use framework::labs::lab04::checks::{Shot, glossy_default_scene};
-use framework::pipeline::Pipeline;
-use framework::scene::{IllumModel, Scene, builtin_scene};
+use grading::scenes::glossy_default_scene;
+use lab04_checks::checks::Shot;
+use pipeline::Pipeline;
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::scene::{IllumModel, Scene, builtin_scene};
 
 use super::{Figure, Panel, ReportContext, settings, timed};
 

@@ -6,9 +6,9 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use framework::Error;
-use framework::contracts::lab05::Radiometry;
-use framework::labs::lab05::checks::{BIG_LIGHT, Estimator, LightCase, estimates, light_cases};
+use contracts::lab05::Radiometry;
+use lab05_checks::checks::{BIG_LIGHT, Estimator, LightCase, estimates, light_cases};
+use raylab_core::Error;
 
 use super::plot::{BLUE, Guide, LogLogPlot, ORANGE, Series};
 use super::{Figure, ReportContext};
@@ -46,7 +46,7 @@ fn errors(
         &SAMPLE_COUNTS[..]
     };
     let start = Instant::now();
-    let points = framework::catch_quietly("the report of lab 05", || {
+    let points = raylab_core::catch_quietly("the report of lab 05", || {
         counts
             .iter()
             .map(|&n| {

@@ -5,15 +5,15 @@
 
 use std::time::Instant;
 
-use framework::Error;
-use framework::contracts::lab06::Radiosity;
-use framework::film::ToneMap;
-use framework::glam::Vec3;
-use framework::radiosity::solver::{
+use contracts::lab06::Radiosity;
+use pipeline::radiosity::solver::{
     FormFactors, Shading, Solution, SolveSettings, render_solution, solve,
 };
-use framework::radiosity::{MeshingOptions, PatchMesh};
-use framework::scene::{Scene, builtin_scene};
+use pipeline::radiosity::{MeshingOptions, PatchMesh};
+use raylab_core::Error;
+use raylab_core::film::ToneMap;
+use raylab_core::glam::Vec3;
+use raylab_core::scene::{Scene, builtin_scene};
 
 use super::plot::{LogLogPlot, RED, Series};
 use super::{Figure, Panel, ReportContext, settings, timed};
@@ -78,7 +78,7 @@ fn describe(s: &Solved, settings: &SolveSettings) -> String {
 /// The figures of lab 06. A radiosity solution needs every exercise, so an unfinished one
 /// stops the report with its name (the ray-traced figures of other labs lose pixels instead).
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
-    framework::catch_quietly(
+    raylab_core::catch_quietly(
         "lab 06's report (a radiosity solution calls every exercise of the lab)",
         || solved_figures(ctx),
     )?
@@ -234,7 +234,7 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
 
     // Radiosity against ray tracing: the same box by lab 3's area-light ray tracer.
     let spp = if ctx.quick { 1 } else { 4 };
-    let traced_pipeline = framework::pipeline::Pipeline {
+    let traced_pipeline = pipeline::Pipeline {
         lab: 4,
         area_light_samples: 4,
         ..ctx.pipeline.clone()

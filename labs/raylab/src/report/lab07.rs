@@ -6,11 +6,11 @@
 
 use std::fmt::Write as _;
 
-use framework::Error;
-use framework::film::{Film, ToneMap};
-use framework::labs::lab07::checks::mean_squared_error;
-use framework::render::RenderSettings;
-use framework::scene::builtin_scene;
+use lab07_checks::checks::mean_squared_error;
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::render::RenderSettings;
+use raylab_core::scene::builtin_scene;
 
 use super::plot::{BLUE, Guide, LogLogPlot, Series};
 use super::{Figure, Panel, ReportContext, settings, timed};

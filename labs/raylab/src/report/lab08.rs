@@ -5,11 +5,11 @@
 
 use std::time::Instant;
 
-use framework::Error;
-use framework::film::{Film, ToneMap};
-use framework::photon::{PhotonMap, PhotonSettings, trace_caustic_photons};
-use framework::pipeline::{Pipeline, View};
-use framework::scene::{Scene, builtin_scene};
+use pipeline::photon::{PhotonMap, PhotonSettings, trace_caustic_photons};
+use pipeline::{Pipeline, View};
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::scene::{Scene, builtin_scene};
 
 use super::{Figure, ReportContext, settings, timed};
 
@@ -33,7 +33,7 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         ..ctx.pipeline.clone()
     };
     let start = Instant::now();
-    let trace = framework::catch_quietly("tracing photons", || {
+    let trace = raylab_core::catch_quietly("tracing photons", || {
         trace_caustic_photons(&base, &scene, &photons)
     })?;
     let trace_seconds = start.elapsed().as_secs_f64();
@@ -131,7 +131,7 @@ fn photon_preview(
     for p in &mut film.pixels {
         *p /= 3.0;
     }
-    let camera = pipeline.prepare_camera(scene, framework::glam::UVec2::new(w, h));
+    let camera = pipeline.prepare_camera(scene, raylab_core::glam::UVec2::new(w, h));
     let brightest = map
         .photons()
         .iter()
@@ -155,7 +155,8 @@ fn photon_preview(
             continue;
         }
         let distance = d.length();
-        let ray = framework::math::Ray::new(camera.eye, d / distance, 0.0, distance * (1.0 - 1e-3));
+        let ray =
+            raylab_core::math::Ray::new(camera.eye, d / distance, 0.0, distance * (1.0 - 1e-3));
         if pipeline.trace_to_any(scene, &ray) {
             continue;
         }

@@ -5,12 +5,12 @@
 
 use std::fmt::Write as _;
 
-use framework::Error;
-use framework::contracts::lab09::TextureFilter;
-use framework::film::{Film, ToneMap};
-use framework::labs::lab09::checks::{GROUND_TEX_SCALE, textured_scene};
-use framework::pipeline::Pipeline;
-use framework::render::RenderSettings;
+use contracts::lab09::TextureFilter;
+use lab09_checks::checks::{GROUND_TEX_SCALE, textured_scene};
+use pipeline::Pipeline;
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::render::RenderSettings;
 
 use super::{Figure, Panel, ReportContext, settings, timed};
 

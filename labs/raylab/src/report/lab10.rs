@@ -6,12 +6,12 @@
 
 use std::fmt::Write as _;
 
-use framework::Error;
-use framework::film::{Film, ToneMap};
-use framework::labs::lab04::checks::glossy_default_scene;
-use framework::labs::lab10::checks::volume_default_scene;
-use framework::pipeline::Pipeline;
-use framework::scene::{IllumModel, Scene, builtin_scene};
+use grading::scenes::glossy_default_scene;
+use lab10_checks::checks::volume_default_scene;
+use pipeline::Pipeline;
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap};
+use raylab_core::scene::{IllumModel, Scene, builtin_scene};
 
 use super::{Figure, Panel, ReportContext, settings, timed};
 
@@ -180,7 +180,7 @@ fn closeup_figure(
 /// message of the unfinished exercise that stopped it.
 fn reflectance_table(pipeline: &Pipeline) -> String {
     let fresnel = pipeline.fresnel.clone();
-    let rows = framework::catch_quietly("lab 10's reflectance table", || {
+    let rows = raylab_core::catch_quietly("lab 10's reflectance table", || {
         let mut table = String::from(
             "| angle of incidence θ₁ | R, air → glass (1 → 1.5) | R, glass → air (1.5 → 1) |\n| --- | --- | --- |\n",
         );

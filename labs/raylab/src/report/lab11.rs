@@ -7,13 +7,13 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use framework::Error;
-use framework::contracts::lab11::HemisphereSampler;
-use framework::film::ToneMap;
-use framework::glam::Vec3;
-use framework::labs::lab11::checks::{SKY_PROBE, STUDIO_PROBE};
-use framework::pipeline::Pipeline;
-use framework::scene::{EnvironmentMap, ProbeMapping, Scene, Texture, load_scene_file};
+use contracts::lab11::HemisphereSampler;
+use lab11_checks::checks::{SKY_PROBE, STUDIO_PROBE};
+use pipeline::Pipeline;
+use raylab_core::Error;
+use raylab_core::film::ToneMap;
+use raylab_core::glam::Vec3;
+use raylab_core::scene::{EnvironmentMap, ProbeMapping, Scene, Texture, load_scene_file};
 
 use super::{Figure, Panel, ReportContext, settings, timed};
 

@@ -22,13 +22,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use framework::Error;
-use framework::film::{Film, ToneMap, write_srgb8_png};
-use framework::glam::Vec3;
-use framework::pipeline::{LabSlots, Pipeline};
-use framework::render::{PixelFailures, RenderSettings, render_partial};
-use framework::scene::Scene;
 use image::{RgbImage, imageops};
+use pipeline::render::render_partial;
+use pipeline::{LabSlots, Pipeline};
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap, write_srgb8_png};
+use raylab_core::glam::Vec3;
+use raylab_core::render::{PixelFailures, RenderSettings};
+use raylab_core::scene::Scene;
 
 use crate::render::PipelineChoice;
 use crate::students::{LabCode, LabVisitor};

@@ -1,0 +1,223 @@
+//! `#[contract]` on a lab contract's trait: the code every contract needs and no one should
+//! write by hand.
+//!
+//! For `#[contract] pub trait Shadows: Send + Sync { fn shadow_ray(&self, …) -> Ray; … }` it
+//! keeps the trait as written and adds
+//!
+//! - `impl Shadows for PartSlot<dyn Shadows>`: each method sent to the implementation
+//!   [`PartSlot::pick`] gives for that method's name — the student's for the method a check
+//!   puts in the slot, the base's for every other — so that one unfinished exercise never fails
+//!   another;
+//! - `impl ContractMethods for dyn Shadows`: the names of the trait's methods, which the tests
+//!   compare with the functions of the lab's exercise table.
+//!
+//! The paths are the `contracts` crate's own (`crate::PartSlot`): the attribute is for that
+//! crate's traits. A contract's shape is simple, and the parser here reads that shape only:
+//! no generics, methods without bodies that take `&self` and name each argument.
+
+use proc_macro::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenStream, TokenTree};
+
+/// See the crate's documentation.
+#[proc_macro_attribute]
+pub fn contract(attr: TokenStream, item: TokenStream) -> TokenStream {
+    let expanded = if attr.is_empty() {
+        expand(item.clone())
+    } else {
+        Err(("#[contract] takes no arguments".into(), Span::call_site()))
+    };
+    match expanded {
+        Ok(extra) => item.into_iter().chain(extra).collect(),
+        Err((message, span)) => compile_error(&message, span),
+    }
+}
+
+type Expansion = Result<TokenStream, (String, Span)>;
+
+/// The two impls for the trait `item`.
+fn expand(item: TokenStream) -> Expansion {
+    let tokens: Vec<TokenTree> = item.into_iter().collect();
+    let trait_at = tokens
+        .iter()
+        .position(|t| is_ident(t, "trait"))
+        .ok_or_else(|| ("#[contract] goes on a trait".to_string(), Span::call_site()))?;
+    let name = match tokens.get(trait_at + 1) {
+        Some(TokenTree::Ident(name)) => name.clone(),
+        _ => {
+            return Err((
+                "a contract trait needs a name".into(),
+                tokens[trait_at].span(),
+            ));
+        }
+    };
+    if let Some(TokenTree::Punct(p)) = tokens.get(trait_at + 2)
+        && p.as_char() == '<'
+    {
+        return Err((
+            "a contract has no generic parameters: a check holds it as `dyn Trait`".into(),
+            p.span(),
+        ));
+    }
+    let body = match tokens.last() {
+        Some(TokenTree::Group(g)) if g.delimiter() == Delimiter::Brace => g.clone(),
+        _ => return Err(("a contract trait needs a body".into(), name.span())),
+    };
+
+    let mut forwards = TokenStream::new();
+    let mut names = Vec::new();
+    for method in split(body.stream(), ';') {
+        let method = strip_attributes(method);
+        if method.is_empty() {
+            continue;
+        }
+        let (ident, params) = signature(&method)?;
+        let args = argument_names(params)?;
+        let mut call = format!("self.pick(\"{ident}\").{ident}(");
+        for arg in &args {
+            call.push_str(&format!("{arg},"));
+        }
+        call.push(')');
+        forwards.extend(parse("#[inline]"));
+        forwards.extend(method);
+        forwards.extend([TokenTree::Group(Group::new(Delimiter::Brace, parse(&call)))]);
+        names.push(ident.to_string());
+    }
+
+    let mut out = parse(&format!("impl {name} for crate::PartSlot<dyn {name}>"));
+    out.extend([TokenTree::Group(Group::new(Delimiter::Brace, forwards))]);
+    let list: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    out.extend(parse(&format!(
+        "impl crate::ContractMethods for dyn {name} {{ const METHODS: &'static [&'static str] = &[{}]; }}",
+        list.join(", ")
+    )));
+    Ok(out)
+}
+
+/// A method's name and its parameter list, checked to be `fn name(&self, …) -> …` with no
+/// generics and no body.
+fn signature(method: &[TokenTree]) -> Result<(Ident, Group), (String, Span)> {
+    let shape = "a contract holds methods only, `fn name(&self, …) -> …;`: one per function a student writes";
+    let (Some(TokenTree::Ident(fn_)), Some(TokenTree::Ident(ident))) =
+        (method.first(), method.get(1))
+    else {
+        return Err((shape.into(), method[0].span()));
+    };
+    if fn_.to_string() != "fn" {
+        return Err((shape.into(), fn_.span()));
+    }
+    let params = match method.get(2) {
+        Some(TokenTree::Group(g)) if g.delimiter() == Delimiter::Parenthesis => g.clone(),
+        Some(other) => {
+            return Err((
+                "a contract's methods have no generic parameters".into(),
+                other.span(),
+            ));
+        }
+        None => return Err((shape.into(), ident.span())),
+    };
+    if let Some(TokenTree::Group(g)) = method.last()
+        && g.delimiter() == Delimiter::Brace
+    {
+        return Err((
+            "a contract's methods have no default bodies: the student writes each".into(),
+            g.span(),
+        ));
+    }
+    Ok((ident.clone(), params))
+}
+
+/// The names of the arguments after `&self`.
+fn argument_names(params: Group) -> Result<Vec<Ident>, (String, Span)> {
+    let mut parts = split(params.stream(), ',').into_iter();
+    let receiver = parts.next().unwrap_or_default();
+    let is_ref_self = matches!(
+        receiver.as_slice(),
+        [TokenTree::Punct(amp), TokenTree::Ident(s)] if amp.as_char() == '&' && s.to_string() == "self"
+    );
+    if !is_ref_self {
+        return Err((
+            "a contract's methods take `&self`: a pipeline shares one implementation between threads".into(),
+            params.span(),
+        ));
+    }
+    let mut names = Vec::new();
+    for part in parts {
+        match part.as_slice() {
+            [] => {} // a trailing comma
+            [TokenTree::Ident(name), TokenTree::Punct(colon), ..]
+                if colon.as_char() == ':' && name.to_string() != "mut" =>
+            {
+                names.push(name.clone())
+            }
+            other => {
+                return Err((
+                    "name each argument of a contract method with a plain identifier".into(),
+                    other[0].span(),
+                ));
+            }
+        }
+    }
+    Ok(names)
+}
+
+/// `tokens` split at each `separator` outside brackets (groups) and angle brackets, keeping
+/// `->` whole.
+fn split(tokens: TokenStream, separator: char) -> Vec<Vec<TokenTree>> {
+    let mut parts = vec![Vec::new()];
+    let mut angle_depth = 0usize;
+    let mut after_minus = false;
+    for token in tokens {
+        if let TokenTree::Punct(p) = &token {
+            let c = p.as_char();
+            match c {
+                '<' => angle_depth += 1,
+                '>' if !after_minus => angle_depth = angle_depth.saturating_sub(1),
+                _ => {}
+            }
+            after_minus = c == '-' && p.spacing() == Spacing::Joint;
+            if c == separator && angle_depth == 0 {
+                parts.push(Vec::new());
+                continue;
+            }
+        } else {
+            after_minus = false;
+        }
+        parts.last_mut().expect("never empty").push(token);
+    }
+    parts
+}
+
+/// `tokens` without the outer attributes (doc comments among them) in front.
+fn strip_attributes(tokens: Vec<TokenTree>) -> Vec<TokenTree> {
+    let mut rest = tokens.as_slice();
+    while let [TokenTree::Punct(hash), TokenTree::Group(g), tail @ ..] = rest
+        && hash.as_char() == '#'
+        && g.delimiter() == Delimiter::Bracket
+    {
+        rest = tail;
+    }
+    rest.to_vec()
+}
+
+fn is_ident(token: &TokenTree, word: &str) -> bool {
+    matches!(token, TokenTree::Ident(i) if i.to_string() == word)
+}
+
+fn parse(code: &str) -> TokenStream {
+    code.parse().expect("the macro's own code parses")
+}
+
+fn compile_error(message: &str, span: Span) -> TokenStream {
+    let mut tokens = parse("::core::compile_error!");
+    let mut literal = Literal::string(message);
+    literal.set_span(span);
+    let mut arg = Group::new(
+        Delimiter::Parenthesis,
+        TokenStream::from(TokenTree::Literal(literal)),
+    );
+    arg.set_span(span);
+    tokens.extend([
+        TokenTree::Group(arg),
+        TokenTree::Punct(Punct::new(';', Spacing::Alone)),
+    ]);
+    tokens
+}

@@ -1,0 +1,77 @@
+//! Lab 02 — ray–surface intersection and Lambertian shading (docs/lab02.md).
+
+use glam::Vec3;
+
+use crate::math::Ray;
+use crate::scene::{DirectionalLight, Plane, PointLight, Sphere};
+
+/// A ray–plane or ray–sphere intersection.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SurfaceHit {
+    /// Ray parameter `t` of the hit (its distance, for a unit direction).
+    pub distance: f32,
+    /// Unit geometric normal at the hit (the plane's normal; outward for a sphere).
+    pub normal: Vec3,
+}
+
+/// A ray–triangle intersection with the barycentric coordinates of the hit point
+/// `(1 − β − γ)·v0 + β·v1 + γ·v2`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TriangleHit {
+    /// Ray parameter `t` of the hit.
+    pub distance: f32,
+    /// Barycentric weight `β` of `v1`.
+    pub beta: f32,
+    /// Barycentric weight `γ` of `v2`.
+    pub gamma: f32,
+    /// Unit normal `normalize((v1 − v0) × (v2 − v0))` (not flipped towards the ray).
+    pub normal: Vec3,
+}
+
+/// Light arriving at a surface point from one light source.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LightSample {
+    /// Unit direction from the surface point towards the light, `ω_i`.
+    pub direction: Vec3,
+    /// Distance to the light (`f32::INFINITY` for a directional light).
+    pub distance: f32,
+    /// Incident radiance `L_i` (for point and directional lights: the value that, times
+    /// `cos θ_i`, gives the irradiance).
+    pub radiance: Vec3,
+}
+
+/// Lab 02's contract, part one: the three ray–primitive intersection tests.
+///
+/// Every test accepts only hits with `ray.tmin ≤ t ≤ ray.tmax`; the framework's
+/// `trace_to_closest` relies on that to find the closest hit.
+#[crate::contract]
+pub trait Intersection: Send + Sync {
+    /// Exercise 2.1 — ray–plane intersection, `t = −(o·n + d)/(ω·n)`.
+    fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit>;
+
+    /// Exercise 2.2 — ray–triangle intersection with barycentric coordinates.
+    fn intersect_triangle(&self, ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<TriangleHit>;
+
+    /// Exercise 2.3 — ray–sphere intersection: the nearest root in `[tmin, tmax]`.
+    fn intersect_sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<SurfaceHit>;
+}
+
+/// Lab 02's contract, part two: lights and the Lambertian shader.
+#[crate::contract]
+pub trait Shading: Send + Sync {
+    /// Exercise 2.4 — light from a point light: direction, distance and the inverse-square
+    /// law `L_i = I / r²`.
+    fn sample_point_light(&self, light: &PointLight, position: Vec3) -> LightSample;
+
+    /// Exercise 2.5 — light from a directional light: `ω_i = −direction`, `L_i = E`.
+    fn sample_directional_light(&self, light: &DirectionalLight, position: Vec3) -> LightSample;
+
+    /// Exercise 2.6 — reflected radiance of a Lambertian surface,
+    /// `L_r = Σ_i (ρ_d/π) · L_i · max(0, n·ω_i)`.
+    fn shade_lambertian(&self, rho_d: Vec3, normal: Vec3, lights: &[LightSample]) -> Vec3;
+}
+
+/// Both halves of lab 02, as one object (what a lab02 crate's `Student` is).
+pub trait Lab02: Intersection + Shading {}
+
+impl<T: Intersection + Shading + ?Sized> Lab02 for T {}

@@ -1,0 +1,29 @@
+//! # The lab contracts
+//!
+//! One module per lab with the traits a student implements and their data types, with the doc
+//! comments that teach. The renderer reaches student code only through these traits, composed
+//! in the `pipeline` crate's `Pipeline`; each lab's checks are its own crate (`labs/labNN/checks`).
+//!
+//! This crate stands on `raylab-types` alone (the data the traits take, re-exported here as
+//! [`math`], [`sampling`], [`scene`] and [`glam`]) and nothing that renders or checks: a
+//! student's crate depends on it and on nothing else, so the framework's own kernels and scene
+//! queries are out of its reach.
+
+pub use raylab_types::{glam, math, sampling, scene};
+
+pub mod lab01;
+pub mod lab02;
+pub mod lab03;
+pub mod lab04;
+pub mod lab05;
+pub mod lab06;
+pub mod lab07;
+pub mod lab08;
+pub mod lab09;
+pub mod lab10;
+pub mod lab11;
+
+mod part_slot;
+
+pub use contract_macros::contract;
+pub use part_slot::{ContractMethods, PartSlot};

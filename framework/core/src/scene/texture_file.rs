@@ -1,0 +1,59 @@
+//! Textures from image files: the loading half of [`Texture`], under the load budget.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::Texture;
+use crate::Error;
+use crate::film::{LoadBudget, decode_image, srgb_to_linear};
+
+/// Loading a [`Texture`] from an image file.
+pub trait TextureFile: Sized {
+    /// Loads an image file under the [`LoadBudget::current`] budget; 8-bit images are decoded
+    /// from sRGB to linear, float images (EXR, HDR) are taken as linear.
+    fn load(path: &Path) -> Result<Self, Error>;
+
+    /// [`TextureFile::load`] for the statement `named_by` (e.g. "map_Kd of material 'a' at
+    /// m.mtl:3"), which an error names after the decoder's reason.
+    fn load_for(path: &Path, named_by: &str) -> Result<Self, Error>;
+}
+
+impl TextureFile for Texture {
+    fn load(path: &Path) -> Result<Self, Error> {
+        let decoded =
+            decode_image(path, &LoadBudget::current()).map_err(|reason| Error::Texture {
+                path: path.to_path_buf(),
+                reason,
+            })?;
+        let (width, height) = decoded.rgb.dimensions();
+        let texels = decoded
+            .rgb
+            .pixels()
+            .map(|p| {
+                let c = Vec3::from(p.0);
+                if decoded.is_float {
+                    c
+                } else {
+                    srgb_to_linear(c)
+                }
+            })
+            .collect();
+        Ok(Texture {
+            path: path.to_path_buf(),
+            width,
+            height,
+            texels,
+        })
+    }
+
+    fn load_for(path: &Path, named_by: &str) -> Result<Self, Error> {
+        Self::load(path).map_err(|e| match e {
+            Error::Texture { path, reason } => Error::Texture {
+                path,
+                reason: format!("{reason} (the texture of {named_by})"),
+            },
+            other => other,
+        })
+    }
+}

@@ -1,0 +1,306 @@
+//! The grading library: exercises and how they are run, property checks, golden cases and
+//! snapshot comparison. A lab crate's `cargo test`, the reference's CI run and `raylab grade`
+//! all go through [`run_exercise`], so they judge student code the same way.
+
+pub mod chi2;
+mod golden;
+pub mod harness;
+mod property;
+pub mod radiometry;
+pub mod scenes;
+mod snapshot;
+pub mod stats;
+mod strata;
+pub mod strategies;
+pub mod verdict;
+
+pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};
+pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
+pub use property::for_all;
+pub use snapshot::{
+    PixelTolerance, SnapshotReport, compare_snapshot, mark_non_finite, write_failure_images,
+};
+pub use strata::{StrataNames, cell_name, cell_of, check_one_per_cell};
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use pipeline::Pipeline;
+
+/// The check of one exercise: `Ok` when the student's code is right, otherwise what is wrong.
+pub type Check<S> = fn(&Arc<S>, &LabContext) -> Result<(), String>;
+
+/// One exercise of a lab: its row of the lab's exercise table (`labs/labNN/exercises.toml`)
+/// and its check.
+pub struct Exercise<S: ?Sized> {
+    /// What the table says of it: number, function, title, points, visibility, hint.
+    pub info: &'static ExerciseInfo,
+    /// The check.
+    pub check: Check<S>,
+}
+
+impl<S: ?Sized> std::ops::Deref for Exercise<S> {
+    type Target = ExerciseInfo;
+
+    fn deref(&self) -> &ExerciseInfo {
+        self.info
+    }
+}
+
+/// `[("exercise_1_1", exercise_1_1), …]`: a lab's checks by the names of their functions,
+/// `exercise_N_M` for Exercise N.M, for [`exercises`].
+#[macro_export]
+macro_rules! checks {
+    ($($check:ident),* $(,)?) => {
+        vec![$((stringify!($check), $check as $crate::Check<_>)),*]
+    };
+}
+
+/// The exercises of lab `lab`: every row of its table with the check named for it
+/// (`exercise_N_M`, see [`checks!`](crate::checks)), in the table's order.
+///
+/// # Panics
+/// When the table does not parse, or a row has no check or a check no row: the lab's checks
+/// and its table disagree, which `cargo test` shows its author at once.
+pub fn exercises<S: ?Sized>(lab: LabId, checks: Vec<(&'static str, Check<S>)>) -> Vec<Exercise<S>> {
+    let table = course::lab(lab).unwrap_or_else(|e| panic!("{e}"));
+    let name = |id: &str| format!("exercise_{}", id.replace('.', "_"));
+    if let Some((orphan, _)) = checks
+        .iter()
+        .find(|(c, _)| !table.exercises.iter().any(|e| name(&e.id) == *c))
+    {
+        panic!(
+            "{lab}'s check `{orphan}` has no row in {}/exercises.toml",
+            lab.folder()
+        );
+    }
+    table
+        .exercises
+        .iter()
+        .map(|info| Exercise {
+            info,
+            check: checks
+                .iter()
+                .find(|(c, _)| *c == name(&info.id))
+                .unwrap_or_else(|| {
+                    panic!(
+                        "Exercise {} of {}/exercises.toml has no check `{}` in its lab's checks",
+                        info.id,
+                        lab.folder(),
+                        name(&info.id)
+                    )
+                })
+                .1,
+        })
+        .collect()
+}
+
+/// Where a lab's data lives and what the rest of the pipeline is.
+#[derive(Clone)]
+pub struct LabContext {
+    /// The lab.
+    pub lab: LabId,
+    /// The lab crate's directory (holding `golden/` and `snapshots/`).
+    pub lab_dir: PathBuf,
+    /// Where failing checks write their images.
+    pub failure_dir: PathBuf,
+    /// The pipeline for everything that is not this lab (the reference, where present).
+    pub base: Pipeline,
+    /// The labs whose slot of `base` is the answer key (`reference::KEYS`); a slot of any other
+    /// lab holds the student's own code (a handout before that lab's solution is released).
+    pub key_labs: Vec<LabId>,
+}
+
+impl LabContext {
+    /// The context of lab `lab` whose crate lives in `lab_dir` (its `CARGO_MANIFEST_DIR`).
+    /// Failure images go to `$CARGO_TARGET_DIR/raylab-failures/labNN` (default target dir:
+    /// `target/` at the workspace root).
+    pub fn new(lab: LabId, lab_dir: &Path, base: Pipeline) -> Self {
+        let target = std::env::var_os("CARGO_TARGET_DIR")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| lab_dir.join("../../target"));
+        Self {
+            lab,
+            lab_dir: lab_dir.to_path_buf(),
+            failure_dir: target.join("raylab-failures").join(lab.to_string()),
+            base,
+            key_labs: Vec::new(),
+        }
+    }
+
+    /// This context with `labs` as the labs whose slot of `base` is the answer key (pass
+    /// `reference::KEYS`). Without it no slot counts as the key, and the checks judge by golden
+    /// cases and properties alone.
+    pub fn with_key_labs(mut self, labs: &[u32]) -> Self {
+        self.key_labs = labs.iter().filter_map(|&n| LabId::new(n)).collect();
+        self
+    }
+
+    /// Whether `base`'s slot of lab `lab` is the answer key.
+    pub fn has_key(&self, lab: LabId) -> bool {
+        self.key_labs.contains(&lab)
+    }
+
+    /// The answer key of this context's lab: `base`, when its slot of the lab is the key. A
+    /// check compares the student's function with the key's on random inputs when it is
+    /// present, and relies on golden cases and properties when it is not.
+    pub fn key(&self) -> Option<&Pipeline> {
+        self.has_key(self.lab).then_some(&self.base)
+    }
+
+    /// Path of a golden-case file of this lab.
+    pub fn golden_path(&self, name: &str) -> PathBuf {
+        self.lab_dir.join("golden").join(name)
+    }
+
+    /// Path of a snapshot image of this lab.
+    pub fn snapshot_path(&self, name: &str) -> PathBuf {
+        self.lab_dir.join("snapshots").join(name)
+    }
+}
+
+/// Runs one exercise's check on `subject`, turning panics (an unfinished stub, an index out of bounds …)
+/// into a failure. The error message names the exercise, the function to fix, and the docs.
+pub fn run_exercise<S: ?Sized>(
+    exercise: &Exercise<S>,
+    subject: &Arc<S>,
+    ctx: &LabContext,
+) -> Result<(), String> {
+    let lab = exercise.lab;
+    let place = format!(
+        "Exercise {} — `{}` ({}) in {}",
+        exercise.id,
+        exercise.function,
+        exercise.title,
+        lab.source()
+    );
+    let docs = format!("see {}, Exercise {}", lab.docs(), exercise.id);
+    let outcome = match raylab_core::quietly(|| {
+        raylab_core::catch_panic(|| (exercise.check)(subject, ctx))
+    }) {
+        Ok(result) => result,
+        Err(panic) => Err(match panic.location {
+            Some(at) => format!("panicked at {at}: {}", panic.message),
+            None => format!("panicked: {}", panic.message),
+        }),
+    };
+    match outcome {
+        Ok(()) => Ok(()),
+        Err(reason) => match unfinished_exercise(&reason) {
+            Some(other) if other == exercise.id => Err(format!("{place}{NOT_STARTED}\n({docs})")),
+            Some(other) => Err(format!(
+                "{place}{BLOCKED}{other} is done (it is not implemented yet: {reason}).\n({docs})"
+            )),
+            None if is_crash(&reason) => Err(format!("{place}{CRASHED}{reason}\n({docs})")),
+            None => Err(format!("{place}{WRONG}\n{reason}\n({docs})")),
+        },
+    }
+}
+
+/// Whether a check's failure is a panic of the code it ran: raised in the check itself
+/// ("panicked at …") or caught by a framework component the check called and returned as its
+/// error (a render's "rendering 'default' panicked: …", a [`raylab_core::PanicError`]).
+fn is_crash(reason: &str) -> bool {
+    reason.starts_with("panicked")
+        || reason
+            .lines()
+            .next()
+            .is_some_and(|first| first.contains(" panicked: "))
+}
+
+/// What follows the exercise's place in [`run_exercise`]'s message, for each kind of failure.
+const NOT_STARTED: &str = " is not implemented yet.";
+const BLOCKED: &str = " cannot be checked until Exercise ";
+const CRASHED: &str = " failed: ";
+const WRONG: &str = " is wrong:";
+
+/// The kind of a failure of [`run_exercise`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FailureKind {
+    /// The exercise's own stub is unfinished (`todo!()`).
+    NotStarted,
+    /// The check met the unfinished stub of another exercise, this one (`"2.1"`).
+    Blocked(String),
+    /// The student's code (or the check, on its output) panicked.
+    Panicked,
+    /// The check ran to its end and rejected the answer.
+    Wrong,
+}
+
+/// The kind of failure a message of [`run_exercise`] reports, read from its first line (the
+/// exercise's place, then the kind); `None` for a message that is not one of its.
+pub fn failure_kind(message: &str) -> Option<FailureKind> {
+    let first = message.lines().next()?;
+    let after = &first[first.find("/src/lib.rs")? + "/src/lib.rs".len()..];
+    if after.starts_with(NOT_STARTED) {
+        Some(FailureKind::NotStarted)
+    } else if let Some(rest) = after.strip_prefix(BLOCKED) {
+        Some(FailureKind::Blocked(
+            raylab_core::exercise_in(&format!("Exercise {rest}"))?.to_string(),
+        ))
+    } else if after.starts_with(CRASHED) {
+        Some(FailureKind::Panicked)
+    } else if after.starts_with(WRONG) {
+        Some(FailureKind::Wrong)
+    } else {
+        None
+    }
+}
+
+/// The exercise named by an unfinished stub's panic ("not yet implemented: Exercise N.M: …"),
+/// if `message` holds one.
+fn unfinished_exercise(message: &str) -> Option<&str> {
+    let rest = &message[message.find("not yet implemented: Exercise ")? + 30..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(rest.len());
+    Some(rest[..end].trim_end_matches('.'))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failure_kind_reads_the_first_line_of_each_kind_of_message() {
+        let place = "Exercise 2.3 — `shade` (Lambert) in labs/lab02/src/lib.rs";
+        let cases = [
+            (
+                format!("{place}{NOT_STARTED}\n(docs)"),
+                FailureKind::NotStarted,
+            ),
+            (
+                format!("{place}{BLOCKED}2.1 is done (…).\n(docs)"),
+                FailureKind::Blocked("2.1".into()),
+            ),
+            (
+                format!("{place}{CRASHED}panicked at x.rs:1:2: boom\n(docs)"),
+                FailureKind::Panicked,
+            ),
+            // A wrong answer whose reason quotes another kind's words is still wrong.
+            (
+                format!("{place}{WRONG}\n{place}{NOT_STARTED}\n(docs)"),
+                FailureKind::Wrong,
+            ),
+        ];
+        for (message, kind) in cases {
+            assert_eq!(failure_kind(&message), Some(kind), "{message}");
+        }
+        assert_eq!(failure_kind("the submission could not be graded"), None);
+    }
+
+    #[test]
+    fn a_panic_caught_by_a_component_the_check_called_is_a_crash() {
+        let render = raylab_core::PanicError {
+            context: "rendering 'default'".into(),
+            message: "a bug".into(),
+        };
+        assert!(is_crash(&render.to_string()));
+        assert!(is_crash("panicked at labs/lab01/src/lib.rs:3:5: boom"));
+        // A wrong answer stays wrong, even when a later line of its reason speaks of a panic.
+        assert!(!is_crash("expected 0.5, got 0.25"));
+        assert!(!is_crash(
+            "the image differs\n  (a pixel's code panicked: see the z-score image)"
+        ));
+    }
+}

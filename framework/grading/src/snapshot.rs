@@ -1,0 +1,169 @@
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use super::LabContext;
+use raylab_core::Error;
+use raylab_core::film::{Film, ToneMap, luminance, write_png};
+
+/// Per-pixel tolerance with an outlier budget, for deterministic renders: a pixel is an outlier
+/// when a channel differs by more than `abs + rel·|reference|`; the image passes when at most
+/// `max_outlier_fraction` of its pixels are outliers (pixels on silhouettes may legitimately
+/// differ between two correct intersection routines) and none is NaN or infinite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelTolerance {
+    /// Absolute tolerance per channel.
+    pub abs: f32,
+    /// Relative tolerance per channel.
+    pub rel: f32,
+    /// Fraction of pixels allowed outside the tolerance.
+    pub max_outlier_fraction: f32,
+}
+
+/// The outcome of comparing a render with its snapshot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SnapshotReport {
+    /// Pixels outside the tolerance.
+    pub outliers: usize,
+    /// Pixels that are NaN or infinite in the render.
+    pub non_finite: usize,
+    /// Pixels compared.
+    pub pixels: usize,
+    /// Largest channel difference.
+    pub max_error: f32,
+}
+
+impl SnapshotReport {
+    /// Whether the render passes under `tol`.
+    pub fn passes(&self, tol: &PixelTolerance) -> bool {
+        self.non_finite == 0
+            && self.outliers as f32 <= tol.max_outlier_fraction * self.pixels as f32
+    }
+}
+
+fn pixel_error(got: Vec3, expected: Vec3, tol: &PixelTolerance) -> f32 {
+    let allowed = Vec3::splat(tol.abs) + tol.rel * expected.abs();
+    ((got - expected).abs() / allowed).max_element()
+}
+
+/// Compares a render with its reference pixel by pixel.
+pub fn compare_snapshot(render: &Film, reference: &Film, tol: &PixelTolerance) -> SnapshotReport {
+    let mut report = SnapshotReport {
+        outliers: 0,
+        non_finite: render.non_finite_count(),
+        pixels: reference.pixels.len(),
+        max_error: 0.0,
+    };
+    for (&got, &expected) in render.pixels.iter().zip(&reference.pixels) {
+        let diff = (got - expected).abs().max_element();
+        let within = pixel_error(got, expected, tol) <= 1.0; // false for NaN
+        if !within {
+            report.outliers += 1;
+        }
+        if diff.is_finite() {
+            report.max_error = report.max_error.max(diff);
+        }
+    }
+    report
+}
+
+/// `film` with every NaN or infinite pixel magenta, so that a failure image shows where they are.
+pub fn mark_non_finite(film: &Film) -> Film {
+    let magenta = Vec3::new(1.0, 0.0, 1.0);
+    Film {
+        pixels: film
+            .pixels
+            .iter()
+            .map(|p| if p.is_finite() { *p } else { magenta })
+            .collect(),
+        ..film.clone()
+    }
+}
+
+/// Writes `<name>-student.png`, `<name>-reference.png` and `<name>-difference.png` (a heat
+/// map: grey where the pixel is within tolerance, yellow to red by how far outside, magenta
+/// for NaN) into `dir`, and returns their paths.
+pub fn write_failure_images(
+    dir: &Path,
+    name: &str,
+    render: &Film,
+    reference: &Film,
+    tol: &PixelTolerance,
+) -> Result<Vec<PathBuf>, Error> {
+    let tonemap = ToneMap::Clamp { exposure: 1.0 };
+    let student = dir.join(format!("{name}-student.png"));
+    let expected = dir.join(format!("{name}-reference.png"));
+    let difference = dir.join(format!("{name}-difference.png"));
+    write_png(&mark_non_finite(render), &student, tonemap)?;
+    write_png(reference, &expected, tonemap)?;
+    let heat = Film {
+        width: reference.width,
+        height: reference.height,
+        pixels: render
+            .pixels
+            .iter()
+            .zip(&reference.pixels)
+            .map(|(&got, &exp)| {
+                if !got.is_finite() {
+                    return Vec3::new(1.0, 0.0, 1.0);
+                }
+                let e = pixel_error(got, exp, tol);
+                if e <= 1.0 {
+                    Vec3::splat(0.25 * luminance(exp.min(Vec3::ONE)))
+                } else {
+                    // log scale: just outside → yellow, 1000× outside → red.
+                    let s = (e.log10() / 3.0).clamp(0.0, 1.0);
+                    Vec3::new(1.0, 1.0 - s, 0.0)
+                }
+            })
+            .collect(),
+    };
+    write_png(&heat, &difference, ToneMap::Clamp { exposure: 1.0 })?;
+    Ok(vec![student, expected, difference])
+}
+
+impl LabContext {
+    /// Compares `render` with the lab's snapshot `name` (`snapshots/<name>.exr`); on failure
+    /// writes the student, reference and difference images and names them in the message.
+    pub fn check_snapshot(
+        &self,
+        name: &str,
+        render: &Film,
+        tol: &PixelTolerance,
+    ) -> Result<(), String> {
+        let path = self.snapshot_path(&format!("{name}.exr"));
+        let reference = raylab_core::film::read_exr(&path).map_err(|e| {
+            format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
+        })?;
+        if (reference.width, reference.height) != (render.width, render.height) {
+            return Err(format!(
+                "the render is {}×{} but the snapshot {} is {}×{}",
+                render.width,
+                render.height,
+                path.display(),
+                reference.width,
+                reference.height
+            ));
+        }
+        let report = compare_snapshot(render, &reference, tol);
+        if report.passes(tol) {
+            return Ok(());
+        }
+        let images = write_failure_images(&self.failure_dir, name, render, &reference, tol)
+            .map(|paths| {
+                paths
+                    .iter()
+                    .map(|p| format!("\n    {}", p.display()))
+                    .collect::<String>()
+            })
+            .unwrap_or_else(|e| format!(" (could not write images: {e})"));
+        Err(format!(
+            "the rendered image '{name}' differs from the reference: {} of {} pixels outside the tolerance (at most {:.2}% may be), {} NaN/infinite, largest difference {:.4}.\n  images:{images}",
+            report.outliers,
+            report.pixels,
+            100.0 * tol.max_outlier_fraction,
+            report.non_finite,
+            report.max_error
+        ))
+    }
+}

@@ -1,0 +1,656 @@
+//! # The pipeline
+//!
+//! The components a render calls, one slot per lab contract, and the integrator that calls
+//! them (the DTU `RayTracer` and shaders). Every slot holds the reference implementation by
+//! default (see the `reference` crate's `pipeline()`); a lab's checks and `raylab render
+//! --pipeline student` replace the slots of one lab with the student's code, so a mistake in
+//! one lab does not spread into the others.
+//!
+//! Beside it stand the frameworks of the labs whose code the integrator drives through their
+//! contracts: lab 08's photon tracing ([`photon`]) and lab 06's radiosity ([`radiosity`]), and
+//! the render of a scene through a pipeline ([`render`]).
+
+pub mod builtin;
+pub mod photon;
+pub mod radiosity;
+pub mod render;
+
+pub use contracts::PartSlot;
+
+use std::sync::Arc;
+
+use glam::{UVec2, Vec2, Vec3};
+
+use contracts::lab09::{self, Addressing, TextureFilter};
+use contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11};
+use raylab_core::math::Ray;
+
+use crate::photon::{PhotonMap, PhotonSettings};
+use raylab_core::sampling::Rng;
+use raylab_core::scene::{
+    AreaLight, IllumModel, Light, Plane, PrimitiveHit, PrimitiveTests, Scene, Sphere,
+};
+use raylab_core::scene::{EnvironmentMap, Hit, HitSurface, Material, ProbeMapping};
+
+/// What a render shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum View {
+    /// Full shading with every lab up to the pipeline's `lab` enabled.
+    #[default]
+    Shaded,
+    /// The diffuse reflectance of the surface hit (lab 01's flat image).
+    BaseColour,
+    /// The shading normal mapped from `[−1, 1]` to `[0, 1]`.
+    Normals,
+    /// Only the caustics (lab 08): the photon map's radiance estimate at diffuse surfaces,
+    /// seen through mirrors and glass, without the direct lighting.
+    Caustics,
+}
+
+/// The components of a render, one slot per lab contract, and the integrator that calls them
+/// (the DTU `RayTracer` and shaders).
+#[derive(Clone)]
+pub struct Pipeline {
+    /// Lab 01: pixel to camera ray.
+    pub camera: Arc<dyn lab01::CameraRays>,
+    /// Lab 02, intersections; `None` uses the framework's built-in kernels (fast, and equal to
+    /// the reference's results up to floating-point rounding).
+    pub intersection: Option<Arc<dyn lab02::Intersection>>,
+    /// Lab 02, lights and Lambertian shading.
+    pub shading: Arc<dyn lab02::Shading>,
+    /// Lab 03, shadow rays and area-light sampling.
+    pub shadows: Arc<dyn lab03::Shadows>,
+    /// Lab 04, reflection, refraction and Phong shading.
+    pub reflection: Arc<dyn lab04::Reflection>,
+    /// Lab 05, radiometry: the integrator does not call it; it is the answer key of lab 05's
+    /// checks (`LabContext::key`) and the code of its report.
+    pub radiometry: Arc<dyn lab05::Radiometry>,
+    /// Lab 06, radiosity: not called by the ray tracer; the radiosity solver
+    /// ([`pipeline::radiosity::solver`]) and lab 06's checks take it from here.
+    pub radiosity: Arc<dyn lab06::Radiosity>,
+    /// Lab 07, pixel subdivision.
+    pub antialiasing: Arc<dyn lab07::Antialiasing>,
+    /// Lab 08, photon-mapped caustics: the emission of photons, the roulette at glass and the
+    /// radiance estimate.
+    pub photon_mapping: Arc<dyn lab08::PhotonMapping>,
+    /// Lab 08: the caustic photon map diffuse surfaces gather from (from lab 8 on); `None`
+    /// (no caustics) until [`pipeline::photon::with_caustics`] traces one for a scene.
+    pub caustics: Option<Arc<PhotonMap>>,
+    /// Lab 08: how many photons to trace, and the radiance estimate's `k` and maximum radius.
+    pub photons: PhotonSettings,
+    /// Lab 09, texture coordinates, addressing and lookups.
+    pub texturing: Arc<dyn lab09::Texturing>,
+    /// Lab 10, Fresnel reflectance and absorption.
+    pub fresnel: Arc<dyn lab10::Fresnel>,
+    /// Lab 11, ambient occlusion and light probes.
+    pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
+    /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
+    /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
+    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 8 adds caustics
+    /// from the photon map; 9 adds diffuse textures; 10 weights reflection and refraction by
+    /// the Fresnel reflectance and absorbs light in volumes; 11 adds the light probe of a scene
+    /// that has one (the radiance of rays that leave the scene, ambient occlusion on Lambertian
+    /// surfaces).
+    pub lab: u32,
+    /// What to show.
+    pub view: View,
+    /// Area lights are sampled with `n × n` stratified samples per shading point (lab 03).
+    pub area_light_samples: u32,
+    /// Reflected and refracted rays stop after this many bounces (lab 04).
+    pub max_depth: u32,
+    /// Rays per shading point of ambient occlusion, and their sampler (lab 11).
+    pub occlusion_rays: (u32, lab11::HemisphereSampler),
+    /// How textures are read between texel centres (lab 09).
+    pub texture_filter: TextureFilter,
+    /// What textures do outside `[0, 1]` (lab 09).
+    pub texture_addressing: Addressing,
+}
+
+/// A lab contract with its slots in the [`Pipeline`]: how a whole lab's code goes in, so that
+/// code generic over the labs (`raylab render --pipeline student`) needs no list of slots.
+pub trait LabSlots {
+    /// `base` with every slot of this lab holding `code`.
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline;
+}
+
+/// `impl LabSlots` for a contract whose code fills the one slot `$slot`.
+macro_rules! one_slot {
+    ($($contract:ty => $slot:ident),* $(,)?) => {$(
+        impl LabSlots for $contract {
+            fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+                Pipeline { $slot: code, ..base }
+            }
+        }
+    )*};
+}
+
+one_slot! {
+    dyn lab01::CameraRays => camera,
+    dyn lab03::Shadows => shadows,
+    dyn lab04::Reflection => reflection,
+    dyn lab05::Radiometry => radiometry,
+    dyn lab06::Radiosity => radiosity,
+    dyn lab07::Antialiasing => antialiasing,
+    dyn lab08::PhotonMapping => photon_mapping,
+    dyn lab09::Texturing => texturing,
+    dyn lab10::Fresnel => fresnel,
+    dyn lab11::AmbientOcclusion => ambient_occlusion,
+}
+
+/// Lab 02's code fills two slots: the intersections and the shading.
+impl LabSlots for dyn lab02::Lab02 {
+    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+        Pipeline {
+            intersection: Some(code.clone()),
+            shading: code,
+            ..base
+        }
+    }
+}
+
+/// A camera prepared for one render: the basis computed once through the pipeline.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedCamera {
+    /// Eye point.
+    pub eye: Vec3,
+    /// Camera basis from lab 01.
+    pub basis: lab01::CameraBasis,
+    /// Focal distance in image-plane heights.
+    pub focal_distance: f32,
+    /// Image size in pixels.
+    pub resolution: UVec2,
+}
+
+impl Pipeline {
+    /// Prepares the scene camera for an image of `resolution` (Exercise 1.2).
+    pub fn prepare_camera(&self, scene: &Scene, resolution: UVec2) -> PreparedCamera {
+        let c = &scene.camera;
+        PreparedCamera {
+            eye: c.eye,
+            basis: self.camera.camera_basis(c.eye, c.look_at, c.up),
+            focal_distance: c.focal_distance,
+            resolution,
+        }
+    }
+
+    /// The camera ray through raster position `raster` (Exercises 1.1, 1.4, 1.5).
+    pub fn camera_ray(&self, camera: &PreparedCamera, raster: Vec2) -> Ray {
+        let ip = self.camera.image_plane_coords(raster, camera.resolution);
+        let dir = self
+            .camera
+            .ray_direction(&camera.basis, camera.focal_distance, ip);
+        self.camera.camera_ray(camera.eye, dir)
+    }
+
+    /// The closest hit along `ray`, through the lab 02 slot; none along a ray that is not
+    /// [traceable](Ray::is_traceable).
+    pub fn trace_to_closest(&self, scene: &Scene, ray: &Ray) -> Option<Hit> {
+        match &self.intersection {
+            Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
+            None => scene.trace_to_closest(ray),
+        }
+    }
+
+    /// Whether anything blocks `ray`, through the lab 02 slot; nothing blocks a ray that is
+    /// not [traceable](Ray::is_traceable).
+    pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
+        match &self.intersection {
+            Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
+            None => scene.trace_to_any(ray),
+        }
+    }
+
+    /// Radiance arriving along a camera ray (the DTU `RayTracer::compute_pixel` body).
+    pub fn radiance(&self, scene: &Scene, ray: &Ray, rng: &mut Rng) -> Vec3 {
+        self.radiance_at(scene, ray, 0, 1.0, rng)
+    }
+
+    /// Radiance along `ray` after `depth` bounces, travelling in a medium of index `ior`; NaN
+    /// along a ray that is not [traceable](Ray::is_traceable), so that the render marks the pixel.
+    fn radiance_at(&self, scene: &Scene, ray: &Ray, depth: u32, ior: f32, rng: &mut Rng) -> Vec3 {
+        if !ray.is_traceable() {
+            return Vec3::NAN;
+        }
+        let Some(mut hit) = self.trace_to_closest(scene, ray) else {
+            return match &scene.environment {
+                Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
+                _ => scene.background,
+            };
+        };
+        hit.trace_depth = depth;
+        hit.ior = ior;
+        let material = scene.material(hit.material);
+        let diffuse = self.diffuse_colour(scene, &mut hit, material);
+        match self.view {
+            View::Normals => return 0.5 * (hit.shading_normal + Vec3::ONE),
+            View::BaseColour => return diffuse,
+            View::Shaded if self.lab < 2 => return diffuse,
+            View::Shaded | View::Caustics => {}
+        }
+        let emitted = material.emission;
+        if self.lab < 4 {
+            return emitted + self.shade_lambertian(scene, &hit, diffuse, rng);
+        }
+        match material.illum {
+            IllumModel::Mirror => emitted + self.trace_reflected(scene, ray, &hit, rng),
+            IllumModel::Transparent
+            | IllumModel::AbsorbingVolume
+            | IllumModel::Glossy
+            | IllumModel::GlossyVolume
+                if self.lab >= 10 =>
+            {
+                emitted + self.shade_dielectric(scene, ray, &hit, material, rng)
+            }
+            IllumModel::Transparent | IllumModel::AbsorbingVolume => {
+                emitted + self.trace_refracted(scene, ray, &hit, material.ior, rng)
+            }
+            IllumModel::Glossy | IllumModel::GlossyVolume => {
+                // The worksheet's glossy shader: a little Phong and mirror, mostly refraction
+                // (lab 10 replaces the weights by the Fresnel reflectance).
+                emitted
+                    + 0.1 * self.shade_phong(scene, ray, &hit, diffuse, rng)
+                    + 0.1 * self.trace_reflected(scene, ray, &hit, rng)
+                    + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
+            }
+            IllumModel::Phong => {
+                emitted
+                    + self.direct(|| self.shade_phong(scene, ray, &hit, diffuse, rng))
+                    + self.caustic(&hit, diffuse)
+            }
+            IllumModel::Lambertian => {
+                let ambient = match &scene.environment {
+                    Some(env) if self.lab >= 11 => {
+                        self.direct(|| self.shade_ambient(scene, env, &hit, diffuse, rng))
+                    }
+                    _ => Vec3::ZERO,
+                };
+                emitted
+                    + self.direct(|| self.shade_lambertian(scene, &hit, diffuse, rng))
+                    + ambient
+                    + self.caustic(&hit, diffuse)
+            }
+        }
+    }
+
+    /// The probe's radiance from the direction `direction` (unit or not), through lab 11's
+    /// mapping of directions to texture coordinates (Exercises 11.5, 11.7).
+    pub fn environment_radiance(&self, env: &EnvironmentMap, direction: Vec3) -> Vec3 {
+        let d = direction.normalize();
+        let uv = match env.mapping {
+            ProbeMapping::Angular => self.ambient_occlusion.angular_map_uv(d),
+            ProbeMapping::Latlong => self.ambient_occlusion.latlong_uv(d),
+        };
+        env.texel(uv)
+    }
+
+    /// The ambient-occlusion shader at a Lambertian hit lit by the probe (Exercises
+    /// 11.1–11.3, 11.9): the accessibility and bent normal from `occlusion_rays` rays traced
+    /// with `trace_to_any`, the probe looked up along the bent normal.
+    fn shade_ambient(
+        &self,
+        scene: &Scene,
+        env: &EnvironmentMap,
+        hit: &Hit,
+        diffuse: Vec3,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let ao = self.ambient_occlusion.as_ref();
+        let n = hit.shading_normal;
+        let (rays, sampler) = self.occlusion_rays;
+        let draw = |rng: &mut Rng| match sampler {
+            lab11::HemisphereSampler::Rejection => ao.sample_hemisphere_rejection(n, rng),
+            lab11::HemisphereSampler::Cosine => ao.sample_hemisphere_cosine(n, rng),
+        };
+        let occluded = |ray: &Ray| self.trace_to_any(scene, ray);
+        let occlusion = ao.ambient_occlusion(hit.position, n, rays, &draw, &occluded, rng);
+        let light = self.environment_radiance(env, occlusion.bent_normal);
+        ao.shade_ambient_occlusion(diffuse, &occlusion, light)
+    }
+
+    /// The direct lighting `shade` computes, or none in the caustics-only view.
+    fn direct(&self, shade: impl FnOnce() -> Vec3) -> Vec3 {
+        if self.view == View::Caustics {
+            Vec3::ZERO
+        } else {
+            shade()
+        }
+    }
+
+    /// The caustic radiance at a diffuse hit (from lab 8 on, with a photon map): the photons
+    /// nearest to it through the lab 08 slot's estimate (Exercise 8.4).
+    fn caustic(&self, hit: &Hit, diffuse: Vec3) -> Vec3 {
+        match &self.caustics {
+            Some(map) if self.lab >= 8 => {
+                let (k, r) = (self.photons.k as usize, self.photons.max_radius);
+                let nearby = map.nearest(hit.position, k, r);
+                self.photon_mapping
+                    .caustic_radiance(diffuse, hit.shading_normal, &nearby, k, r)
+            }
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// The reflectance of a dielectric surface for light arriving at `cos_i` (the cosine of
+    /// the angle of incidence) from a medium of index `eta_i` into one of `eta_t`: Schlick's
+    /// approximation below lab 10 (1 under total internal reflection), lab 10's Fresnel
+    /// reflectance from lab 10 on. The photon tracer's roulette at glass takes it (lab 08).
+    pub(crate) fn dielectric_reflectance(&self, cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+        if self.lab >= 10 {
+            self.fresnel.fresnel_reflectance(cos_i, eta_i, eta_t)
+        } else {
+            schlick_reflectance(cos_i, eta_i, eta_t)
+        }
+    }
+
+    /// Radiance along the mirror direction (black past the depth limit).
+    fn trace_reflected(&self, scene: &Scene, ray: &Ray, hit: &Hit, rng: &mut Rng) -> Vec3 {
+        if hit.trace_depth >= self.max_depth {
+            return Vec3::ZERO;
+        }
+        let reflected = self.reflection.reflected_ray(ray, hit);
+        self.radiance_at(scene, &reflected, hit.trace_depth + 1, hit.ior, rng)
+    }
+
+    /// Radiance along the refracted direction, or the reflected one under total internal
+    /// reflection (black past the depth limit).
+    fn trace_refracted(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        material_ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        if hit.trace_depth >= self.max_depth {
+            return Vec3::ZERO;
+        }
+        match self.reflection.refracted_ray(ray, hit, material_ior) {
+            Some((refracted, ior)) => {
+                self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng)
+            }
+            None => self.trace_reflected(scene, ray, hit, rng),
+        }
+    }
+
+    /// Lab 10's shaders of a dielectric (DTU `Transparent`, `Glossy`, `Volume` and
+    /// `GlossyVolume` with Fresnel): the reflected and refracted radiance weighted by the
+    /// Fresnel reflectance, plus the Phong highlight (the specular lobe alone) on a glossy
+    /// surface, times the transmittance of the medium when the ray has crossed a volume.
+    fn shade_dielectric(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        material: &Material,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let mut radiance = self.trace_fresnel(scene, ray, hit, material.ior, rng);
+        if matches!(
+            material.illum,
+            IllumModel::Glossy | IllumModel::GlossyVolume
+        ) {
+            let lights = self.light_samples(scene, hit, rng);
+            radiance += self.reflection.shade_phong(
+                Vec3::ZERO,
+                material.specular,
+                material.shininess,
+                hit.shading_normal,
+                -ray.direction,
+                &lights,
+            );
+        }
+        radiance * self.medium_transmittance(ray.direction, hit, material)
+    }
+
+    /// `R` times the radiance along the reflected ray plus `1 − R` times the radiance along
+    /// the refracted ray, `R` the Fresnel reflectance (lab 10) at the interface lab 04 finds;
+    /// the reflected radiance alone under total internal reflection (black past the depth
+    /// limit).
+    fn trace_fresnel(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        material_ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        if hit.trace_depth >= self.max_depth {
+            return Vec3::ZERO;
+        }
+        let Some((refracted, ior)) = self.reflection.refracted_ray(ray, hit, material_ior) else {
+            return self.trace_reflected(scene, ray, hit, rng);
+        };
+        let side = self.reflection.interface(ray.direction, hit, material_ior);
+        let cos_i = (-ray.direction.dot(side.normal)).clamp(0.0, 1.0);
+        let r = self
+            .fresnel
+            .fresnel_reflectance(cos_i, side.eta_incident, side.eta_transmitted);
+        // A NaN reflectance reaches the pixel (`!=` is true for NaN).
+        let mut radiance = Vec3::ZERO;
+        if r != 0.0 {
+            radiance += r * self.trace_reflected(scene, ray, hit, rng);
+        }
+        if r != 1.0 {
+            radiance +=
+                (1.0 - r) * self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng);
+        }
+        radiance
+    }
+
+    /// The transmittance of the medium a ray along `direction` has crossed to reach `hit` on
+    /// a surface of `material` (lab 10): the Bouguer–Lambert–Beer attenuation over
+    /// `hit.distance` when the material is an absorbing volume (`illum 11` or 12) and the ray
+    /// leaves it (`direction · shading normal > 0`: it travelled inside), one otherwise and
+    /// below lab 10. The shaders and photon tracing call it at every hit of a dielectric.
+    pub fn medium_transmittance(&self, direction: Vec3, hit: &Hit, material: &Material) -> Vec3 {
+        let volume = matches!(
+            material.illum,
+            IllumModel::AbsorbingVolume | IllumModel::GlossyVolume
+        );
+        if self.lab >= 10 && volume && direction.dot(hit.shading_normal) > 0.0 {
+            self.fresnel.transmittance(hit.distance, material)
+        } else {
+            Vec3::ONE
+        }
+    }
+
+    /// The diffuse reflectance at a hit: the material's, times its diffuse texture at the hit's
+    /// texture coordinates from lab 09 on (which it stores in `hit.texcoord`); projector,
+    /// corresponder and lookup all through the lab 09 slot.
+    fn diffuse_colour(&self, scene: &Scene, hit: &mut Hit, material: &Material) -> Vec3 {
+        let Some(texture) = material.diffuse_texture.as_deref() else {
+            return material.diffuse;
+        };
+        if self.lab < 9 {
+            return material.diffuse;
+        }
+        let t = self.texturing.as_ref();
+        hit.texcoord = match hit.surface {
+            HitSurface::Unknown => hit.texcoord,
+            HitSurface::Plane(i) => t.plane_texcoord(&scene.planes[i as usize], hit.position),
+            HitSurface::Sphere(i) => t.sphere_texcoord(&scene.spheres[i as usize], hit.position),
+            HitSurface::Triangle { face, barycentrics } => {
+                let mesh = &scene.mesh;
+                if mesh.texcoords.is_empty() {
+                    Vec2::ZERO
+                } else {
+                    let uvs = mesh.faces[face as usize].map(|v| mesh.texcoords[v as usize]);
+                    t.triangle_texcoord(uvs, barycentrics)
+                }
+            }
+        };
+        let mode = self.texture_addressing;
+        let address = |c: f32| t.address(c, mode);
+        let texel = match self.texture_filter {
+            TextureFilter::Nearest => t.sample_nearest(texture, hit.texcoord, &address),
+            TextureFilter::Bilinear => t.sample_bilinear(texture, hit.texcoord, &address),
+        };
+        material.diffuse * texel
+    }
+
+    /// Lambertian reflection of every light at a hit (labs 02 and 03), of reflectance
+    /// `diffuse`.
+    fn shade_lambertian(&self, scene: &Scene, hit: &Hit, diffuse: Vec3, rng: &mut Rng) -> Vec3 {
+        let lights = self.light_samples(scene, hit, rng);
+        self.shading
+            .shade_lambertian(diffuse, hit.shading_normal, &lights)
+    }
+
+    /// Phong reflection of every light at a hit (lab 04), of diffuse reflectance `diffuse`.
+    fn shade_phong(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &Hit,
+        diffuse: Vec3,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let lights = self.light_samples(scene, hit, rng);
+        let m = scene.material(hit.material);
+        self.reflection.shade_phong(
+            diffuse,
+            m.specular,
+            m.shininess,
+            hit.shading_normal,
+            -ray.direction,
+            &lights,
+        )
+    }
+
+    /// The light arriving at a hit: one sample per point and directional light, and (from
+    /// lab 03 on) `n × n` stratified samples per area light; from lab 03 on, samples whose
+    /// shadow ray is blocked are dropped.
+    pub fn light_samples(
+        &self,
+        scene: &Scene,
+        hit: &Hit,
+        rng: &mut Rng,
+    ) -> Vec<lab02::LightSample> {
+        let shadows = self.lab >= 3;
+        let mut samples = Vec::new();
+        for light in &scene.lights {
+            match light {
+                Light::Point(p) => samples.push(self.shading.sample_point_light(p, hit.position)),
+                Light::Directional(d) => {
+                    samples.push(self.shading.sample_directional_light(d, hit.position))
+                }
+                Light::Area(area) if shadows => {
+                    self.sample_area_light(scene, area, hit, rng, &mut samples)
+                }
+                Light::Area(_) => {}
+            }
+        }
+        if shadows {
+            samples.retain(|s| {
+                let shadow_ray = self.shadows.shadow_ray(hit.position, s);
+                !self.trace_to_any(scene, &shadow_ray)
+            });
+        }
+        samples
+    }
+
+    /// Appends the `n × n` stratified samples of an area light (Exercises 3.2–3.4), each
+    /// carrying `1/n²` of the estimate.
+    fn sample_area_light(
+        &self,
+        scene: &Scene,
+        area: &AreaLight,
+        hit: &Hit,
+        rng: &mut Rng,
+        out: &mut Vec<lab02::LightSample>,
+    ) {
+        let n = self.area_light_samples.max(1);
+        let weight = 1.0 / (n * n) as f32;
+        let pdf_area = 1.0 / area.area;
+        for u in self.shadows.stratified_samples(n, rng) {
+            let (i, ux) = area.pick_face(u.x);
+            let face = area.faces[i] as usize;
+            let triangle = scene.mesh.triangle(face);
+            let point = self.shadows.sample_triangle(triangle, Vec2::new(ux, u.y));
+            let normal = scene.mesh.face_normal(face);
+            let emission = scene.material(scene.mesh.face_materials[face]).emission;
+            let mut sample =
+                self.shadows
+                    .area_light_sample(hit.position, point, normal, emission, pdf_area);
+            sample.radiance *= weight;
+            out.push(sample);
+        }
+    }
+}
+
+/// A lab 02 [`Intersection`](lab02::Intersection) as the scene's primitive tests: the adapter
+/// through which the scene queries reach a student's (or the reference's) intersection code.
+struct Lab02Tests<'a>(&'a dyn lab02::Intersection);
+
+impl PrimitiveTests for Lab02Tests<'_> {
+    fn plane(&self, ray: &Ray, plane: &Plane) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_plane(ray, plane)
+            .map(|h| surface_hit(h.distance, h.normal))
+    }
+
+    fn triangle(&self, ray: &Ray, &[v0, v1, v2]: &[Vec3; 3]) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_triangle(ray, v0, v1, v2)
+            .map(|h| PrimitiveHit {
+                t: h.distance,
+                normal: h.normal,
+                barycentrics: Vec2::new(h.beta, h.gamma),
+            })
+    }
+
+    fn sphere(&self, ray: &Ray, sphere: &Sphere) -> Option<PrimitiveHit> {
+        self.0
+            .intersect_sphere(ray, sphere)
+            .map(|h| surface_hit(h.distance, h.normal))
+    }
+}
+
+/// The primitive hit of a plane or sphere (no barycentrics).
+fn surface_hit(t: f32, normal: Vec3) -> PrimitiveHit {
+    PrimitiveHit {
+        t,
+        normal,
+        barycentrics: Vec2::ZERO,
+    }
+}
+
+/// Schlick's approximation of the reflectance of a dielectric surface, 1 under total internal
+/// reflection (see [`Pipeline::dielectric_reflectance`]).
+fn schlick_reflectance(cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+    let cos_i = cos_i.abs().min(1.0);
+    let r0 = ((eta_i - eta_t) / (eta_i + eta_t)).powi(2);
+    let cos = if eta_i > eta_t {
+        let sin2_t = (eta_i / eta_t).powi(2) * (1.0 - cos_i * cos_i);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        (1.0 - sin2_t).sqrt()
+    } else {
+        cos_i
+    };
+    (r0 + (1.0 - r0) * (1.0 - cos).powi(5)).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::schlick_reflectance;
+
+    #[test]
+    fn schlick_reflectance_of_glass() {
+        // Normal incidence: ((n₁ − n₂)/(n₁ + n₂))² = 0.04 from either side.
+        assert!((schlick_reflectance(1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((schlick_reflectance(1.0, 1.5, 1.0) - 0.04).abs() < 1e-6);
+        // Grazing incidence reflects everything.
+        assert!((schlick_reflectance(0.0, 1.0, 1.5) - 1.0).abs() < 1e-6);
+        // Beyond the critical angle inside glass (sin θ > 1/1.5): total internal reflection.
+        assert_eq!(schlick_reflectance(0.7, 1.5, 1.0), 1.0);
+        // Rising with the angle of incidence.
+        let mut last = 0.0;
+        for i in (0..=100).rev() {
+            let r = schlick_reflectance(i as f32 / 100.0, 1.0, 1.5);
+            assert!(r >= last && (0.0..=1.0).contains(&r), "{r} after {last}");
+            last = r;
+        }
+    }
+}

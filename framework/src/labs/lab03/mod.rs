@@ -1,7 +1,0 @@
-//! Lab 03 — shadows: the checks of its contract ([`crate::contracts::lab03`]) and the
-//! generator of their golden data (docs/lab03.md).
-
-pub mod checks;
-mod golden;
-
-pub use golden::generate_golden;

@@ -1,7 +1,0 @@
-//! Lab 04 — reflection and refraction: the checks of its contract ([`crate::contracts::lab04`]) and the
-//! generator of their golden data (docs/lab04.md).
-
-pub mod checks;
-mod golden;
-
-pub use golden::generate_golden;

@@ -1,7 +1,0 @@
-//! Lab 05 — radiometry: the checks of its contract ([`crate::contracts::lab05`]) and the
-//! generator of their golden data (docs/lab05.md).
-
-pub mod checks;
-mod golden;
-
-pub use golden::generate_golden;

@@ -1,7 +1,0 @@
-//! Lab 09 — texture mapping: the checks of its contract ([`crate::contracts::lab09`]) and the
-//! generator of their golden data (docs/lab09.md).
-
-pub mod checks;
-mod golden;
-
-pub use golden::generate_golden;

@@ -1,7 +1,0 @@
-//! Lab 10 — Fresnel reflectance and absorption: the checks of its contract
-//! ([`crate::contracts::lab10`]) and the generator of their golden data (docs/lab10.md).
-
-pub mod checks;
-mod golden;
-
-pub use golden::generate_golden;
