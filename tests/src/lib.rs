@@ -99,7 +99,10 @@ pub fn run_all<S: ?Sized>(
 ) -> Vec<(&'static str, Result<(), String>)> {
     exercises
         .iter()
-        .map(|e| (e.info.id.as_str(), run_exercise(e, subject, ctx)))
+        .map(|e| {
+            let outcome = run_exercise(e, subject, ctx).map_err(|f| f.message);
+            (e.info.id.as_str(), outcome)
+        })
         .collect()
 }
 
@@ -133,7 +136,7 @@ pub fn judge_in<S: ?Sized>(
                     .find(|e| e.id == id)
                     .expect("known exercise");
                 match &run_exercise(exercise, &subject, ctx) {
-                    Err(message) => {
+                    Err(grading::Failure { message, .. }) => {
                         rejected += 1;
                         let first = message.lines().nth(1).unwrap_or_default();
                         println!("{lab} rejects  [{id}] {name}: {first}");

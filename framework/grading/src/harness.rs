@@ -72,5 +72,5 @@ fn check<S: ?Sized>(
     if let Some(channel) = channel {
         channel.report(&exercise.id, &outcome);
     }
-    outcome.map_err(Failed::from)
+    outcome.map_err(|f| Failed::from(f.message))
 }

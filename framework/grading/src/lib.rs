@@ -160,21 +160,13 @@ impl LabContext {
 }
 
 /// Runs one exercise's check on `subject`, turning panics (an unfinished stub, an index out of bounds …)
-/// into a failure. The error message names the exercise, the function to fix, and the docs.
+/// into a failure. The failure's kind says what happened; its message names the exercise, the
+/// function to fix, and the docs.
 pub fn run_exercise<S: ?Sized>(
     exercise: &Exercise<S>,
     subject: &Arc<S>,
     ctx: &LabContext,
-) -> Result<(), String> {
-    let lab = exercise.lab;
-    let place = format!(
-        "Exercise {} — `{}` ({}) in {}",
-        exercise.id,
-        exercise.function,
-        exercise.title,
-        lab.source()
-    );
-    let docs = format!("see {}, Exercise {}", lab.docs(), exercise.id);
+) -> Result<(), Failure> {
     let outcome = match raylab_core::quietly(|| {
         raylab_core::catch_panic(|| (exercise.check)(subject, ctx))
     }) {
@@ -184,16 +176,46 @@ pub fn run_exercise<S: ?Sized>(
             None => format!("panicked: {}", panic.message),
         }),
     };
-    match outcome {
-        Ok(()) => Ok(()),
-        Err(reason) => match unfinished_exercise(&reason) {
-            Some(other) if other == exercise.id => Err(format!("{place}{NOT_STARTED}\n({docs})")),
-            Some(other) => Err(format!(
-                "{place}{BLOCKED}{other} is done (it is not implemented yet: {reason}).\n({docs})"
-            )),
-            None if is_crash(&reason) => Err(format!("{place}{CRASHED}{reason}\n({docs})")),
-            None => Err(format!("{place}{WRONG}\n{reason}\n({docs})")),
-        },
+    outcome.map_err(|reason| failure(exercise.info, reason))
+}
+
+/// The failure of `exercise` whose check (or the code it ran) said `reason`: a panic of an
+/// unfinished stub is the exercise not started, or blocked by the exercise whose stub it is.
+fn failure(exercise: &ExerciseInfo, reason: String) -> Failure {
+    let lab = exercise.lab;
+    let place = format!(
+        "Exercise {} — `{}` ({}) in {}",
+        exercise.id,
+        exercise.function,
+        exercise.title,
+        lab.source()
+    );
+    let docs = format!("see {}, Exercise {}", lab.docs(), exercise.id);
+    let (kind, message) = match unfinished_exercise(&reason) {
+        Some(other) if other == exercise.id => (
+            FailureKind::NotStarted,
+            format!("{place} is not implemented yet.\n({docs})"),
+        ),
+        Some(other) => (
+            FailureKind::Blocked(other.to_string()),
+            format!(
+                "{place} cannot be checked until Exercise {other} is done (it is not implemented yet: {reason}).\n({docs})"
+            ),
+        ),
+        None if is_crash(&reason) => (
+            FailureKind::Crashed,
+            format!("{place} failed: {reason}\n({docs})"),
+        ),
+        None => (
+            FailureKind::Wrong,
+            format!("{place} is wrong:\n{reason}\n({docs})"),
+        ),
+    };
+    Failure {
+        exercise: exercise.id.clone(),
+        kind,
+        reason,
+        message,
     }
 }
 
@@ -208,42 +230,37 @@ fn is_crash(reason: &str) -> bool {
             .is_some_and(|first| first.contains(" panicked: "))
 }
 
-/// What follows the exercise's place in [`run_exercise`]'s message, for each kind of failure.
-const NOT_STARTED: &str = " is not implemented yet.";
-const BLOCKED: &str = " cannot be checked until Exercise ";
-const CRASHED: &str = " failed: ";
-const WRONG: &str = " is wrong:";
-
-/// The kind of a failure of [`run_exercise`].
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// What became of a check that did not accept the student's code.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum FailureKind {
     /// The exercise's own stub is unfinished (`todo!()`).
     NotStarted,
     /// The check met the unfinished stub of another exercise, this one (`"2.1"`).
     Blocked(String),
     /// The student's code (or the check, on its output) panicked.
-    Panicked,
+    Crashed,
     /// The check ran to its end and rejected the answer.
     Wrong,
 }
 
-/// The kind of failure a message of [`run_exercise`] reports, read from its first line (the
-/// exercise's place, then the kind); `None` for a message that is not one of its.
-pub fn failure_kind(message: &str) -> Option<FailureKind> {
-    let first = message.lines().next()?;
-    let after = &first[first.find("/src/lib.rs")? + "/src/lib.rs".len()..];
-    if after.starts_with(NOT_STARTED) {
-        Some(FailureKind::NotStarted)
-    } else if let Some(rest) = after.strip_prefix(BLOCKED) {
-        Some(FailureKind::Blocked(
-            raylab_core::exercise_in(&format!("Exercise {rest}"))?.to_string(),
-        ))
-    } else if after.starts_with(CRASHED) {
-        Some(FailureKind::Panicked)
-    } else if after.starts_with(WRONG) {
-        Some(FailureKind::Wrong)
-    } else {
-        None
+/// A check's failure, as data: what happened, to which exercise, and the message for the
+/// student.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    /// The exercise, e.g. `"2.2"`.
+    pub exercise: String,
+    /// What happened.
+    pub kind: FailureKind,
+    /// What the check (or the panic) said.
+    pub reason: String,
+    /// The whole message: the exercise's place, what happened, the reason and the docs.
+    pub message: String,
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
     }
 }
 
@@ -262,31 +279,40 @@ mod tests {
     use super::*;
 
     #[test]
-    fn failure_kind_reads_the_first_line_of_each_kind_of_message() {
-        let place = "Exercise 2.3 — `shade` (Lambert) in labs/lab02/src/lib.rs";
-        let cases = [
-            (
-                format!("{place}{NOT_STARTED}\n(docs)"),
-                FailureKind::NotStarted,
-            ),
-            (
-                format!("{place}{BLOCKED}2.1 is done (…).\n(docs)"),
-                FailureKind::Blocked("2.1".into()),
-            ),
-            (
-                format!("{place}{CRASHED}panicked at x.rs:1:2: boom\n(docs)"),
-                FailureKind::Panicked,
-            ),
-            // A wrong answer whose reason quotes another kind's words is still wrong.
-            (
-                format!("{place}{WRONG}\n{place}{NOT_STARTED}\n(docs)"),
-                FailureKind::Wrong,
-            ),
-        ];
-        for (message, kind) in cases {
-            assert_eq!(failure_kind(&message), Some(kind), "{message}");
-        }
-        assert_eq!(failure_kind("the submission could not be graded"), None);
+    fn a_failure_says_what_became_of_the_check() {
+        let info = &course::lab(LabId::of(1)).unwrap().exercises[2];
+        let id = info.id.clone();
+        let kind = |reason: &str| {
+            let f = failure(info, reason.to_string());
+            assert_eq!(f.exercise, id);
+            assert!(
+                f.message.starts_with(&format!("Exercise {id} ")),
+                "{}",
+                f.message
+            );
+            assert!(f.message.contains("docs/lab01.md"), "{}", f.message);
+            f.kind
+        };
+        assert_eq!(kind("expected 1, got 2"), FailureKind::Wrong);
+        assert_eq!(
+            kind("panicked at labs/lab01/src/lib.rs:3:5: index out of bounds"),
+            FailureKind::Crashed
+        );
+        assert_eq!(
+            kind(&format!(
+                "panicked at x.rs:1:1: not yet implemented: Exercise {id}: the field of view"
+            )),
+            FailureKind::NotStarted
+        );
+        assert_eq!(
+            kind("panicked at x.rs:1:1: not yet implemented: Exercise 1.1: pixel to image plane"),
+            FailureKind::Blocked("1.1".into())
+        );
+        // A wrong answer is wrong, even when a later line of its reason speaks of a panic.
+        assert_eq!(
+            kind("the image differs\n  (a pixel's code panicked: see the z-score image)"),
+            FailureKind::Wrong
+        );
     }
 
     #[test]

@@ -27,6 +27,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use memchr::memmem;
 use serde::{Deserialize, Serialize};
 
+use crate::{Failure, FailureKind};
+
 /// Set (to `stdin`) by the grader when the secret waits on standard input.
 pub const CHANNEL_VAR: &str = "RAYLAB_VERDICT_CHANNEL";
 
@@ -51,6 +53,9 @@ pub struct Record {
     pub exercise: String,
     /// Whether the check accepted the student's code.
     pub passed: bool,
+    /// What became of the check, when it did not accept it.
+    #[serde(default)]
+    pub kind: Option<FailureKind>,
     /// Why not (the check's message), or empty.
     pub message: String,
 }
@@ -86,14 +91,13 @@ impl VerdictChannel {
 
     /// Prints the record of `exercise` with its outcome and ends the process: nothing the
     /// student's code does afterwards can change it.
-    pub fn report(self, exercise: &str, outcome: &Result<(), String>) -> ! {
+    pub fn report(self, exercise: &str, outcome: &Result<(), Failure>) -> ! {
+        let failure = outcome.as_ref().err();
         let record = Record {
             exercise: exercise.to_string(),
             passed: outcome.is_ok(),
-            message: cut(
-                outcome.as_ref().err().map_or("", String::as_str),
-                MESSAGE_LIMIT,
-            ),
+            kind: failure.map(|f| f.kind.clone()),
+            message: cut(failure.map_or("", |f| f.message.as_str()), MESSAGE_LIMIT),
         };
         let json = serde_json::to_string(&record).unwrap_or_default();
         let mut out = std::io::stdout().lock();
@@ -197,6 +201,7 @@ mod tests {
         let json = serde_json::to_string(&Record {
             exercise: exercise.into(),
             passed,
+            kind: (!passed).then_some(FailureKind::Wrong),
             message: String::new(),
         })
         .unwrap();

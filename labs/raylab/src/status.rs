@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::Args;
-use grading::{Exercise, FailureKind, LabContext, Visibility, failure_kind, run_exercise};
+use grading::{Exercise, FailureKind, LabContext, Visibility, run_exercise};
 use pipeline::LabSlots;
 use raylab_core::Error;
 
@@ -56,14 +56,12 @@ fn judge<S: ?Sized>(
         .map(|e| {
             let state = match run_exercise(e, &student, &ctx) {
                 Ok(()) => State::Passed,
-                Err(m) => match failure_kind(&m) {
-                    Some(FailureKind::NotStarted) => State::NotStarted,
-                    Some(FailureKind::Blocked(other)) => State::Blocked(other),
-                    Some(FailureKind::Panicked) => {
-                        let first = m.lines().next().unwrap_or_default();
-                        State::Failing(first[first.find("panicked").unwrap_or(0)..].to_string())
+                Err(f) => match f.kind {
+                    FailureKind::NotStarted => State::NotStarted,
+                    FailureKind::Blocked(other) => State::Blocked(other),
+                    FailureKind::Crashed | FailureKind::Wrong => {
+                        State::Failing(f.reason.lines().next().unwrap_or_default().to_string())
                     }
-                    _ => State::Failing(m.lines().nth(1).unwrap_or_default().to_string()),
                 },
             };
             (e.id.to_string(), e.function.to_string(), e.points, state)

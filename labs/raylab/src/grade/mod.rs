@@ -124,12 +124,12 @@ impl Status {
         }
     }
 
-    /// The status of a check's failure message (see [`grading::failure_kind`]).
-    pub fn of_failure(message: &str) -> Self {
-        match grading::failure_kind(message) {
+    /// The status of a check that did not accept the student's code, by its record's kind.
+    pub fn of_failure(kind: Option<&FailureKind>) -> Self {
+        match kind {
             Some(FailureKind::NotStarted) => Self::NotStarted,
-            Some(FailureKind::Blocked(other)) => Self::BlockedBy(other),
-            Some(FailureKind::Panicked) => Self::Crashed,
+            Some(FailureKind::Blocked(other)) => Self::BlockedBy(other.clone()),
+            Some(FailureKind::Crashed) => Self::Crashed,
             Some(FailureKind::Wrong) | None => Self::Wrong,
         }
     }

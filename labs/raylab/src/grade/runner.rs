@@ -473,7 +473,7 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
         ),
         (Some(record), Some(_)) if record.passed => (Status::Passed, printable(&record.message)),
         (Some(record), Some(_)) => (
-            Status::of_failure(&record.message),
+            Status::of_failure(record.kind.as_ref()),
             printable(&record.message),
         ),
         (None, Some(exit)) => no_verdict(info, exit, &printed, how.memory_limit),
