@@ -1,0 +1,109 @@
+//! The layers of docs/architecture.md ("Invariants"), as the manifests state them: what each
+//! workspace crate may depend on among the others. Cargo refuses circles between crates, so a
+//! layer that holds here cannot be run back up in code.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use raylab_tests::workflow::root;
+
+/// Each workspace package's normal (not dev, not build) dependencies on other workspace packages.
+fn workspace_dependencies() -> BTreeMap<String, BTreeSet<String>> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "metadata",
+            "--offline",
+            "--no-deps",
+            "--format-version",
+            "1",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("cargo metadata runs");
+    assert!(output.status.success(), "cargo metadata failed");
+    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let packages = metadata["packages"].as_array().unwrap();
+    let members: BTreeSet<String> = packages
+        .iter()
+        .map(|p| p["name"].as_str().unwrap().to_string())
+        .collect();
+    packages
+        .iter()
+        .map(|p| {
+            let deps = p["dependencies"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|d| d["kind"].is_null())
+                .map(|d| d["name"].as_str().unwrap().to_string())
+                .filter(|d| members.contains(d))
+                .collect();
+            (p["name"].as_str().unwrap().to_string(), deps)
+        })
+        .collect()
+}
+
+/// Whether `name` is a student's crate (`labNN`) or a lab's checks (`labNN-checks`).
+fn lab_crate(name: &str) -> Option<(u32, bool)> {
+    let rest = name.strip_prefix("lab")?;
+    let (number, checks) = match rest.strip_suffix("-checks") {
+        Some(n) => (n, true),
+        None => (rest, false),
+    };
+    Some((number.parse().ok()?, checks))
+}
+
+#[test]
+fn each_crate_depends_only_on_the_layers_below_it() {
+    let deps = workspace_dependencies();
+    let allowed = |name: &str| -> Option<Vec<&str>> {
+        Some(match name {
+            "raylab-types" | "course" | "contract-macros" => vec![],
+            "raylab-core" => vec!["raylab-types"],
+            "contracts" => vec!["raylab-types", "contract-macros"],
+            "pipeline" => vec!["raylab-core", "contracts"],
+            "grading" => vec!["course", "raylab-core", "contracts", "pipeline"],
+            _ => match lab_crate(name)? {
+                // A student's crate sees the contracts and nothing that renders or checks.
+                (_, false) => vec!["contracts"],
+                // A lab's checks stand on the framework, never on a student's crate, the answer
+                // key or another lab's checks.
+                (_, true) => vec!["course", "raylab-core", "contracts", "pipeline", "grading"],
+            },
+        })
+    };
+    let mut problems = Vec::new();
+    for (name, on) in &deps {
+        let Some(allowed) = allowed(name) else {
+            continue;
+        };
+        for dep in on {
+            if !allowed.contains(&dep.as_str()) {
+                problems.push(format!("{name} depends on {dep}"));
+            }
+        }
+    }
+    // Every framework crate is there to be checked.
+    for framework in [
+        "raylab-types",
+        "raylab-core",
+        "contracts",
+        "pipeline",
+        "grading",
+    ] {
+        assert!(deps.contains_key(framework), "no crate {framework}");
+    }
+    assert!(problems.is_empty(), "layers run back up: {problems:?}");
+}
+
+#[test]
+fn the_core_knows_no_contract_and_the_contracts_no_renderer() {
+    let deps = workspace_dependencies();
+    assert!(!deps["raylab-core"].contains("contracts"));
+    for above in ["raylab-core", "pipeline", "grading"] {
+        assert!(
+            !deps["contracts"].contains(above),
+            "the contracts depend on {above}"
+        );
+    }
+}
