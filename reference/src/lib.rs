@@ -2,9 +2,10 @@
 //! `contracts` — every lab in the course's repository, the released ones in a
 //! handout — and [`pipeline`], the reference [`Pipeline`] every check and render starts from.
 //!
-//! Which labs' solutions the crate holds is its `key-labNN` features (all on by default); a lab
-//! whose solution it does not hold has the student's own code (`labs/labNN`'s `Student`) in
-//! its slot of [`pipeline`].
+//! Which labs' solutions the crate holds is its `key-labNN` features (all on by default); the
+//! slot of a lab whose solution it does not hold is a [`contracts::Waiting`] one, so that no
+//! lab's tests need another lab's student crate (a lab's harness puts its own student's code
+//! in its own slot).
 
 #[cfg(feature = "key-lab01")]
 pub mod lab01;
@@ -40,72 +41,75 @@ use pipeline::{Pipeline, View};
 
 include!(concat!(env!("OUT_DIR"), "/keys.rs"));
 
-/// The code in each lab's slot of [`pipeline`]: the answer key's where this crate holds it,
-/// the student's otherwise.
-mod slots {
-    #[cfg(feature = "key-lab01")]
-    pub use super::lab01::Lab01;
-    #[cfg(feature = "key-lab02")]
-    pub use super::lab02::Lab02;
-    #[cfg(feature = "key-lab03")]
-    pub use super::lab03::Lab03;
-    #[cfg(feature = "key-lab04")]
-    pub use super::lab04::Lab04;
-    #[cfg(feature = "key-lab05")]
-    pub use super::lab05::Lab05;
-    #[cfg(feature = "key-lab06")]
-    pub use super::lab06::Lab06;
-    #[cfg(feature = "key-lab07")]
-    pub use super::lab07::Lab07;
-    #[cfg(feature = "key-lab08")]
-    pub use super::lab08::Lab08;
-    #[cfg(feature = "key-lab09")]
-    pub use super::lab09::Lab09;
-    #[cfg(feature = "key-lab10")]
-    pub use super::lab10::Lab10;
-    #[cfg(feature = "key-lab11")]
-    pub use super::lab11::Lab11;
-    #[cfg(not(feature = "key-lab01"))]
-    pub use ::lab01::Student as Lab01;
-    #[cfg(not(feature = "key-lab02"))]
-    pub use ::lab02::Student as Lab02;
-    #[cfg(not(feature = "key-lab03"))]
-    pub use ::lab03::Student as Lab03;
-    #[cfg(not(feature = "key-lab04"))]
-    pub use ::lab04::Student as Lab04;
-    #[cfg(not(feature = "key-lab05"))]
-    pub use ::lab05::Student as Lab05;
-    #[cfg(not(feature = "key-lab06"))]
-    pub use ::lab06::Student as Lab06;
-    #[cfg(not(feature = "key-lab07"))]
-    pub use ::lab07::Student as Lab07;
-    #[cfg(not(feature = "key-lab08"))]
-    pub use ::lab08::Student as Lab08;
-    #[cfg(not(feature = "key-lab09"))]
-    pub use ::lab09::Student as Lab09;
-    #[cfg(not(feature = "key-lab10"))]
-    pub use ::lab10::Student as Lab10;
-    #[cfg(not(feature = "key-lab11"))]
-    pub use ::lab11::Student as Lab11;
+/// Lab `$n`'s slot: the answer key's `$key` where this crate holds it (feature `$feature`),
+/// otherwise a [`contracts::Waiting`] slot that names the lab.
+macro_rules! slot {
+    ($feature:literal, $n:literal, $module:ident :: $key:ident, $contract:ty) => {{
+        #[cfg(feature = $feature)]
+        let slot: Arc<$contract> = Arc::new($module::$key);
+        #[cfg(not(feature = $feature))]
+        let slot: Arc<$contract> = Arc::new(contracts::Waiting::<$contract>::new($n));
+        slot
+    }};
 }
 
 /// The reference pipeline with every lab enabled up to `lab`.
 pub fn pipeline(lab: u32) -> Pipeline {
     Pipeline {
-        camera: Arc::new(slots::Lab01),
+        camera: slot!(
+            "key-lab01",
+            1,
+            lab01::Lab01,
+            dyn contracts::lab01::CameraRays
+        ),
         intersection: None,
-        shading: Arc::new(slots::Lab02),
-        shadows: Arc::new(slots::Lab03),
-        reflection: Arc::new(slots::Lab04),
-        radiometry: Arc::new(slots::Lab05),
-        radiosity: Arc::new(slots::Lab06),
-        antialiasing: Arc::new(slots::Lab07),
-        photon_mapping: Arc::new(slots::Lab08),
+        shading: slot!("key-lab02", 2, lab02::Lab02, dyn contracts::lab02::Shading),
+        shadows: slot!("key-lab03", 3, lab03::Lab03, dyn contracts::lab03::Shadows),
+        reflection: slot!(
+            "key-lab04",
+            4,
+            lab04::Lab04,
+            dyn contracts::lab04::Reflection
+        ),
+        radiometry: slot!(
+            "key-lab05",
+            5,
+            lab05::Lab05,
+            dyn contracts::lab05::Radiometry
+        ),
+        radiosity: slot!(
+            "key-lab06",
+            6,
+            lab06::Lab06,
+            dyn contracts::lab06::Radiosity
+        ),
+        antialiasing: slot!(
+            "key-lab07",
+            7,
+            lab07::Lab07,
+            dyn contracts::lab07::Antialiasing
+        ),
+        photon_mapping: slot!(
+            "key-lab08",
+            8,
+            lab08::Lab08,
+            dyn contracts::lab08::PhotonMapping
+        ),
         caustics: None,
         photons: PhotonSettings::DEFAULT,
-        texturing: Arc::new(slots::Lab09),
-        fresnel: Arc::new(slots::Lab10),
-        ambient_occlusion: Arc::new(slots::Lab11),
+        texturing: slot!(
+            "key-lab09",
+            9,
+            lab09::Lab09,
+            dyn contracts::lab09::Texturing
+        ),
+        fresnel: slot!("key-lab10", 10, lab10::Lab10, dyn contracts::lab10::Fresnel),
+        ambient_occlusion: slot!(
+            "key-lab11",
+            11,
+            lab11::Lab11,
+            dyn contracts::lab11::AmbientOcclusion
+        ),
         lab,
         view: View::Shaded,
         area_light_samples: 4,

@@ -63,6 +63,8 @@ fn each_crate_depends_only_on_the_layers_below_it() {
             "contracts" => vec!["raylab-types", "contract-macros"],
             "pipeline" => vec!["raylab-core", "contracts"],
             "grading" => vec!["course", "raylab-core", "contracts", "pipeline"],
+            // The answer key knows no student crate: a lab without its key has a waiting slot.
+            "reference" => vec!["contracts", "pipeline"],
             _ => match lab_crate(name)? {
                 // A student's crate sees the contracts and nothing that renders or checks.
                 (_, false) => vec!["contracts"],
@@ -104,6 +106,40 @@ fn the_core_knows_no_contract_and_the_contracts_no_renderer() {
         assert!(
             !deps["contracts"].contains(above),
             "the contracts depend on {above}"
+        );
+    }
+}
+
+/// The lines `cargo tree -p PACKAGE` prints for everything `cargo test -p PACKAGE` builds.
+fn packages_built_by_tests_of(package: &str) -> BTreeSet<String> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args(["tree", "--offline", "--prefix", "none", "--format", "{p}"])
+        .args(["-e", "normal,dev,build", "-p", package])
+        .current_dir(root())
+        .output()
+        .expect("cargo tree runs");
+    assert!(output.status.success(), "cargo tree -p {package} failed");
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .map(str::to_string)
+        .collect()
+}
+
+/// A lab's tests build that lab and its checks and no other lab's crate: a broken lab never
+/// stops another's tests.
+#[test]
+fn a_lab_s_tests_build_no_other_lab() {
+    for lab in course::labs() {
+        let name = lab.to_string();
+        let others: Vec<String> = packages_built_by_tests_of(&name)
+            .into_iter()
+            .filter(|p| lab_crate(p).is_some_and(|(n, _)| n != lab.number()))
+            .collect();
+        assert!(
+            others.is_empty(),
+            "`cargo test -p {name}` builds other labs' crates: {others:?}"
         );
     }
 }

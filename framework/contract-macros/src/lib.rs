@@ -8,6 +8,8 @@
 //!   [`PartSlot::pick`] gives for that method's name — the student's for the method a check
 //!   puts in the slot, the base's for every other — so that one unfinished exercise never fails
 //!   another;
+//! - `impl Shadows for Waiting<dyn Shadows>`: every method panics, saying that it waits for
+//!   the lab's solution (the slot of a lab whose answer key the tree does not hold);
 //! - `impl ContractMethods for dyn Shadows`: the names of the trait's methods, which the tests
 //!   compare with the functions of the lab's exercise table.
 //!
@@ -63,6 +65,7 @@ fn expand(item: TokenStream) -> Expansion {
     };
 
     let mut forwards = TokenStream::new();
+    let mut waiting = TokenStream::new();
     let mut names = Vec::new();
     for method in split(body.stream(), ';') {
         let method = strip_attributes(method);
@@ -76,6 +79,12 @@ fn expand(item: TokenStream) -> Expansion {
             call.push_str(&format!("{arg},"));
         }
         call.push(')');
+        waiting.extend(parse("#[allow(unused_variables)]"));
+        waiting.extend(method.clone());
+        waiting.extend([TokenTree::Group(Group::new(
+            Delimiter::Brace,
+            parse(&format!("self.unavailable(\"{ident}\")")),
+        ))]);
         forwards.extend(parse("#[inline]"));
         forwards.extend(method);
         forwards.extend([TokenTree::Group(Group::new(Delimiter::Brace, parse(&call)))]);
@@ -84,6 +93,10 @@ fn expand(item: TokenStream) -> Expansion {
 
     let mut out = parse(&format!("impl {name} for crate::PartSlot<dyn {name}>"));
     out.extend([TokenTree::Group(Group::new(Delimiter::Brace, forwards))]);
+    out.extend(parse(&format!(
+        "impl {name} for crate::Waiting<dyn {name}>"
+    )));
+    out.extend([TokenTree::Group(Group::new(Delimiter::Brace, waiting))]);
     let list: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
     out.extend(parse(&format!(
         "impl crate::ContractMethods for dyn {name} {{ const METHODS: &'static [&'static str] = &[{}]; }}",

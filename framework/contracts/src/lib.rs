@@ -26,4 +26,4 @@ pub mod lab11;
 mod part_slot;
 
 pub use contract_macros::contract;
-pub use part_slot::{ContractMethods, PartSlot};
+pub use part_slot::{ContractMethods, PartSlot, WAITING_FOR_LAB, Waiting};

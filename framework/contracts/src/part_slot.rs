@@ -46,3 +46,34 @@ pub trait ContractMethods {
     /// The names of its methods, in the order of the trait.
     const METHODS: &'static [&'static str];
 }
+
+/// The slot of a lab whose answer key this tree does not hold (a handout before the lab's
+/// solution is released): every method panics with a message naming the lab. A check that
+/// reaches it fails as "waiting for lab N's solution" (`grading::FailureKind::Waiting`), and a
+/// lab's tests never need another lab's student crate.
+pub struct Waiting<T: ?Sized> {
+    lab: u32,
+    contract: std::marker::PhantomData<fn(&T)>,
+}
+
+impl<T: ?Sized> Waiting<T> {
+    /// The waiting slot of lab `lab`'s contract `T`.
+    pub fn new(lab: u32) -> Self {
+        Self {
+            lab,
+            contract: std::marker::PhantomData,
+        }
+    }
+
+    /// Panics: `method` is lab `lab`'s, whose solution is not here.
+    #[cold]
+    pub fn unavailable(&self, method: &str) -> ! {
+        panic!(
+            "{WAITING_FOR_LAB}{}'s solution: `{method}` is that lab's, and its answer key is not released yet",
+            self.lab
+        )
+    }
+}
+
+/// The start of a [`Waiting`] slot's panic message, before the lab's number.
+pub const WAITING_FOR_LAB: &str = "waiting for lab ";

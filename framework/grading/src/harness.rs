@@ -12,7 +12,7 @@ use std::sync::Arc;
 use libtest_mimic::{Arguments, Failed, Trial};
 
 use super::{Exercise, LabContext, LabId, Visibility, run_exercise, verdict};
-use pipeline::Pipeline;
+use pipeline::{LabSlots, Pipeline};
 
 /// What a lab's checks run on.
 pub struct LabChecks<S: ?Sized + 'static> {
@@ -35,7 +35,7 @@ pub struct LabChecks<S: ?Sized + 'static> {
 /// Runs the tests the command line asks for, one per exercise, and exits with libtest's
 /// status. Under `raylab grade` a test ends its process with the check's verdict record
 /// ([`verdict`]) instead.
-pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
+pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
     let args = Arguments::from_args();
     let LabChecks {
         lab,
@@ -46,6 +46,13 @@ pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
         key_labs,
         hidden,
     } = checks;
+    // Where the tree lacks this lab's solution, the student's own code is the base of the
+    // lab's other exercises.
+    let base = if key_labs.contains(&lab.number()) {
+        base
+    } else {
+        S::install(subject.clone(), base)
+    };
     let ctx = Arc::new(LabContext::new(lab, Path::new(lab_dir), base).with_key_labs(key_labs));
     let exercises: Vec<Arc<Exercise<S>>> = exercises.into_iter().map(Arc::new).collect();
     let trials = exercises

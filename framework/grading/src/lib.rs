@@ -191,6 +191,17 @@ fn failure(exercise: &ExerciseInfo, reason: String) -> Failure {
         lab.source()
     );
     let docs = format!("see {}, Exercise {}", lab.docs(), exercise.id);
+    if let Some(other) = waiting_lab(&reason) {
+        let message = format!(
+            "{place} cannot be checked until lab {other}'s solution is released: the check needs its code ({reason}).\n({docs})"
+        );
+        return Failure {
+            exercise: exercise.id.clone(),
+            kind: FailureKind::Waiting(other),
+            reason,
+            message,
+        };
+    }
     let (kind, message) = match unfinished_exercise(&reason) {
         Some(other) if other == exercise.id => (
             FailureKind::NotStarted,
@@ -238,6 +249,9 @@ pub enum FailureKind {
     NotStarted,
     /// The check met the unfinished stub of another exercise, this one (`"2.1"`).
     Blocked(String),
+    /// The check needs the code of another lab (this one) whose solution the tree does not
+    /// hold yet (a [`contracts::Waiting`] slot).
+    Waiting(u32),
     /// The student's code (or the check, on its output) panicked.
     Crashed,
     /// The check ran to its end and rejected the answer.
@@ -262,6 +276,16 @@ impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.message)
     }
+}
+
+/// The lab a [`contracts::Waiting`] slot's panic in `message` names, if it holds one.
+fn waiting_lab(message: &str) -> Option<u32> {
+    let rest =
+        &message[message.find(contracts::WAITING_FOR_LAB)? + contracts::WAITING_FOR_LAB.len()..];
+    let end = rest
+        .find(|c: char| !c.is_ascii_digit())
+        .unwrap_or(rest.len());
+    rest[..end].parse().ok()
 }
 
 /// The exercise named by an unfinished stub's panic ("not yet implemented: Exercise N.M: …"),
@@ -308,6 +332,11 @@ mod tests {
             kind("panicked at x.rs:1:1: not yet implemented: Exercise 1.1: pixel to image plane"),
             FailureKind::Blocked("1.1".into())
         );
+        let waiting = contracts::Waiting::<dyn contracts::lab02::Shading>::new(2);
+        let panic = raylab_core::catch_panic(|| -> () { waiting.unavailable("shade") })
+            .unwrap_err()
+            .message;
+        assert_eq!(kind(&format!("panicked: {panic}")), FailureKind::Waiting(2));
         // A wrong answer is wrong, even when a later line of its reason speaks of a panic.
         assert_eq!(
             kind("the image differs\n  (a pixel's code panicked: see the z-score image)"),

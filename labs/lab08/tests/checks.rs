@@ -5,8 +5,8 @@
 //! `cargo test -p lab08 --features reference` checks the reference solution instead, where
 //! the tree holds it. Each exercise runs with `reference::pipeline` for everything else: the
 //! answer key where the tree holds it (so one unfinished exercise does not fail the others),
-//! and in a handout your own code for the labs whose solutions are not released yet — a check
-//! that needs one of those names the exercise it is waiting for.
+//! and in a handout, for this lab before its solution is released, your own code; a check
+//! that needs another lab whose solution is not released yet says it waits for that lab.
 
 use std::sync::Arc;
 

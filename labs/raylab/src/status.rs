@@ -25,6 +25,8 @@ enum State {
     Passed,
     NotStarted,
     Blocked(String),
+    /// Needs the code of this lab, whose solution is not released yet.
+    Waiting(u32),
     Failing(String),
 }
 
@@ -39,7 +41,7 @@ impl LabVisitor for Judge {
     }
 }
 
-fn judge<S: ?Sized>(
+fn judge<S: ?Sized + LabSlots>(
     lab: LabId,
     exercises: &[Exercise<S>],
     student: Arc<S>,
@@ -47,8 +49,12 @@ fn judge<S: ?Sized>(
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(format!("{lab}"));
-    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab.number()))
-        .with_key_labs(reference::KEYS);
+    // As the lab's harness does: without the lab's solution, the student's code is the base.
+    let mut base = reference::pipeline(lab.number());
+    if !reference::KEYS.contains(&lab.number()) {
+        base = S::install(student.clone(), base);
+    }
+    let ctx = LabContext::new(lab, &dir, base).with_key_labs(reference::KEYS);
     exercises
         .iter()
         // A handout has no tests for hidden exercises; the instructor's tree shows them all.
@@ -59,6 +65,7 @@ fn judge<S: ?Sized>(
                 Err(f) => match f.kind {
                     FailureKind::NotStarted => State::NotStarted,
                     FailureKind::Blocked(other) => State::Blocked(other),
+                    FailureKind::Waiting(lab) => State::Waiting(lab),
                     FailureKind::Crashed | FailureKind::Wrong => {
                         State::Failing(f.reason.lines().next().unwrap_or_default().to_string())
                     }
@@ -110,6 +117,10 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
                 State::Blocked(other) => {
                     ("waiting    ", format!("  (needs Exercise {other} first)"))
                 }
+                State::Waiting(other) => (
+                    "waiting    ",
+                    format!("  (needs lab {other}'s solution, not released yet)"),
+                ),
                 State::Failing(why) => ("failing    ", format!("  {why}")),
             };
             println!("  {id:<5} {mark} {function:<26} {points} pt{detail}");

@@ -129,6 +129,7 @@ impl Status {
         match kind {
             Some(FailureKind::NotStarted) => Self::NotStarted,
             Some(FailureKind::Blocked(other)) => Self::BlockedBy(other.clone()),
+            Some(FailureKind::Waiting(lab)) => Self::BlockedBy(format!("lab {lab}'s solution")),
             Some(FailureKind::Crashed) => Self::Crashed,
             Some(FailureKind::Wrong) | None => Self::Wrong,
         }
