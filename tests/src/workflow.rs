@@ -242,3 +242,25 @@ fn copy_with_dates(from: &Path, to: &Path) {
         file.set_modified(meta.modified().unwrap()).unwrap();
     }
 }
+
+/// `cargo metadata --no-deps` of the workspace: its JSON, for the tests of its manifests.
+pub fn workspace_metadata() -> Vec<u8> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "metadata",
+            "--offline",
+            "--no-deps",
+            "--format-version",
+            "1",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("cargo metadata runs");
+    assert!(
+        output.status.success(),
+        "cargo metadata: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output.stdout
+}

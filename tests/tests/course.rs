@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 use std::fs;
 
-use raylab_tests::workflow::{read, root};
+use raylab_tests::workflow::{read, root, workspace_metadata};
 
 #[test]
 fn every_lab_of_the_course_has_its_crate_docs_and_readme_row() {
@@ -120,20 +120,7 @@ fn run_time_units(edges: &str, args: &[&str]) -> BTreeSet<(String, Vec<String>)>
 
 /// The workspace's proc-macro crates, as `cargo tree` names them ("name v1.2.3").
 fn workspace_proc_macros() -> BTreeSet<String> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let output = std::process::Command::new(cargo)
-        .args([
-            "metadata",
-            "--offline",
-            "--no-deps",
-            "--format-version",
-            "1",
-        ])
-        .current_dir(root())
-        .output()
-        .expect("cargo metadata runs");
-    assert!(output.status.success(), "cargo metadata failed");
-    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let metadata: serde_json::Value = serde_json::from_slice(&workspace_metadata()).unwrap();
     metadata["packages"]
         .as_array()
         .unwrap()

@@ -4,24 +4,11 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use raylab_tests::workflow::root;
+use raylab_tests::workflow::{root, workspace_metadata};
 
 /// Each workspace package's normal (not dev, not build) dependencies on other workspace packages.
 fn workspace_dependencies() -> BTreeMap<String, BTreeSet<String>> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let output = std::process::Command::new(cargo)
-        .args([
-            "metadata",
-            "--offline",
-            "--no-deps",
-            "--format-version",
-            "1",
-        ])
-        .current_dir(root())
-        .output()
-        .expect("cargo metadata runs");
-    assert!(output.status.success(), "cargo metadata failed");
-    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let metadata: serde_json::Value = serde_json::from_slice(&workspace_metadata()).unwrap();
     let packages = metadata["packages"].as_array().unwrap();
     let members: BTreeSet<String> = packages
         .iter()
