@@ -48,12 +48,11 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
     } = checks;
     // Where the tree lacks this lab's solution, the student's own code is the base of the
     // lab's other exercises.
-    let base = if key_labs.contains(&lab.number()) {
-        base
-    } else {
-        S::install(subject.clone(), base)
-    };
-    let ctx = Arc::new(LabContext::new(lab, Path::new(lab_dir), base).with_key_labs(key_labs));
+    let ctx = Arc::new(
+        LabContext::new(lab, Path::new(lab_dir), base)
+            .with_key_labs(key_labs)
+            .with_own_code(&subject),
+    );
     let exercises: Vec<Arc<Exercise<S>>> = exercises.into_iter().map(Arc::new).collect();
     let trials = exercises
         .iter()

@@ -136,6 +136,17 @@ impl LabContext {
         self
     }
 
+    /// This context with `student`, the code checked, in `base`'s slots of this lab where they
+    /// are not the answer key (a handout before the lab's solution is released): the base of
+    /// the lab's other exercises is then the student's own code. Call after
+    /// [`Self::with_key_labs`].
+    pub fn with_own_code<S: ?Sized + pipeline::LabSlots>(mut self, student: &Arc<S>) -> Self {
+        if !self.has_key(self.lab) {
+            self.base = S::install(student.clone(), self.base);
+        }
+        self
+    }
+
     /// Whether `base`'s slot of lab `lab` is the answer key.
     pub fn has_key(&self, lab: LabId) -> bool {
         self.key_labs.contains(&lab)
@@ -191,36 +202,34 @@ fn failure(exercise: &ExerciseInfo, reason: String) -> Failure {
         lab.source()
     );
     let docs = format!("see {}, Exercise {}", lab.docs(), exercise.id);
-    if let Some(other) = waiting_lab(&reason) {
-        let message = format!(
-            "{place} cannot be checked until lab {other}'s solution is released: the check needs its code ({reason}).\n({docs})"
-        );
-        return Failure {
-            exercise: exercise.id.clone(),
-            kind: FailureKind::Waiting(other),
-            reason,
-            message,
-        };
-    }
-    let (kind, message) = match unfinished_exercise(&reason) {
-        Some(other) if other == exercise.id => (
-            FailureKind::NotStarted,
-            format!("{place} is not implemented yet.\n({docs})"),
-        ),
-        Some(other) => (
-            FailureKind::Blocked(other.to_string()),
+    let (kind, message) = if let Some(other) = waiting_lab(&reason) {
+        (
+            FailureKind::Waiting(other),
             format!(
-                "{place} cannot be checked until Exercise {other} is done (it is not implemented yet: {reason}).\n({docs})"
+                "{place} cannot be checked until lab {other}'s solution is released: the check needs its code ({reason}).\n({docs})"
             ),
-        ),
-        None if is_crash(&reason) => (
-            FailureKind::Crashed,
-            format!("{place} failed: {reason}\n({docs})"),
-        ),
-        None => (
-            FailureKind::Wrong,
-            format!("{place} is wrong:\n{reason}\n({docs})"),
-        ),
+        )
+    } else {
+        match unfinished_exercise(&reason) {
+            Some(other) if other == exercise.id => (
+                FailureKind::NotStarted,
+                format!("{place} is not implemented yet.\n({docs})"),
+            ),
+            Some(other) => (
+                FailureKind::Blocked(other.to_string()),
+                format!(
+                    "{place} cannot be checked until Exercise {other} is done (it is not implemented yet: {reason}).\n({docs})"
+                ),
+            ),
+            None if is_crash(&reason) => (
+                FailureKind::Crashed,
+                format!("{place} failed: {reason}\n({docs})"),
+            ),
+            None => (
+                FailureKind::Wrong,
+                format!("{place} is wrong:\n{reason}\n({docs})"),
+            ),
+        }
     };
     Failure {
         exercise: exercise.id.clone(),

@@ -54,7 +54,6 @@ pub struct Record {
     /// Whether the check accepted the student's code.
     pub passed: bool,
     /// What became of the check, when it did not accept it.
-    #[serde(default)]
     pub kind: Option<FailureKind>,
     /// Why not (the check's message), or empty.
     pub message: String,

@@ -49,12 +49,9 @@ fn judge<S: ?Sized + LabSlots>(
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(format!("{lab}"));
-    // As the lab's harness does: without the lab's solution, the student's code is the base.
-    let mut base = reference::pipeline(lab.number());
-    if !reference::KEYS.contains(&lab.number()) {
-        base = S::install(student.clone(), base);
-    }
-    let ctx = LabContext::new(lab, &dir, base).with_key_labs(reference::KEYS);
+    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab.number()))
+        .with_key_labs(reference::KEYS)
+        .with_own_code(&student);
     exercises
         .iter()
         // A handout has no tests for hidden exercises; the instructor's tree shows them all.
