@@ -157,12 +157,26 @@ fn run_time_disagreements<'a>(
         .collect()
 }
 
-/// One build for everything a student runs: every unit `cargo test -p labNN` needs is one that
-/// `cargo run -p raylab` (the README's first command) has built already, with the same features
-/// and the same `-C lto` — in the course repository and in a handout, whose command line has no
-/// instructor features. A dependency added to the command line with features the labs do not ask
-/// for, or one linked into it that the labs need only at build time, breaks this; the
-/// framework's manifest ("One build") is where to ask for them.
+/// The units of `needed` that `built` builds with other features: a package both build, whose
+/// second build compiles it again (and everything above it).
+fn built_again<'a>(
+    needed: &'a BTreeSet<(String, Vec<String>)>,
+    built: &BTreeSet<(String, Vec<String>)>,
+) -> Vec<&'a (String, Vec<String>)> {
+    let packages: BTreeSet<&String> = built.iter().map(|(p, _)| p).collect();
+    needed
+        .iter()
+        .filter(|u| packages.contains(&u.0) && !built.contains(*u))
+        .collect()
+}
+
+/// One build for everything a student runs: every unit `cargo test -p labNN` (which `raylab
+/// status` runs too, for each lab's program) shares with `cargo run -p raylab` (the README's
+/// first command) is built with the same features and the same `-C lto` — in the course
+/// repository and in a handout, whose command line has no instructor features. A dependency
+/// added to the command line with features the labs do not ask for, or one linked into it that
+/// the labs need only at build time, breaks this; the framework's manifest ("One build") is
+/// where to ask for them.
 #[test]
 fn a_lab_s_tests_reuse_the_command_line_s_build() {
     for cli in [&[][..], &["--no-default-features"][..]] {
@@ -175,7 +189,7 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
         for lab in course::labs() {
             let name = lab.to_string();
             let needed = build_units(&["-p", &name, "-e", "normal,build,dev"]);
-            let missing: Vec<_> = needed.difference(&built).collect();
+            let missing = built_again(&needed, &built);
             assert!(
                 missing.is_empty(),
                 "`cargo test -p {name}` would build these again, with other features than `cargo run -p raylab {}` did: {missing:?}",
@@ -196,7 +210,8 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
                 twice.is_empty(),
                 "`cargo test -p {name}` would compile the student's code again after `cargo build --lib -p {name}`: {twice:?} are linked into one and needed only at build time in the other"
             );
-            let twice = run_time_disagreements(&needed, &lab_run_time, &cli_run_time);
+            let shared: BTreeSet<_> = needed.intersection(&built).cloned().collect();
+            let twice = run_time_disagreements(&shared, &lab_run_time, &cli_run_time);
             assert!(
                 twice.is_empty(),
                 "`cargo test -p {name}` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in the other's (`cargo run -p raylab {}`): {twice:?}; make them a dependency of the framework",
@@ -206,19 +221,12 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
     }
 }
 
-/// One build in CI: `cargo run -p raylab --features reference` (the golden data) builds no unit
-/// that the whole workspace's test build (`cargo test --workspace --features reference`) then
-/// builds again with other features or another `-C lto`.
+/// One build in CI: `cargo run -p raylab -- golden` (the golden data: the command line, then
+/// each lab's program with its key, `cargo test -p labNN --features reference --no-run`) builds
+/// no unit that the whole workspace's test build (`cargo test --workspace --features
+/// reference`) then builds again with other features or another `-C lto`.
 #[test]
-fn the_workspace_s_tests_reuse_the_command_line_s_build() {
-    let built = build_units(&[
-        "-p",
-        "raylab",
-        "--features",
-        "reference",
-        "-e",
-        "normal,build",
-    ]);
+fn the_workspace_s_tests_reuse_the_golden_data_s_build() {
     let tested = build_units(&[
         "--workspace",
         "--features",
@@ -226,25 +234,41 @@ fn the_workspace_s_tests_reuse_the_command_line_s_build() {
         "-e",
         "normal,build,dev",
     ]);
-    let missing: Vec<_> = built.difference(&tested).collect();
-    assert!(
-        missing.is_empty(),
-        "`cargo test --workspace --features reference` would build these again, with other features than `cargo run -p raylab --features reference` did: {missing:?}"
-    );
+    let tested_run_time = run_time_units("normal,dev", &["--workspace", "--features", "reference"]);
     // A proc-macro member is a root of `--workspace` and so listed on its run-time side, but a
     // proc macro is compiled for the host alone, once, whichever command selects it.
     let proc_macros = workspace_proc_macros();
-    let built: BTreeSet<_> = built
-        .into_iter()
-        .filter(|(package, _)| !proc_macros.contains(package))
-        .collect();
-    let twice = run_time_disagreements(
-        &built,
-        &run_time_units("normal", &["-p", "raylab", "--features", "reference"]),
-        &run_time_units("normal,dev", &["--workspace", "--features", "reference"]),
-    );
-    assert!(
-        twice.is_empty(),
-        "`cargo test --workspace --features reference` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in the other's: {twice:?}; make them a dependency of the framework"
-    );
+    let mut commands = vec![(
+        "cargo run -p raylab".to_string(),
+        vec!["-p", "raylab"],
+        "normal",
+    )];
+    let names: Vec<String> = course::labs().iter().map(|l| l.to_string()).collect();
+    for name in &names {
+        commands.push((
+            format!("cargo test -p {name} --features reference"),
+            vec!["-p", name.as_str(), "--features", "reference"],
+            "normal,dev",
+        ));
+    }
+    for (command, args, edges) in commands {
+        let build_edges = format!("{edges},build");
+        let mut all = vec!["-e", build_edges.as_str()];
+        all.extend(&args);
+        let built = build_units(&all);
+        let missing: Vec<_> = built.difference(&tested).collect();
+        assert!(
+            missing.is_empty(),
+            "`cargo test --workspace --features reference` would build these again, with other features than `{command}` did: {missing:?}"
+        );
+        let built: BTreeSet<_> = built
+            .into_iter()
+            .filter(|(package, _)| !proc_macros.contains(package))
+            .collect();
+        let twice = run_time_disagreements(&built, &run_time_units(edges, &args), &tested_run_time);
+        assert!(
+            twice.is_empty(),
+            "`cargo test --workspace --features reference` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in `{command}`'s: {twice:?}; make them a dependency of the framework"
+        );
+    }
 }

@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use libtest_mimic::{Arguments, Failed, Trial};
 
+use super::task::{self, MakeReport, Task};
 use super::{Exercise, LabContext, LabId, Visibility, run_exercise, verdict};
 use pipeline::{LabSlots, Pipeline};
 
@@ -30,13 +31,27 @@ pub struct LabChecks<S: ?Sized + 'static> {
     pub key_labs: &'static [u32],
     /// Whether hidden exercises are tests too (the `hidden-exercises` feature).
     pub hidden: bool,
+    /// The lab's report figures, when the program is built with them (the `report` feature).
+    pub report: Option<MakeReport>,
+    /// The generator of the lab's golden cases and snapshots, run on the answer key.
+    pub generate_golden: GenerateGolden<S>,
 }
 
+/// Writes a lab's golden cases and snapshots from the answer key into the lab directory of the
+/// context, and says which files it wrote.
+pub type GenerateGolden<S> =
+    fn(&Arc<S>, &LabContext) -> Result<Vec<std::path::PathBuf>, raylab_core::Error>;
+
 /// Runs the tests the command line asks for, one per exercise, and exits with libtest's
-/// status. Under `raylab grade` a test ends its process with the check's verdict record
+/// status; or, run by `raylab` with a task ([`crate::task`]), does the task. Under `raylab grade` a test ends its process with the check's verdict record
 /// ([`verdict`]) instead.
 pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
-    let args = Arguments::from_args();
+    let task = Task::from_env();
+    let args = if task.is_none() {
+        Arguments::from_args()
+    } else {
+        Arguments::default()
+    };
     let LabChecks {
         lab,
         lab_dir,
@@ -45,6 +60,8 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
         base,
         key_labs,
         hidden,
+        report,
+        generate_golden,
     } = checks;
     // Where the tree lacks this lab's solution, the student's own code is the base of the
     // lab's other exercises.
@@ -53,10 +70,47 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
             .with_key_labs(key_labs)
             .with_own_code(&subject),
     );
-    let exercises: Vec<Arc<Exercise<S>>> = exercises.into_iter().map(Arc::new).collect();
+    let exercises: Vec<Arc<Exercise<S>>> = exercises
+        .into_iter()
+        .filter(|e| hidden || e.visibility == Visibility::Visible)
+        .map(Arc::new)
+        .collect();
+    match task {
+        None => {}
+        Some(Task::Status) => {
+            for exercise in &exercises {
+                let outcome = run_exercise(exercise, &subject, &ctx);
+                task::answer(&verdict::Record::of(&exercise.id, &outcome));
+            }
+            std::process::exit(0)
+        }
+        Some(Task::Render(job)) => {
+            finish(job.run(S::install(subject, ctx.base.clone())));
+        }
+        Some(Task::Report(job)) => {
+            let Some(report) = report else {
+                eprintln!("error: this program of {lab} was built without its `report` feature");
+                std::process::exit(2)
+            };
+            finish(report(&job, S::install(subject, ctx.base.clone())));
+        }
+        Some(Task::Golden(dir)) => {
+            if !ctx.has_key(lab) {
+                eprintln!("error: golden data comes from the answer key: build with `reference`");
+                std::process::exit(2)
+            }
+            let ctx = LabContext::new(lab, &dir, ctx.base.clone());
+            finish(generate_golden(&subject, &ctx).and_then(|written| {
+                let pngs = crate::write_reference_pngs(&written)?;
+                for path in written.iter().chain(&pngs) {
+                    task::answer_line(&path.display().to_string());
+                }
+                Ok(())
+            }));
+        }
+    }
     let trials = exercises
         .iter()
-        .filter(|e| hidden || e.visibility == Visibility::Visible)
         .map(|exercise| {
             let name = exercise.test_name();
             let (exercise, subject, ctx) = (exercise.clone(), subject.clone(), ctx.clone());
@@ -64,6 +118,17 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
         })
         .collect();
     libtest_mimic::run(&args, trials).exit()
+}
+
+/// Ends a task's process: 0 when it succeeded, 1 with the error on standard error.
+fn finish(outcome: Result<(), raylab_core::Error>) -> ! {
+    match outcome {
+        Ok(()) => std::process::exit(0),
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(1)
+        }
+    }
 }
 
 /// One exercise's test: the secret of the verdict record is taken before any student code

@@ -12,6 +12,7 @@ mod snapshot;
 pub mod stats;
 mod strata;
 pub mod strategies;
+pub mod task;
 pub mod verdict;
 
 pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};
@@ -19,6 +20,7 @@ pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3
 pub use property::for_all;
 pub use snapshot::{
     PixelTolerance, SnapshotReport, compare_snapshot, mark_non_finite, write_failure_images,
+    write_reference_pngs,
 };
 pub use strata::{StrataNames, cell_name, cell_of, check_one_per_cell};
 

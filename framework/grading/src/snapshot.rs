@@ -4,7 +4,7 @@ use glam::Vec3;
 
 use super::LabContext;
 use raylab_core::Error;
-use raylab_core::film::{Film, ToneMap, luminance, write_png};
+use raylab_core::film::{Film, ToneMap, luminance, read_exr, write_png};
 
 /// Per-pixel tolerance with an outlier budget, for deterministic renders: a pixel is an outlier
 /// when a channel differs by more than `abs + rel·|reference|`; the image passes when at most
@@ -166,4 +166,29 @@ impl LabContext {
             report.max_error
         ))
     }
+}
+
+/// Writes `NAME.png` beside each snapshot `NAME.exr` among `written`: the reference render,
+/// tone mapped as a failing image check's `NAME-reference.png` (clamp at exposure 1, sRGB), so
+/// that students can look at what their render should be before a check fails. The PNG
+/// encoder is deterministic, so the same snapshot gives the same bytes. A snapshot named
+/// `…-variance` is a statistic of renders, not an image of the scene (and black at exposure
+/// 1): it gets none.
+pub fn write_reference_pngs(written: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
+    let snapshots = written.iter().filter(|p| {
+        p.extension().is_some_and(|e| e == "exr")
+            && p.parent()
+                .and_then(Path::file_name)
+                .is_some_and(|d| d == "snapshots")
+            && !p
+                .file_stem()
+                .is_some_and(|n| n.to_string_lossy().ends_with("-variance"))
+    });
+    snapshots
+        .map(|exr| {
+            let png = exr.with_extension("png");
+            write_png(&read_exr(exr)?, &png, ToneMap::Clamp { exposure: 1.0 })?;
+            Ok(png)
+        })
+        .collect()
 }

@@ -57,6 +57,23 @@ pub struct Record {
     pub kind: Option<FailureKind>,
     /// Why not (the check's message), or empty.
     pub message: String,
+    /// What the check (or the panic) said, the heart of the message; or empty.
+    #[serde(default)]
+    pub reason: String,
+}
+
+impl Record {
+    /// The record of `exercise`'s check with `outcome`, its message cut to a bounded length.
+    pub fn of(exercise: &str, outcome: &Result<(), Failure>) -> Self {
+        let failure = outcome.as_ref().err();
+        Self {
+            exercise: exercise.to_string(),
+            passed: outcome.is_ok(),
+            kind: failure.map(|f| f.kind.clone()),
+            message: cut(failure.map_or("", |f| f.message.as_str()), MESSAGE_LIMIT),
+            reason: cut(failure.map_or("", |f| f.reason.as_str()), MESSAGE_LIMIT),
+        }
+    }
 }
 
 /// The harness's end of the channel: the secret, taken once per process.
@@ -91,13 +108,7 @@ impl VerdictChannel {
     /// Prints the record of `exercise` with its outcome and ends the process: nothing the
     /// student's code does afterwards can change it.
     pub fn report(self, exercise: &str, outcome: &Result<(), Failure>) -> ! {
-        let failure = outcome.as_ref().err();
-        let record = Record {
-            exercise: exercise.to_string(),
-            passed: outcome.is_ok(),
-            kind: failure.map(|f| f.kind.clone()),
-            message: cut(failure.map_or("", |f| f.message.as_str()), MESSAGE_LIMIT),
-        };
+        let record = Record::of(exercise, outcome);
         let json = serde_json::to_string(&record).unwrap_or_default();
         let mut out = std::io::stdout().lock();
         let _ = write!(out, "\n{RECORD_TAG}{} {json}\n", self.secret);
@@ -202,6 +213,7 @@ mod tests {
             passed,
             kind: (!passed).then_some(FailureKind::Wrong),
             message: String::new(),
+            reason: String::new(),
         })
         .unwrap();
         format!("\n{RECORD_TAG}{secret} {json}\n")

@@ -11,6 +11,7 @@
 //! the render of a scene through a pipeline ([`render`]).
 
 pub mod builtin;
+pub mod job;
 pub mod photon;
 pub mod radiosity;
 pub mod render;
@@ -33,7 +34,7 @@ use raylab_core::scene::{
 use raylab_core::scene::{EnvironmentMap, Hit, HitSurface, Material, ProbeMapping};
 
 /// What a render shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum View {
     /// Full shading with every lab up to the pipeline's `lab` enabled.
     #[default]

@@ -30,5 +30,10 @@ fn main() {
         base: reference::pipeline(1),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab01_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab01_checks::generate_golden,
     })
 }

@@ -30,5 +30,10 @@ fn main() {
         base: reference::pipeline(2),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab02_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab02_checks::generate_golden,
     })
 }

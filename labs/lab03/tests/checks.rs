@@ -30,5 +30,10 @@ fn main() {
         base: reference::pipeline(3),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab03_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab03_checks::generate_golden,
     })
 }

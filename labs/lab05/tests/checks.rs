@@ -28,5 +28,10 @@ fn main() {
         base: reference::pipeline(5),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab05_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab05_checks::generate_golden,
     })
 }

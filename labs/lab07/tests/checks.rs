@@ -30,5 +30,10 @@ fn main() {
         base: reference::pipeline(7),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab07_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab07_checks::generate_golden,
     })
 }

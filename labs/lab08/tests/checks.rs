@@ -30,5 +30,10 @@ fn main() {
         base: reference::pipeline(8),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab08_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab08_checks::generate_golden,
     })
 }

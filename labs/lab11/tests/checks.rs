@@ -28,5 +28,10 @@ fn main() {
         base: reference::pipeline(11),
         key_labs: reference::KEYS,
         hidden: cfg!(feature = "hidden-exercises"),
+        #[cfg(feature = "report")]
+        report: Some(lab11_checks::report::make),
+        #[cfg(not(feature = "report"))]
+        report: None,
+        generate_golden: lab11_checks::generate_golden,
     })
 }

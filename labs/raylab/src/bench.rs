@@ -278,7 +278,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
                 1 => path.display().to_string(),
                 n => format!("{} ×{n}", path.display()),
             };
-            crate::render::framed_scene(&name, obj, false)?
+            pipeline::job::framed_scene(&name, obj, false)?
         }
         None => mesh_scene(
             "bumpy sphere",

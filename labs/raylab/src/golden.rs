@@ -1,17 +1,15 @@
 //! `raylab golden`: regenerate every lab's golden cases and snapshots from the reference, and
 //! beside each snapshot `NAME.exr` the reference image `NAME.png` students look at.
 
-use course::LabId;
 use std::path::{Path, PathBuf};
+use std::process::Stdio;
 
 use clap::Args;
-use grading::LabContext;
-use lab03_checks as lab03;
-use pipeline::LabSlots;
+use course::LabId;
+use grading::task::{self, Task};
 use raylab_core::Error;
-use raylab_core::film::{ToneMap, read_exr, write_png};
 
-use crate::students::{LabCode, LabVisitor};
+use crate::lab_program::LabProgram;
 
 /// Options of `raylab golden`.
 #[derive(Args, Debug)]
@@ -39,59 +37,43 @@ fn find_root() -> Result<PathBuf, Error> {
         })
 }
 
-/// Records a lab's golden data from the answer key.
-struct Generate<'a>(&'a LabContext);
-
-impl LabVisitor for Generate<'_> {
-    type Output = Result<Vec<PathBuf>, Error>;
-
-    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
-        (code.generate_golden)(&code.key, self.0)
-    }
-}
-
-/// Runs `raylab golden`.
+/// Runs `raylab golden`: each lab's program, built with the lab's answer key, records the lab's
+/// golden data.
 pub fn run(args: &GoldenArgs) -> Result<(), Error> {
     let root = match &args.root {
         Some(r) => r.clone(),
         None => find_root()?,
     };
     let labs: Vec<LabId> = match args.lab {
-        Some(l) => vec![l],
-        None => crate::students::labs(),
+        Some(l) => {
+            crate::labs::check_lab(l)?;
+            vec![l]
+        }
+        None => crate::labs::labs(),
     };
     for lab in labs {
-        let dir = root.join("labs").join(format!("{lab}"));
-        let ctx = LabContext::new(lab, &dir, reference::pipeline(lab.number()));
-        let written = crate::students::visit(lab, Generate(&ctx))??;
-        let pngs = write_reference_pngs(&written)?;
-        for path in written.iter().chain(&pngs) {
-            println!("{}", path.display());
+        let program = LabProgram::build(lab, &["reference"]).map_err(|e| Error::Invalid {
+            what: format!("{lab}"),
+            reason: e.to_string(),
+        })?;
+        let output = program
+            .command(&Task::Golden(root.join(lab.folder())))
+            .stdin(Stdio::null())
+            .stderr(Stdio::inherit())
+            .output()
+            .map_err(|e| Error::io(&program.executable, e))?;
+        if !output.status.success() {
+            return Err(Error::Invalid {
+                what: format!("{lab}'s golden data"),
+                reason: format!(
+                    "its program stopped ({}); its messages are above",
+                    output.status
+                ),
+            });
+        }
+        for path in task::answer_lines(&String::from_utf8_lossy(&output.stdout)) {
+            println!("{path}");
         }
     }
     Ok(())
-}
-
-/// Writes `NAME.png` beside each snapshot `NAME.exr` among `written`: the reference render,
-/// tone mapped as a failing image check's `NAME-reference.png` (clamp at exposure 1, sRGB), so
-/// that students can look at what their render should be before a check fails. The PNG
-/// encoder is deterministic, so the same snapshot gives the same bytes. Lab 03's per-pixel
-/// variance is a statistic of renders, not an image of the scene (and black at exposure 1): it
-/// gets none.
-fn write_reference_pngs(written: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
-    let not_an_image = format!("{}.exr", lab03::checks::SNAPSHOT_AREA_VARIANCE);
-    let snapshots = written.iter().filter(|p| {
-        p.extension().is_some_and(|e| e == "exr")
-            && p.parent()
-                .and_then(Path::file_name)
-                .is_some_and(|d| d == "snapshots")
-            && p.file_name().is_some_and(|n| *n != *not_an_image)
-    });
-    snapshots
-        .map(|exr| {
-            let png = exr.with_extension("png");
-            write_png(&read_exr(exr)?, &png, ToneMap::Clamp { exposure: 1.0 })?;
-            Ok(png)
-        })
-        .collect()
 }

@@ -68,7 +68,7 @@ pub fn run(args: &GradescopeArgs) -> Result<(), Error> {
         });
     }
     for &lab in &args.labs {
-        crate::students::check_lab(lab)?;
+        crate::labs::check_lab(lab)?;
     }
     write_bundle(args, &repository_root(), &args.out)?;
     println!(

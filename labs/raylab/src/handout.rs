@@ -209,7 +209,7 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
         &root.join("labs/course.toml"),
         &out.join("labs/course.toml"),
     )?;
-    for lab in crate::students::labs() {
+    for lab in crate::labs::labs() {
         let name = format!("{lab}");
         copy_dir(
             &root.join("labs").join(&name),
@@ -254,9 +254,9 @@ pub fn check_clean(root: &Path, allow_dirty: bool) -> Result<(), Error> {
 /// be released too.
 fn check_releasable(root: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     for &lab in released {
-        crate::students::check_lab(lab)?;
+        crate::labs::check_lab(lab)?;
         let source = read(&root.join(format!("reference/src/{lab}.rs")))?;
-        for other in crate::students::labs() {
+        for other in crate::labs::labs() {
             if source.contains(&format!("crate::{other}")) && !released.contains(&other) {
                 return Err(Error::Invalid {
                     what: format!("--release-solutions {released:?}"),
@@ -286,7 +286,7 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Resul
         let file = format!("src/{lab}.rs");
         copy_file(&root.join("reference").join(&file), &dir.join(&file))?;
     }
-    let all: Vec<String> = crate::students::labs()
+    let all: Vec<String> = crate::labs::labs()
         .iter()
         .map(|l| format!("\"key-{l}\""))
         .collect();

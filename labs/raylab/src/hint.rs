@@ -43,7 +43,7 @@ fn find(id: &str) -> Result<&'static ExerciseInfo, Error> {
         .split_once('.')
         .and_then(|(lab, _)| lab.parse::<LabId>().ok());
     if let Some(lab) = lab {
-        crate::students::check_lab(lab)?;
+        crate::labs::check_lab(lab)?;
     }
     course::exercise(id).map_err(|e| Error::Invalid {
         what: format!("exercise '{id}'"),
@@ -61,8 +61,8 @@ mod tests {
     #[test]
     fn every_exercise_of_every_lab_has_a_hint_of_its_own() {
         let mut seen = std::collections::HashSet::new();
-        for lab in crate::students::labs() {
-            for e in crate::students::exercises(lab) {
+        for lab in crate::labs::labs() {
+            for e in crate::labs::exercises(lab) {
                 let text = hint(&e.id).unwrap();
                 assert!(e.hint.len() >= 40, "Exercise {}'s hint is too short", e.id);
                 assert!(text.contains(&e.hint) && text.contains(&e.function));

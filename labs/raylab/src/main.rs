@@ -11,10 +11,11 @@ mod gradescope;
 #[cfg(feature = "instructor")]
 mod handout;
 mod hint;
+mod lab_program;
+mod labs;
 mod render;
 mod report;
 mod status;
-mod students;
 mod watch;
 
 use std::process::ExitCode;

@@ -1,22 +1,16 @@
 //! `raylab render`.
 
-use course::LabId;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use clap::{Args, ValueEnum};
+use course::LabId;
+use grading::task::Task;
 use pipeline::View;
-use pipeline::photon::{PhotonSettings, with_caustics};
-use pipeline::render::render_partial;
+use pipeline::job::RenderJob;
+use pipeline::photon::PhotonSettings;
 use raylab_core::Error;
-use raylab_core::film::{ToneMap, write_exr, write_png};
-use raylab_core::glam::Vec3;
-use raylab_core::math::Aabb;
-use raylab_core::render::{PartialRender, PixelFailures, RenderSettings};
-use raylab_core::scene::{
-    BUILTIN_SCENES, CameraSetup, Light, ObjData, PointLight, Scene, SceneDescription,
-    builtin_scene, load_obj, load_scene_file,
-};
+
+use crate::lab_program::LabProgram;
 
 /// Whose code renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -118,78 +112,6 @@ impl Default for RenderArgs {
     }
 }
 
-/// Loads a scene by built-in name or path.
-pub fn load_scene(spec: &str) -> Result<Scene, Error> {
-    if BUILTIN_SCENES.contains(&spec) {
-        return builtin_scene(spec);
-    }
-    let path = Path::new(spec);
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("toml") => load_scene_file(path),
-        Some("obj") => {
-            let obj = load_obj(path)?;
-            if obj.mesh.faces.is_empty() {
-                return Err(Error::Invalid {
-                    what: format!("OBJ file '{spec}'"),
-                    reason: "it holds no faces (`f` statements), so there is nothing to render; is the file cut short?".into(),
-                });
-            }
-            eprintln!(
-                "note: '{spec}' has no camera or lights of its own: the camera frames its bounds from the front and a point light sits at the eye; for your own, write a scene file with a [[meshes]] entry (docs/scene-format.md)"
-            );
-            framed_scene(spec, obj, true)
-        }
-        _ => Err(Error::Invalid {
-            what: format!("scene '{spec}'"),
-            reason: format!(
-                "expected a built-in scene ({}), a scene file ending in .toml or an OBJ file ending in .obj",
-                BUILTIN_SCENES.join(", ")
-            ),
-        }),
-    }
-}
-
-/// A scene of one OBJ's triangles and materials with a camera looking at the bounding box from
-/// the front (in front of +z, a little above) and, with `lit`, a point light at the eye bright
-/// enough that a surface facing it at the box's centre reflects about its albedo.
-pub fn framed_scene(name: &str, obj: ObjData, lit: bool) -> Result<Scene, Error> {
-    let bounds = Aabb::from_points(obj.mesh.positions.iter().copied());
-    let centre = bounds.centroid();
-    let extent = bounds.diagonal().max_element();
-    let eye = centre + Vec3::new(0.0, 0.2, 1.6) * extent;
-    let distance_squared = eye.distance_squared(centre);
-    let lights = if lit {
-        vec![Light::Point(PointLight {
-            position: eye,
-            intensity: Vec3::splat(std::f32::consts::PI * distance_squared),
-        })]
-    } else {
-        Vec::new()
-    };
-    Scene::new(SceneDescription {
-        name: name.into(),
-        camera: Some(CameraSetup {
-            eye,
-            look_at: centre,
-            up: Vec3::Y,
-            focal_distance: 1.2,
-        }),
-        materials: obj.materials,
-        lights,
-        mesh: obj.mesh,
-        ..SceneDescription::default()
-    })
-}
-
-/// What to say when `scene` holds nothing to hit: its image is the background alone.
-pub fn empty_scene_warning(scene: &Scene, spec: &str) -> Option<String> {
-    (scene.mesh.faces.is_empty() && scene.planes.is_empty() && scene.spheres.is_empty()).then(|| {
-        format!(
-            "warning: scene '{spec}' holds no geometry (no triangles, planes or spheres; an OBJ it names may be empty or cut short): the image shows only the background"
-        )
-    })
-}
-
 /// The output file as an absolute path, its directory made if it is missing and lies below the
 /// working directory (as the default `out/` does); a missing directory elsewhere is an error, so
 /// that a typing mistake does not make directories across the file system.
@@ -224,24 +146,8 @@ pub fn prepare_output(output: &Path) -> Result<PathBuf, Error> {
 
 /// Runs `raylab render`.
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
-    let tonemap: ToneMap = args.tonemap.parse()?;
     let lab = args.lab.unwrap_or_else(course::last);
-    crate::students::check_lab(lab)?;
-    if args.light_samples == 0 || args.light_samples > 64 {
-        return Err(Error::Invalid {
-            what: format!("--light-samples {}", args.light_samples),
-            reason: "expected a whole number from 1 to 64".into(),
-        });
-    }
-    let settings = RenderSettings {
-        width: args.width,
-        height: args.height,
-        samples_per_pixel: args.spp,
-        pixel_subdivisions: args.subdivisions,
-        seed: args.seed,
-        progress: true,
-    };
-    settings.validate()?;
+    crate::labs::check_lab(lab)?;
     let ext = args
         .output
         .extension()
@@ -253,80 +159,81 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             reason: "expected a file name ending in .png or .exr".into(),
         });
     }
-    let output = prepare_output(&args.output)?;
-    let scene = load_scene(&args.scene)?;
-    if let Some(warning) = empty_scene_warning(&scene, &args.scene) {
-        eprintln!("{warning}");
-    }
-    let mut pipeline = reference::pipeline(lab.number());
-    if args.pipeline == PipelineChoice::Student {
-        pipeline = crate::students::with_student_lab(pipeline, lab)?;
-    }
-    pipeline.area_light_samples = args.light_samples;
-    pipeline.view = match args.view {
-        ViewChoice::Shaded => View::Shaded,
-        ViewChoice::BaseColour => View::BaseColour,
-        ViewChoice::Normals => View::Normals,
-        ViewChoice::Caustics => View::Caustics,
-    };
-    pipeline.photons = PhotonSettings {
-        emitted: args.photons,
-        k: args.photon_k,
-        max_radius: args.photon_radius,
+    let mut job = RenderJob {
+        scene: args.scene.clone(),
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        subdivisions: args.subdivisions,
         seed: args.seed,
+        output: args.output.clone(),
+        tonemap: args.tonemap.clone(),
+        lab: lab.number(),
+        view: match args.view {
+            ViewChoice::Shaded => View::Shaded,
+            ViewChoice::BaseColour => View::BaseColour,
+            ViewChoice::Normals => View::Normals,
+            ViewChoice::Caustics => View::Caustics,
+        },
+        light_samples: args.light_samples,
+        photons: PhotonSettings {
+            emitted: args.photons,
+            k: args.photon_k,
+            max_radius: args.photon_radius,
+            seed: args.seed,
+        },
+        whose: format!("{:?}", args.pipeline),
     };
+    job.validate()?;
+    job.output = prepare_output(&args.output)?;
     if let Some(note) = student_code_note(args.pipeline, lab) {
         eprintln!("note: {note}");
     }
-    let start = Instant::now();
-    if lab.number() >= 8 {
-        pipeline.photons.validate()?;
-        match with_caustics(&pipeline, &scene) {
-            Ok(traced) => {
-                let stored = traced.caustics.as_ref().map_or(0, |m| m.len());
-                eprintln!(
-                    "traced {} photons ({stored} stored in the caustic map) in {:.2} s",
-                    args.photons,
-                    start.elapsed().as_secs_f64()
-                );
-                pipeline = traced;
-            }
-            Err(e) => eprintln!("warning: no caustics: {e}"),
-        }
+    if args.pipeline == PipelineChoice::Reference {
+        return job.run(reference::pipeline(lab.number()));
     }
-    let rendered = render_partial(&scene, &pipeline, &settings)?;
-    let seconds = start.elapsed().as_secs_f64();
-    let exr = ext.as_deref() == Some("exr");
-    if exr {
-        write_exr(&rendered.film, &output)?;
-    } else {
-        write_png(&rendered.display(tonemap), &output, ToneMap::default())?;
+    run_in_lab_program(lab, &[], &Task::Render(job))
+}
+
+/// Runs `task` in lab `lab`'s program built with `features` (the student's code in the lab's
+/// slots, or with `reference` the key's), its output passed through; an error when the program
+/// does not build or the task fails.
+pub fn run_in_lab_program(lab: LabId, features: &[&str], task: &Task) -> Result<(), Error> {
+    let program = LabProgram::build(lab, features).map_err(|e| Error::Invalid {
+        what: format!("{lab}"),
+        reason: e.to_string(),
+    })?;
+    let status = program
+        .command(task)
+        .stdin(std::process::Stdio::null())
+        .status()
+        .map_err(|e| Error::io(&program.executable, e))?;
+    if status.success() {
+        return Ok(());
     }
-    eprintln!(
-        "rendered '{}' ({}×{}, {} spp, lab {}, {:?} pipeline) in {seconds:.2} s",
-        scene.name,
-        args.width,
-        args.height,
-        args.spp,
-        lab.number(),
-        args.pipeline
-    );
-    for line in warnings(&rendered, exr) {
-        eprintln!("{line}");
-    }
-    println!("{}", output.display());
-    Ok(())
+    Err(Error::Invalid {
+        what: format!("{lab}'s program"),
+        reason: format!("it stopped ({status}); its messages are above"),
+    })
 }
 
 /// The labs up to `lab` whose slots `reference::pipeline` fills with the student's own code:
 /// those whose solution is not in this tree's `reference/src/` (a handout holds only the
 /// released ones).
 pub fn labs_without_solution(lab: LabId) -> Vec<LabId> {
-    let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reference/src");
-    crate::students::labs()
+    crate::labs::labs()
         .into_iter()
-        .filter(|&l| l <= lab && !reference.join(format!("{l}.rs")).is_file())
+        .filter(|&l| l <= lab && !has_solution(l))
         .collect()
+}
+
+/// Whether this tree holds lab `lab`'s solution (`reference/src/labNN.rs`; a handout holds the
+/// released ones).
+pub fn has_solution(lab: LabId) -> bool {
+    crate::lab_program::workspace_root()
+        .join("reference/src")
+        .join(format!("{lab}.rs"))
+        .is_file()
 }
 
 /// What to say on stderr about the student's code in a `choice` pipeline at `lab`, before
@@ -351,50 +258,4 @@ pub fn student_code_note(choice: PipelineChoice, lab: LabId) -> Option<String> {
     Some(format!(
         "{what} not released, so {whose} runs your own code there; the reference images are labs/labNN/snapshots/*.png"
     ))
-}
-
-/// The lines naming what went wrong in a render: the unfinished exercises and other panics
-/// with the pixels each cost (marked [`PANICKED_COLOUR`](raylab_core::render::PANICKED_COLOUR)),
-/// and the pixels whose radiance is NaN or infinite; `exr` says what the EXR holds there.
-pub fn warnings(rendered: &PartialRender, exr: bool) -> Vec<String> {
-    let mut lines = failure_lines(&rendered.failures, rendered.film.pixels.len());
-    if !lines.is_empty() {
-        lines.push(if exr {
-            "  (these pixels are NaN in the EXR: no radiance was computed there)".into()
-        } else {
-            "  (a pixel stops at the first panic it meets, so later exercises it needs may be unfinished too)".into()
-        });
-    }
-    let bad = rendered.non_finite_pixels();
-    if bad > 0 {
-        lines.push(format!(
-            "warning: {bad} pixels have NaN or infinite radiance ({}; a division by zero or the square root of a negative number, say)",
-            if exr { "kept as they are in the EXR" } else { "shown cyan" }
-        ));
-    }
-    lines
-}
-
-/// The lines naming each cause of `failures` (of `total` pixels) and the pixels it cost.
-pub fn failure_lines(failures: &PixelFailures, total: usize) -> Vec<String> {
-    if failures.is_empty() {
-        return Vec::new();
-    }
-    let share = |n: usize| format!("{n} pixels ({:.1}%)", 100.0 * n as f64 / total as f64);
-    let mut lines = vec![format!(
-        "warning: {} of {total} pixels are magenta: their computation panicked",
-        failures.pixels()
-    )];
-    for f in failures.sorted() {
-        lines.push(match f.exercise() {
-            Some(id) => format!("  Exercise {id} is unfinished: {}", share(f.pixels)),
-            None => format!(
-                "  a panic at {}: {:?}: {}",
-                f.panic.location.as_deref().unwrap_or("an unknown place"),
-                f.panic.message,
-                share(f.pixels)
-            ),
-        });
-    }
-    lines
 }

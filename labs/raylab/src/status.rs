@@ -1,16 +1,15 @@
 //! `raylab status`: which exercises of each lab pass with the student's code, and which to do
 //! next.
 
-use course::LabId;
-use std::path::PathBuf;
-use std::sync::Arc;
+use std::process::Stdio;
 
 use clap::Args;
-use grading::{Exercise, FailureKind, LabContext, Visibility, run_exercise};
-use pipeline::LabSlots;
+use course::LabId;
+use grading::task::{self, Task};
+use grading::{FailureKind, Visibility};
 use raylab_core::Error;
 
-use crate::students::{LabCode, LabVisitor};
+use crate::lab_program::LabProgram;
 
 /// Options of `raylab status`.
 #[derive(Args, Debug)]
@@ -30,61 +29,70 @@ enum State {
     Failing(String),
 }
 
-/// Runs a lab's exercises on the student's code.
-struct Judge;
-
-impl LabVisitor for Judge {
-    type Output = Vec<(String, String, u32, State)>;
-
-    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
-        judge(code.number, &code.exercises, code.student)
-    }
-}
-
-fn judge<S: ?Sized + LabSlots>(
-    lab: LabId,
-    exercises: &[Exercise<S>],
-    student: Arc<S>,
-) -> Vec<(String, String, u32, State)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(format!("{lab}"));
-    let ctx = LabContext::new(lab, &dir, reference::pipeline(lab.number()))
-        .with_key_labs(reference::KEYS)
-        .with_own_code(&student);
-    exercises
+/// Runs lab `lab`'s exercises on the student's code in the lab's program: a row per exercise
+/// of its table (`(id, function, points, state)`), or why the program did not build or run.
+fn judge(lab: LabId) -> Result<Vec<(String, String, u32, State)>, String> {
+    // A handout has no tests for hidden exercises; the instructor's tree shows them all.
+    let features: &[&str] = if cfg!(feature = "instructor") {
+        &["hidden-exercises"]
+    } else {
+        &[]
+    };
+    let program = LabProgram::build(lab, features).map_err(|e| e.to_string())?;
+    let output = program
+        .command(&Task::Status)
+        .current_dir(crate::lab_program::workspace_root().join(lab.folder()))
+        .stdin(Stdio::null())
+        .stderr(Stdio::null())
+        .output()
+        .map_err(|e| format!("could not run {}: {e}", program.executable.display()))?;
+    let records = task::answers(&String::from_utf8_lossy(&output.stdout));
+    let exercises = crate::labs::exercises(lab);
+    Ok(exercises
         .iter()
-        // A handout has no tests for hidden exercises; the instructor's tree shows them all.
         .filter(|e| cfg!(feature = "instructor") || e.visibility == Visibility::Visible)
         .map(|e| {
-            let state = match run_exercise(e, &student, &ctx) {
-                Ok(()) => State::Passed,
-                Err(f) => match f.kind {
-                    FailureKind::NotStarted => State::NotStarted,
-                    FailureKind::Blocked(other) => State::Blocked(other),
-                    FailureKind::Waiting(lab) => State::Waiting(lab),
-                    FailureKind::Crashed | FailureKind::Wrong => {
-                        State::Failing(f.reason.lines().next().unwrap_or_default().to_string())
-                    }
+            let state = match records.iter().find(|r| r.exercise == e.id) {
+                Some(r) if r.passed => State::Passed,
+                Some(r) => match &r.kind {
+                    Some(FailureKind::NotStarted) => State::NotStarted,
+                    Some(FailureKind::Blocked(other)) => State::Blocked(other.clone()),
+                    Some(FailureKind::Waiting(lab)) => State::Waiting(*lab),
+                    _ => State::Failing(r.reason.lines().next().unwrap_or_default().into()),
                 },
+                // The program ended before this exercise's record: an exit or a crash of the
+                // code an earlier check ran, or of this one.
+                None => State::Failing(format!(
+                    "the checks stopped before this exercise ({}): run `cargo test -p {lab} {}`",
+                    output.status,
+                    e.test_prefix()
+                )),
             };
             (e.id.to_string(), e.function.to_string(), e.points, state)
         })
-        .collect()
+        .collect())
 }
 
 /// Runs `raylab status`.
 pub fn run(args: &StatusArgs) -> Result<(), Error> {
     let labs: Vec<LabId> = match args.lab {
         Some(l) => {
-            crate::students::check_lab(l)?;
+            crate::labs::check_lab(l)?;
             vec![l]
         }
-        None => crate::students::labs(),
+        None => crate::labs::labs(),
     };
     let mut next: Option<String> = None;
+    let mut broken = Vec::new();
     for lab in labs {
-        let rows = crate::students::visit(lab, Judge)?;
+        let rows = match judge(lab) {
+            Ok(rows) => rows,
+            Err(why) => {
+                println!("{lab}  not checked: its code {why}\n");
+                broken.push(lab);
+                continue;
+            }
+        };
         let earned: u32 = rows
             .iter()
             .filter(|r| matches!(r.3, State::Passed))
@@ -95,7 +103,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
         let hidden: u32 = if cfg!(feature = "instructor") {
             0
         } else {
-            crate::students::exercises(lab)
+            crate::labs::exercises(lab)
                 .iter()
                 .filter(|e| e.visibility == Visibility::Hidden)
                 .map(|e| e.points)
@@ -131,7 +139,18 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
     }
     match next {
         Some(n) => println!("\nnext: {n}"),
-        None => println!("\nevery exercise passes"),
+        None if broken.is_empty() => println!("\nevery exercise passes"),
+        None => {}
+    }
+    if let Some(first) = broken.first() {
+        println!(
+            "\n{} not checked: fix the first error above, then `cargo test -p {first}`",
+            broken
+                .iter()
+                .map(LabId::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
     Ok(())
 }

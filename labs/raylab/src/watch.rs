@@ -28,7 +28,7 @@ fn workspace_root() -> PathBuf {
 
 /// The first lab whose sources still hold a stub (`todo!("Exercise …`), else the last lab.
 fn default_lab(root: &Path) -> LabId {
-    let labs = crate::students::labs();
+    let labs = crate::labs::labs();
     labs.iter()
         .copied()
         .find(|lab| {
@@ -186,7 +186,7 @@ pub fn run(args: &WatchArgs) -> Result<(), Error> {
     let root = workspace_root();
     let lab = match args.lab {
         Some(lab) => {
-            crate::students::check_lab(lab)?;
+            crate::labs::check_lab(lab)?;
             lab
         }
         None => default_lab(&root),

@@ -16,18 +16,10 @@ use raylab_tests::workflow::{
     target_dir, workflow_target_dir,
 };
 
-/// `raylab ARGS`, built as the workspace's test build builds it (`--features reference`), so
-/// that nothing is compiled again.
+/// `raylab ARGS`, built as the workspace's test build builds it, so that nothing is compiled
+/// again.
 fn raylab(args: &[&str]) -> (bool, String) {
-    let mut all = vec![
-        "run",
-        "--quiet",
-        "-p",
-        "raylab",
-        "--features",
-        "reference",
-        "--",
-    ];
+    let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
     all.extend_from_slice(args);
     cargo(&root(), &target_dir(), &all)
 }
@@ -101,6 +93,41 @@ fn handout_then_grade_four_submissions() {
         "{out}"
     );
     phase("handout's lab01 checks built");
+
+    // A syntax error in lab 05 stops neither lab 01's tests nor `status`, which names lab 05
+    // with the compiler's first error and shows every other lab's table.
+    let lab05 = handout.join("labs/lab05/src/lib.rs");
+    let stubs = read(&lab05);
+    fs::write(&lab05, format!("{stubs}\nfn broken( {{\n")).unwrap();
+    let (ok, out) = cargo(
+        &handout,
+        &handout_target,
+        &[
+            "test", "-q", "-p", "lab01", "--test", "checks", "--", "--list",
+        ],
+    );
+    assert!(ok && out.contains("exercise_1_1_"), "{out}");
+    let (ok, out) = cargo(
+        &handout,
+        &handout_target,
+        &["run", "-q", "-p", "raylab", "--", "status"],
+    );
+    fs::write(&lab05, &stubs).unwrap();
+    assert!(ok, "{out}");
+    assert!(
+        out.contains("lab05  not checked: its code does not compile")
+            && out.contains("unclosed delimiter")
+            && out.contains("labs/lab05/src/lib.rs"),
+        "{out}"
+    );
+    for lab in [1, 2, 3, 4, 6, 7, 8, 9, 10, 11] {
+        assert!(
+            out.contains(&format!("\nlab{lab:02}  0/"))
+                || out.starts_with(&format!("lab{lab:02}  0/")),
+            "lab {lab}:\n{out}"
+        );
+    }
+    phase("a broken lab05 stops only its own row of status");
     let (ok, out) = raylab(&[
         "handout",
         "--allow-dirty",

@@ -24,7 +24,7 @@ pub struct Photon {
 }
 
 /// How many photons to emit, and the radiance estimate's `k` and maximum radius.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PhotonSettings {
     /// Photons emitted by all the lights together (shared among them by power).
     pub emitted: u32,

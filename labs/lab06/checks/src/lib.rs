@@ -4,5 +4,7 @@
 pub mod checks;
 pub mod closed_forms;
 mod golden;
+#[cfg(feature = "report")]
+pub mod report;
 
 pub use golden::generate_golden;

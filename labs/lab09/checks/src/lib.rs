@@ -3,5 +3,7 @@
 
 pub mod checks;
 mod golden;
+#[cfg(feature = "report")]
+pub mod report;
 
 pub use golden::generate_golden;

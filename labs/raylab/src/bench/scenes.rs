@@ -85,5 +85,5 @@ pub fn diffuse_rays(scene: &Scene, rays: &[Ray]) -> Vec<Ray> {
 /// A scene of one mesh of grey Lambertian material, framed as `raylab render` frames an OBJ.
 pub fn mesh_scene(name: &str, mesh: Mesh) -> Result<Scene, Error> {
     let materials = vec![Material::lambertian("grey", Vec3::splat(0.7))];
-    crate::render::framed_scene(name, ObjData { mesh, materials }, false)
+    pipeline::job::framed_scene(name, ObjData { mesh, materials }, false)
 }

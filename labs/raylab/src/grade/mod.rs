@@ -211,7 +211,7 @@ impl StudentGrade {
         let reason = format!("the submission could not be graded: {why}");
         let exercises = labs
             .iter()
-            .flat_map(|&lab| crate::students::exercises(lab))
+            .flat_map(|&lab| crate::labs::exercises(lab))
             .map(|info| ExerciseGrade::failed(info, Status::NotGraded, reason.clone()))
             .collect();
         Self {
@@ -479,13 +479,13 @@ fn fnv1a(text: &str) -> u32 {
 /// The labs to grade: `requested`, or every lab; each must be a lab of the course.
 fn graded_labs(requested: &[LabId]) -> Result<Vec<LabId>, Error> {
     if requested.is_empty() {
-        return Ok(crate::students::labs().to_vec());
+        return Ok(crate::labs::labs().to_vec());
     }
     let mut labs = requested.to_vec();
     labs.sort_unstable();
     labs.dedup();
     for &lab in &labs {
-        crate::students::check_lab(lab)?;
+        crate::labs::check_lab(lab)?;
     }
     Ok(labs)
 }
@@ -632,7 +632,7 @@ fn grade_submission(
 
     let mut exercises = Vec::new();
     for &lab in labs {
-        let infos = crate::students::exercises(lab);
+        let infos = crate::labs::exercises(lab);
         let executable = match (broken.get(&lab), build.executables.get(&lab)) {
             (Some((status, why)), _) => {
                 exercises.extend(

@@ -768,7 +768,7 @@ mod tests {
     /// A class of two: one submission that meets every kind of failure in labs 01 and 02, one
     /// whose lab 02 does not compile.
     fn fixed_class() -> Vec<StudentGrade> {
-        let infos = |lab| crate::students::exercises(LabId::of(lab));
+        let infos = |lab| crate::labs::exercises(LabId::of(lab));
         let (lab01, lab02) = (infos(1), infos(2));
         let exercise = |info: &ExerciseInfo, status: Status, output: &str| ExerciseGrade {
             score: if status == Status::Passed {

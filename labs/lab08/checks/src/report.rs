@@ -11,7 +11,7 @@ use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::scene::{Scene, builtin_scene};
 
-use super::{Figure, ReportContext, settings, timed};
+use figures::{Figure, ReportContext, settings, timed};
 
 /// The scene of the figures.
 const SCENE: &str = "cornell-spheres";
@@ -164,4 +164,12 @@ fn photon_preview(
         drawn += 1;
     }
     Ok((film, drawn, seconds + start.elapsed().as_secs_f64()))
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

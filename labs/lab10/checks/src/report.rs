@@ -6,14 +6,14 @@
 
 use std::fmt::Write as _;
 
+use crate::checks::volume_default_scene;
 use grading::scenes::glossy_default_scene;
-use lab10_checks::checks::volume_default_scene;
 use pipeline::Pipeline;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::scene::{IllumModel, Scene, builtin_scene};
 
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// The cut-out of the glass sphere, as fractions of the image: left, top, width, height.
 const CROP: [f32; 4] = [0.62, 0.36, 0.22, 0.28];
@@ -201,4 +201,12 @@ fn reflectance_table(pipeline: &Pipeline) -> String {
         }
         Err(panic) => format!("(no table: {})", panic.message),
     }
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

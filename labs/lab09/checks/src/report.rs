@@ -5,14 +5,14 @@
 
 use std::fmt::Write as _;
 
+use crate::checks::{GROUND_TEX_SCALE, textured_scene};
 use contracts::lab09::TextureFilter;
-use lab09_checks::checks::{GROUND_TEX_SCALE, textured_scene};
 use pipeline::Pipeline;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::render::RenderSettings;
 
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// The subdivisions of the side-by-side figures.
 const SUBDIVISIONS: [u32; 4] = [1, 2, 3, 4];
@@ -130,4 +130,12 @@ fn scale_panels(ctx: &ReportContext) -> Result<Figure, Error> {
         ),
         seconds: Some(seconds),
     })
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

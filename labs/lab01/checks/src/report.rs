@@ -5,7 +5,7 @@ use raylab_core::Error;
 use raylab_core::film::ToneMap;
 use raylab_core::scene::builtin_scene;
 
-use super::{Figure, ReportContext, settings, timed};
+use figures::{Figure, ReportContext, settings, timed};
 
 /// The figures of lab 01.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
@@ -28,4 +28,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         parameters: format!("{w}×{h} pixels, 1 ray through each pixel centre"),
         seconds: Some(seconds),
     }])
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

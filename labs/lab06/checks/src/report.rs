@@ -15,8 +15,8 @@ use raylab_core::film::ToneMap;
 use raylab_core::glam::Vec3;
 use raylab_core::scene::{Scene, builtin_scene};
 
-use super::plot::{LogLogPlot, RED, Series};
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::plot::{LogLogPlot, RED, Series};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// Meshing of the report's Cornell box: 5 cm patches, 2.5 cm on the light.
 pub const MESHING: MeshingOptions = MeshingOptions {
@@ -266,4 +266,12 @@ fn unshot_points(values: &[f64]) -> Vec<(f64, f64)> {
         .filter(|(_, v)| **v > 0.0)
         .map(|(k, &v)| (k as f64, v))
         .collect()
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

@@ -6,9 +6,9 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
+use crate::checks::snapshot_scene;
 use contracts::lab02::LightSample;
 use contracts::lab03::Shadows;
-use lab03_checks::checks::snapshot_scene;
 use pipeline::Pipeline;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
@@ -16,7 +16,7 @@ use raylab_core::glam::{Vec2, Vec3};
 use raylab_core::math::Ray;
 use raylab_core::sampling::Rng;
 
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// The area light is dim next to the point light: the figures scale radiance by this before
 /// clamping.
@@ -183,4 +183,12 @@ impl Shadows for CellCentres {
         self.0
             .area_light_sample(position, light_point, light_normal, emission, pdf_area)
     }
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

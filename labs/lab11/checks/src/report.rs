@@ -7,15 +7,15 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use crate::checks::{SKY_PROBE, STUDIO_PROBE};
 use contracts::lab11::HemisphereSampler;
-use lab11_checks::checks::{SKY_PROBE, STUDIO_PROBE};
 use pipeline::Pipeline;
 use raylab_core::Error;
 use raylab_core::film::ToneMap;
 use raylab_core::glam::Vec3;
 use raylab_core::scene::{EnvironmentMap, ProbeMapping, Scene, Texture, load_scene_file};
 
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// The rays per shading point of Figure 4.1.
 const RAYS: [u32; 3] = [100, 200, 300];
@@ -128,4 +128,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         });
     }
     Ok(figures)
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

@@ -3,14 +3,14 @@
 //! each with its render time; the Cornell box with a mirror and a glass sphere; and two facing
 //! mirrors at growing depth limits.
 
+use crate::checks::Shot;
 use grading::scenes::glossy_default_scene;
-use lab04_checks::checks::Shot;
 use pipeline::Pipeline;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::scene::{IllumModel, Scene, builtin_scene};
 
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// The default scene with every material whose model is not in `keep` made Lambertian, so
 /// that one shader after the other can be switched on.
@@ -192,4 +192,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         seconds: Some(times.iter().map(|(_, s)| s).sum()),
     });
     Ok(figures)
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

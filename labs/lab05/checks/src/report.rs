@@ -6,12 +6,12 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
+use crate::checks::{BIG_LIGHT, Estimator, LightCase, estimates, light_cases};
 use contracts::lab05::Radiometry;
-use lab05_checks::checks::{BIG_LIGHT, Estimator, LightCase, estimates, light_cases};
 use raylab_core::Error;
 
-use super::plot::{BLUE, Guide, LogLogPlot, ORANGE, Series};
-use super::{Figure, ReportContext};
+use figures::plot::{BLUE, Guide, LogLogPlot, ORANGE, Series};
+use figures::{Figure, ReportContext};
 
 /// The sample counts of the plot: 1 to 4096.
 const SAMPLE_COUNTS: [u32; 7] = [1, 4, 16, 64, 256, 1024, 4096];
@@ -147,4 +147,12 @@ fn convergence(ctx: &ReportContext, case: &LightCase, file: &str) -> Result<Figu
         ),
         seconds: Some(seconds),
     })
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

@@ -1,19 +1,19 @@
 //! Lab 07's figures: the default scene at pixel subdivisions 1 to 4 side by side (a magnified
 //! cut-out, so the staircases show) with the render times, and the image error against a
 //! converged render as a function of the number of rays per pixel, as a log–log plot
-//! ([`super::plot`]) and as a table (the Week 7 questions: how render time and aliasing error depend on the
+//! ([`figures::plot`]) and as a table (the Week 7 questions: how render time and aliasing error depend on the
 //! subdivision level).
 
 use std::fmt::Write as _;
 
-use lab07_checks::checks::mean_squared_error;
+use crate::checks::mean_squared_error;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::render::RenderSettings;
 use raylab_core::scene::builtin_scene;
 
-use super::plot::{BLUE, Guide, LogLogPlot, Series};
-use super::{Figure, Panel, ReportContext, settings, timed};
+use figures::plot::{BLUE, Guide, LogLogPlot, Series};
+use figures::{Figure, Panel, ReportContext, settings, timed};
 
 /// The subdivisions of the side-by-side figure.
 const PANEL_SUBDIVISIONS: [u32; 4] = [1, 2, 3, 4];
@@ -156,4 +156,12 @@ fn error_plot(ctx: &ReportContext) -> Result<Figure, Error> {
         ),
         seconds: Some(rows.iter().map(|r| r.1).sum()),
     })
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

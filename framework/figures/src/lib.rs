@@ -1,55 +1,28 @@
-//! `raylab report --lab N`: the figures of a lab's report, rendered through the reference or
-//! the student's pipeline, written as PNG files with a `report.md` beside them that gives each
-//! figure's parameters and render time.
+//! The figures of a lab's report (`raylab report --lab N`): what a lab's figure code draws with
+//! (labelled panels, plots, timed renders), and the report around them — PNG files with a
+//! `report.md` and a `report.html` beside them that give each figure's parameters and render
+//! time. Each lab's figures are its checks' `report` module, run in the lab's program.
 
-pub mod lab01;
-pub mod lab02;
-pub mod lab03;
-pub mod lab04;
-pub mod lab05;
-pub mod lab06;
-pub mod lab07;
-pub mod lab08;
-pub mod lab09;
-pub mod lab10;
-pub mod lab11;
 pub mod plot;
 
-use course::LabId;
 use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use clap::Args;
+use course::LabId;
+use grading::task::ReportJob;
 use image::{RgbImage, imageops};
+use pipeline::Pipeline;
 use pipeline::render::render_partial;
-use pipeline::{LabSlots, Pipeline};
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap, write_srgb8_png};
 use raylab_core::glam::Vec3;
 use raylab_core::render::{PixelFailures, RenderSettings};
 use raylab_core::scene::Scene;
 
-use crate::render::PipelineChoice;
-use crate::students::{LabCode, LabVisitor};
-
-/// Options of `raylab report`.
-#[derive(Args, Debug)]
-pub struct ReportArgs {
-    /// The lab whose figures to make.
-    #[arg(long)]
-    pub lab: LabId,
-    /// Whose code renders the lab's part of the pipeline.
-    #[arg(long, value_enum, default_value_t = PipelineChoice::Reference)]
-    pub pipeline: PipelineChoice,
-    /// Directory for the figures (a `labNN/` folder is made inside).
-    #[arg(long, default_value = "out/report")]
-    pub out: PathBuf,
-    /// Smaller images and fewer samples, for a quick look (and for tests).
-    #[arg(long)]
-    pub quick: bool,
-}
+/// A lab's figures: each written to the report's directory, and said what it is.
+pub type LabFigures = fn(&ReportContext) -> Result<Vec<Figure>, Error>;
 
 /// What a lab's figure code gets.
 pub struct ReportContext {
@@ -61,6 +34,8 @@ pub struct ReportContext {
     pub dir: PathBuf,
     /// Quick mode: small images, few samples.
     pub quick: bool,
+    /// Whose code renders, in words ("Reference", "Student").
+    pub whose: String,
     /// The failed pixels of every render so far, and how many pixels were rendered.
     pub failures: RefCell<(PixelFailures, usize)>,
 }
@@ -237,33 +212,35 @@ fn write_rgb8(image: &RgbImage, path: &std::path::Path) -> Result<(), Error> {
     write_srgb8_png(image.as_raw(), image.width(), image.height(), path)
 }
 
-/// Runs `raylab report`.
-pub fn run(args: &ReportArgs) -> Result<(), Error> {
-    crate::students::check_lab(args.lab)?;
-    let mut pipeline = reference::pipeline(args.lab.number());
-    if args.pipeline == PipelineChoice::Student {
-        pipeline = crate::students::with_student_lab(pipeline, args.lab)?;
-    }
-    let dir = args.out.join(format!("{}", args.lab));
-    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+/// Makes lab `lab`'s report with `figures` through `pipeline` (with the code of `job.whose` in
+/// the lab's slots): the figures, `report.md` and `report.html` in `job.dir`; says on standard
+/// error which pixels panicked, and prints each file's path on standard output.
+pub fn make(
+    job: &ReportJob,
+    lab: LabId,
+    pipeline: Pipeline,
+    figures: LabFigures,
+) -> Result<(), Error> {
+    std::fs::create_dir_all(&job.dir).map_err(|e| Error::io(&job.dir, e))?;
     let ctx = ReportContext {
-        lab: args.lab,
-        pipeline,
-        dir,
-        quick: args.quick,
+        lab,
+        pipeline: Pipeline {
+            lab: lab.number(),
+            ..pipeline
+        },
+        dir: job.dir.clone(),
+        quick: job.quick,
+        whose: job.whose.clone(),
         failures: RefCell::default(),
     };
-    if let Some(note) = crate::render::student_code_note(args.pipeline, args.lab) {
-        eprintln!("note: {note}");
-    }
-    let figures = (crate::students::visit(args.lab, Figures(&ctx))?)?;
+    let figures = figures(&ctx)?;
     let (failures, total) = &*ctx.failures.borrow();
-    let unfinished = crate::render::failure_lines(failures, *total);
+    let unfinished = pipeline::job::failure_lines(failures, *total);
     for line in &unfinished {
         eprintln!("{line}");
     }
-    let index = write_index(&ctx, args.pipeline, &figures, &unfinished)?;
-    let page = write_page(&ctx, args.pipeline, &figures, &unfinished)?;
+    let index = write_index(&ctx, &figures, &unfinished)?;
+    let page = write_page(&ctx, &figures, &unfinished)?;
     for f in &figures {
         println!("{}", ctx.dir.join(&f.file).display());
     }
@@ -272,26 +249,15 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// The work of `raylab report` on one lab: its figures.
-struct Figures<'a>(&'a ReportContext);
-
-impl LabVisitor for Figures<'_> {
-    type Output = Result<Vec<Figure>, Error>;
-    fn visit<S: ?Sized + LabSlots + Send + Sync + 'static>(self, code: LabCode<S>) -> Self::Output {
-        (code.figures)(self.0)
-    }
-}
-
 /// Writes `report.md` beside the figures: each figure with its caption, parameters and time.
 fn write_index(
     ctx: &ReportContext,
-    choice: PipelineChoice,
     figures: &[Figure],
     unfinished: &[String],
 ) -> Result<PathBuf, Error> {
     let mut md = String::new();
     let _ = writeln!(md, "# Lab {:02} report figures\n", ctx.lab.number());
-    let _ = writeln!(md, "{}\n", made_with(ctx, choice));
+    let _ = writeln!(md, "{}\n", made_with(ctx));
     if !unfinished.is_empty() {
         let _ = writeln!(
             md,
@@ -318,10 +284,10 @@ fn write_index(
 }
 
 /// How the report's figures were made, in words: the pipeline, and quick mode if it was.
-fn made_with(ctx: &ReportContext, choice: PipelineChoice) -> String {
+fn made_with(ctx: &ReportContext) -> String {
     format!(
-        "Rendered with the {:?} pipeline{}.",
-        choice,
+        "Rendered with the {} pipeline{}.",
+        ctx.whose,
         if ctx.quick {
             " in quick mode (small images, few samples)"
         } else {
@@ -334,7 +300,6 @@ fn made_with(ctx: &ReportContext, choice: PipelineChoice) -> String {
 /// its caption, parameters and time, for a browser.
 fn write_page(
     ctx: &ReportContext,
-    choice: PipelineChoice,
     figures: &[Figure],
     unfinished: &[String],
 ) -> Result<PathBuf, Error> {
@@ -352,7 +317,7 @@ fn write_page(
             }
             body {
                 h1 { (title) }
-                p { (made_with(ctx, choice)) }
+                p { (made_with(ctx)) }
                 @if !unfinished.is_empty() {
                     div class="unfinished" {
                         p { strong { "Unfinished." } " Magenta pixels are pixels whose computation panicked, over all the figures:" }

@@ -6,7 +6,7 @@ use raylab_core::Error;
 use raylab_core::film::ToneMap;
 use raylab_core::scene::builtin_scene;
 
-use super::{Figure, ReportContext, settings, timed};
+use figures::{Figure, ReportContext, settings, timed};
 
 /// The figures of lab 02.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
@@ -52,4 +52,12 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         });
     }
     Ok(figures)
+}
+
+/// Makes the lab's report: its figures through `pipeline` (`raylab report`).
+pub fn make(
+    job: &grading::task::ReportJob,
+    pipeline: pipeline::Pipeline,
+) -> Result<(), raylab_core::Error> {
+    figures::make(job, crate::checks::LAB, pipeline, figures)
 }

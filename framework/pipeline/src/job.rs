@@ -1,0 +1,260 @@
+//! A render as data: what `raylab render` asks for, done on a given pipeline. The command line
+//! does it on the reference pipeline; a lab's program does it on the pipeline with the
+//! student's code in the lab's slots (`grading::task`), so the command line links no lab's code.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use glam::Vec3;
+use raylab_core::Error;
+use raylab_core::film::{ToneMap, write_exr, write_png};
+use raylab_core::math::Aabb;
+use raylab_core::render::{PartialRender, PixelFailures, RenderSettings};
+use raylab_core::scene::{
+    BUILTIN_SCENES, CameraSetup, Light, ObjData, PointLight, Scene, SceneDescription,
+    builtin_scene, load_obj, load_scene_file,
+};
+use serde::{Deserialize, Serialize};
+
+use crate::photon::{PhotonSettings, with_caustics};
+use crate::render::render_partial;
+use crate::{Pipeline, View};
+
+/// One render: the scene, the image, and the pipeline's settings.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RenderJob {
+    /// A built-in scene's name, a scene file (.toml) or an OBJ file.
+    pub scene: String,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Pixel subdivision (lab 7 on).
+    pub subdivisions: u32,
+    /// Seed of the render's and the photons' random numbers.
+    pub seed: u64,
+    /// The image file, .png or .exr; its directory exists.
+    pub output: PathBuf,
+    /// The tone map of a PNG (`clamp[:EXPOSURE]`, `reinhard[:KEY[:WHITE]]`).
+    pub tonemap: String,
+    /// The lab whose features the pipeline uses.
+    pub lab: u32,
+    /// What the image shows.
+    pub view: View,
+    /// `n × n` area-light samples per shading point.
+    pub light_samples: u32,
+    /// The caustic photon map (lab 8 on); its seed is the render's.
+    pub photons: PhotonSettings,
+    /// Whose code renders, in words for the closing line ("Reference", "Student").
+    pub whose: String,
+}
+
+impl RenderJob {
+    /// The render settings of the job.
+    pub fn settings(&self) -> RenderSettings {
+        RenderSettings {
+            width: self.width,
+            height: self.height,
+            samples_per_pixel: self.spp,
+            pixel_subdivisions: self.subdivisions,
+            seed: self.seed,
+            progress: true,
+        }
+    }
+
+    /// Whether the image is an EXR (linear radiance) rather than a PNG.
+    pub fn exr(&self) -> bool {
+        self.output
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    }
+
+    /// Checks what can be checked before anything is loaded: the tone map, the settings, the
+    /// light samples and the photons.
+    pub fn validate(&self) -> Result<(), Error> {
+        self.tonemap.parse::<ToneMap>()?;
+        self.settings().validate()?;
+        if self.light_samples == 0 || self.light_samples > 64 {
+            return Err(Error::Invalid {
+                what: format!("--light-samples {}", self.light_samples),
+                reason: "expected a whole number from 1 to 64".into(),
+            });
+        }
+        if self.lab >= 8 {
+            self.photons.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Renders the scene through `pipeline` (whose slots say whose code runs) and writes the
+    /// image; says on standard error what it did and what went wrong in which pixels, and
+    /// prints the image's path on standard output.
+    pub fn run(&self, mut pipeline: Pipeline) -> Result<(), Error> {
+        self.validate()?;
+        let tonemap: ToneMap = self.tonemap.parse()?;
+        let scene = load_scene(&self.scene)?;
+        if let Some(warning) = empty_scene_warning(&scene, &self.scene) {
+            eprintln!("{warning}");
+        }
+        pipeline.lab = self.lab;
+        pipeline.area_light_samples = self.light_samples;
+        pipeline.view = self.view;
+        pipeline.photons = PhotonSettings {
+            seed: self.seed,
+            ..self.photons
+        };
+        let start = Instant::now();
+        if self.lab >= 8 {
+            match with_caustics(&pipeline, &scene) {
+                Ok(traced) => {
+                    let stored = traced.caustics.as_ref().map_or(0, |m| m.len());
+                    eprintln!(
+                        "traced {} photons ({stored} stored in the caustic map) in {:.2} s",
+                        self.photons.emitted,
+                        start.elapsed().as_secs_f64()
+                    );
+                    pipeline = traced;
+                }
+                Err(e) => eprintln!("warning: no caustics: {e}"),
+            }
+        }
+        let rendered = render_partial(&scene, &pipeline, &self.settings())?;
+        let seconds = start.elapsed().as_secs_f64();
+        let exr = self.exr();
+        if exr {
+            write_exr(&rendered.film, &self.output)?;
+        } else {
+            write_png(&rendered.display(tonemap), &self.output, ToneMap::default())?;
+        }
+        eprintln!(
+            "rendered '{}' ({}×{}, {} spp, lab {}, {} pipeline) in {seconds:.2} s",
+            scene.name, self.width, self.height, self.spp, self.lab, self.whose
+        );
+        for line in warnings(&rendered, exr) {
+            eprintln!("{line}");
+        }
+        println!("{}", self.output.display());
+        Ok(())
+    }
+}
+
+/// Loads a scene by built-in name or path.
+pub fn load_scene(spec: &str) -> Result<Scene, Error> {
+    if BUILTIN_SCENES.contains(&spec) {
+        return builtin_scene(spec);
+    }
+    let path = Path::new(spec);
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("toml") => load_scene_file(path),
+        Some("obj") => {
+            let obj = load_obj(path)?;
+            if obj.mesh.faces.is_empty() {
+                return Err(Error::Invalid {
+                    what: format!("OBJ file '{spec}'"),
+                    reason: "it holds no faces (`f` statements), so there is nothing to render; is the file cut short?".into(),
+                });
+            }
+            eprintln!(
+                "note: '{spec}' has no camera or lights of its own: the camera frames its bounds from the front and a point light sits at the eye; for your own, write a scene file with a [[meshes]] entry (docs/scene-format.md)"
+            );
+            framed_scene(spec, obj, true)
+        }
+        _ => Err(Error::Invalid {
+            what: format!("scene '{spec}'"),
+            reason: format!(
+                "expected a built-in scene ({}), a scene file ending in .toml or an OBJ file ending in .obj",
+                BUILTIN_SCENES.join(", ")
+            ),
+        }),
+    }
+}
+
+/// A scene of one OBJ's triangles and materials with a camera looking at the bounding box from
+/// the front (in front of +z, a little above) and, with `lit`, a point light at the eye bright
+/// enough that a surface facing it at the box's centre reflects about its albedo.
+pub fn framed_scene(name: &str, obj: ObjData, lit: bool) -> Result<Scene, Error> {
+    let bounds = Aabb::from_points(obj.mesh.positions.iter().copied());
+    let centre = bounds.centroid();
+    let extent = bounds.diagonal().max_element();
+    let eye = centre + Vec3::new(0.0, 0.2, 1.6) * extent;
+    let distance_squared = eye.distance_squared(centre);
+    let lights = if lit {
+        vec![Light::Point(PointLight {
+            position: eye,
+            intensity: Vec3::splat(std::f32::consts::PI * distance_squared),
+        })]
+    } else {
+        Vec::new()
+    };
+    Scene::new(SceneDescription {
+        name: name.into(),
+        camera: Some(CameraSetup {
+            eye,
+            look_at: centre,
+            up: Vec3::Y,
+            focal_distance: 1.2,
+        }),
+        materials: obj.materials,
+        lights,
+        mesh: obj.mesh,
+        ..SceneDescription::default()
+    })
+}
+
+/// What to say when `scene` holds nothing to hit: its image is the background alone.
+pub fn empty_scene_warning(scene: &Scene, spec: &str) -> Option<String> {
+    (scene.mesh.faces.is_empty() && scene.planes.is_empty() && scene.spheres.is_empty()).then(|| {
+        format!(
+            "warning: scene '{spec}' holds no geometry (no triangles, planes or spheres; an OBJ it names may be empty or cut short): the image shows only the background"
+        )
+    })
+}
+
+/// The lines naming what went wrong in a render: the unfinished exercises and other panics
+/// with the pixels each cost (marked [`PANICKED_COLOUR`](raylab_core::render::PANICKED_COLOUR)),
+/// and the pixels whose radiance is NaN or infinite; `exr` says what the EXR holds there.
+pub fn warnings(rendered: &PartialRender, exr: bool) -> Vec<String> {
+    let mut lines = failure_lines(&rendered.failures, rendered.film.pixels.len());
+    if !lines.is_empty() {
+        lines.push(if exr {
+            "  (these pixels are NaN in the EXR: no radiance was computed there)".into()
+        } else {
+            "  (a pixel stops at the first panic it meets, so later exercises it needs may be unfinished too)".into()
+        });
+    }
+    let bad = rendered.non_finite_pixels();
+    if bad > 0 {
+        lines.push(format!(
+            "warning: {bad} pixels have NaN or infinite radiance ({}; a division by zero or the square root of a negative number, say)",
+            if exr { "kept as they are in the EXR" } else { "shown cyan" }
+        ));
+    }
+    lines
+}
+
+/// The lines naming each cause of `failures` (of `total` pixels) and the pixels it cost.
+pub fn failure_lines(failures: &PixelFailures, total: usize) -> Vec<String> {
+    if failures.is_empty() {
+        return Vec::new();
+    }
+    let share = |n: usize| format!("{n} pixels ({:.1}%)", 100.0 * n as f64 / total as f64);
+    let mut lines = vec![format!(
+        "warning: {} of {total} pixels are magenta: their computation panicked",
+        failures.pixels()
+    )];
+    for f in failures.sorted() {
+        lines.push(match f.exercise() {
+            Some(id) => format!("  Exercise {id} is unfinished: {}", share(f.pixels)),
+            None => format!(
+                "  a panic at {}: {:?}: {}",
+                f.panic.location.as_deref().unwrap_or("an unknown place"),
+                f.panic.message,
+                share(f.pixels)
+            ),
+        });
+    }
+    lines
+}
