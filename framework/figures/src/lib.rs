@@ -224,10 +224,7 @@ pub fn make(
     std::fs::create_dir_all(&job.dir).map_err(|e| Error::io(&job.dir, e))?;
     let ctx = ReportContext {
         lab,
-        pipeline: Pipeline {
-            lab: lab.number(),
-            ..pipeline
-        },
+        pipeline,
         dir: job.dir.clone(),
         quick: job.quick,
         whose: job.whose.clone(),

@@ -47,11 +47,6 @@ pub type GenerateGolden<S> =
 /// ([`verdict`]) instead.
 pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
     let task = Task::from_env();
-    let args = if task.is_none() {
-        Arguments::from_args()
-    } else {
-        Arguments::default()
-    };
     let LabChecks {
         lab,
         lab_dir,
@@ -109,6 +104,7 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
             }));
         }
     }
+    let args = Arguments::from_args();
     let trials = exercises
         .iter()
         .map(|exercise| {

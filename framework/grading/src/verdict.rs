@@ -41,8 +41,11 @@ const SECRET_BYTES: usize = 32;
 /// The check's message is cut to this many bytes in the record.
 const MESSAGE_LIMIT: usize = 16 * 1024;
 
+/// The check's reason (the heart of the message, which holds it too) is cut to this many bytes.
+const REASON_LIMIT: usize = 1024;
+
 /// The record line is cut at this many bytes when read.
-const RECORD_LIMIT: usize = MESSAGE_LIMIT + 4096;
+const RECORD_LIMIT: usize = MESSAGE_LIMIT + REASON_LIMIT + 4096;
 
 static TAKEN: AtomicBool = AtomicBool::new(false);
 
@@ -71,7 +74,7 @@ impl Record {
             passed: outcome.is_ok(),
             kind: failure.map(|f| f.kind.clone()),
             message: cut(failure.map_or("", |f| f.message.as_str()), MESSAGE_LIMIT),
-            reason: cut(failure.map_or("", |f| f.reason.as_str()), MESSAGE_LIMIT),
+            reason: cut(failure.map_or("", |f| f.reason.as_str()), REASON_LIMIT),
         }
     }
 }
@@ -253,6 +256,23 @@ mod tests {
             format!("{RECORD_TAG}{secret} {{\"exercise\":\"1.1\",\"passed\":tru\n").as_bytes(),
         );
         assert_eq!(scanner.record("1.1"), None);
+    }
+
+    #[test]
+    fn a_record_of_the_longest_message_and_reason_is_read_whole() {
+        let secret = new_secret().unwrap();
+        let long = "x".repeat(4 * MESSAGE_LIMIT);
+        let failure = Failure {
+            exercise: "3.2".into(),
+            kind: FailureKind::Wrong,
+            reason: long.clone(),
+            message: long,
+        };
+        let record = Record::of("3.2", &Err(failure));
+        let json = serde_json::to_string(&record).unwrap();
+        let mut scanner = RecordScanner::new(&secret);
+        scanner.feed(format!("\n{RECORD_TAG}{secret} {json}\n").as_bytes());
+        assert_eq!(scanner.record("3.2"), Some(record));
     }
 
     #[test]
