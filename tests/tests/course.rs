@@ -1,7 +1,7 @@
-//! The course's one list of labs (`raylab_core::labs::COURSE`) and what is derived from it agree:
-//! every lab has its crate, its docs page, a row in the README's table and its key in the
-//! reference; every lab crate is on the list; exercise numbers belong to their lab; the tests'
-//! list of the labs' types (`for_each_lab!`) is the course.
+//! The course's one list of labs (the registry `labs/course.toml`) and what is derived from it
+//! agree: every lab has its crate, its docs page, a row in the README's table and its key in the
+//! reference; every lab crate is on the list; exercise numbers belong to their lab; every lab's
+//! program and corpus are the framework's one-line calls.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -50,21 +50,27 @@ fn every_lab_crate_is_on_the_course_list() {
     }
 }
 
+/// Each lab's program and corpus are the one line the scaffold writes, naming the lab's own
+/// crates: the harness and the corpus tests are the framework's, not copies.
 #[test]
-fn the_tests_list_of_lab_types_is_the_course() {
-    let mut listed = Vec::new();
-    macro_rules! list {
-        ($number:expr, $module:ident, $contract:ident, $key:ident) => {
-            assert_eq!(stringify!($module), format!("lab{:02}", $number));
-            listed.push(course::LabId::of($number));
-        };
+fn every_lab_has_its_program_and_its_corpus() {
+    for lab in course::labs() {
+        let dir = root().join(lab.folder());
+        let call = |name: &str| format!("grading::{name}!({lab}, {lab}_checks);");
+        let program = fs::read_to_string(dir.join("tests/checks.rs")).unwrap();
+        assert!(
+            program.contains(&call("lab_program")),
+            "{lab}/tests/checks.rs is not `{}`",
+            call("lab_program")
+        );
+        let corpus = fs::read_to_string(dir.join("tests/corpus.rs"))
+            .unwrap_or_else(|e| panic!("{lab} has no mutant corpus tests/corpus.rs: {e}"));
+        assert!(
+            corpus.contains(&call("corpus_tests")),
+            "{lab}/tests/corpus.rs does not end with `{}`",
+            call("corpus_tests")
+        );
     }
-    raylab_tests::for_each_lab!(list);
-    assert_eq!(
-        listed,
-        course::labs(),
-        "raylab_tests::for_each_lab lists other labs than labs/course.toml"
-    );
 }
 
 /// The lines `cargo tree --prefix none --format FORMAT ARGS` prints.
@@ -271,4 +277,56 @@ fn the_workspace_s_tests_reuse_the_golden_data_s_build() {
             "`cargo test --workspace --features reference` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in `{command}`'s: {twice:?}; make them a dependency of the framework"
         );
     }
+}
+
+/// Each exercise is stated once, in its lab's table (`labs/labNN/exercises.toml`: number,
+/// function, title, points, visibility, hint — `raylab hint` reads it); the stub, the docs
+/// page's table of exercises and its section agree with it: the stub names the exercise and its
+/// function, the docs table the number, function and points of each exercise students see, and
+/// the docs page has a section `Exercise N.M — title` for each.
+#[test]
+fn stubs_and_docs_pages_agree_with_the_exercise_tables() {
+    let mut problems = Vec::new();
+    for lab in course::labs() {
+        let table = course::lab(lab).unwrap();
+        let stub = read(&root().join(lab.folder()).join("src/lib.rs"));
+        let docs = read(&root().join(format!("docs/{lab}.md")));
+        let headings: Vec<&str> = docs
+            .lines()
+            .filter_map(|l| l.strip_prefix("## ").or_else(|| l.strip_prefix("### ")))
+            .collect();
+        for e in &table.exercises {
+            let (id, function, points) = (&e.id, &e.function, e.points);
+            let heading = format!("Exercise {id} — {}", e.title);
+            if !headings.contains(&heading.as_str()) {
+                problems.push(format!("docs/{lab}.md: no section `{heading}`"));
+            }
+            if e.visibility != course::Visibility::Visible {
+                continue;
+            }
+            for expected in [
+                format!("**Exercise {id}**"),
+                format!("todo!(\"Exercise {id}: {function} (docs/{lab}.md"),
+            ] {
+                if !stub.contains(&expected) {
+                    problems.push(format!("{}/src/lib.rs: no `{expected}`", lab.folder()));
+                }
+            }
+            let row = format!("| {id} | `{function}` |");
+            match docs.lines().find(|l| l.starts_with(&row)) {
+                None => problems.push(format!("docs/{lab}.md: no table row `{row} …`")),
+                Some(line) if !line.trim_end().ends_with(&format!("| {points} |")) => problems
+                    .push(format!(
+                        "docs/{lab}.md: the row of {id} does not end with its {points} points: {line}"
+                    )),
+                Some(_) => {}
+            }
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "{} disagreements:\n{}",
+        problems.len(),
+        problems.join("\n")
+    );
 }

@@ -19,6 +19,9 @@ pub struct CameraBasis {
     pub ip_normal: Vec3,
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab01`.
+pub type Contract = dyn CameraRays;
+
 /// Lab 01's contract: from pixel to camera ray.
 #[crate::contract]
 pub trait CameraRays: Send + Sync {

@@ -71,6 +71,9 @@ pub trait Shading: Send + Sync {
     fn shade_lambertian(&self, rho_d: Vec3, normal: Vec3, lights: &[LightSample]) -> Vec3;
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab02`.
+pub type Contract = dyn Lab02;
+
 /// Both halves of lab 02, as one object (what a lab02 crate's `Student` is).
 pub trait Lab02: Intersection + Shading {}
 

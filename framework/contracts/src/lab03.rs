@@ -19,6 +19,9 @@ use crate::lab02::LightSample;
 use crate::math::Ray;
 use crate::sampling::Rng;
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab03`.
+pub type Contract = dyn Shadows;
+
 /// Lab 03's contract.
 #[crate::contract]
 pub trait Shadows: Send + Sync {

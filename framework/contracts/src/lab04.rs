@@ -19,6 +19,9 @@ pub struct Interface {
     pub eta_transmitted: f32,
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab04`.
+pub type Contract = dyn Reflection;
+
 /// Lab 04's contract.
 #[crate::contract]
 pub trait Reflection: Send + Sync {

@@ -184,6 +184,9 @@ pub struct Receiver {
     pub normal: DVec3,
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab05`.
+pub type Contract = dyn Radiometry;
+
 /// Lab 05's contract: one method per exercise.
 #[crate::contract]
 pub trait Radiometry: Send + Sync {

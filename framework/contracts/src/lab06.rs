@@ -9,6 +9,9 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab06`.
+pub type Contract = dyn Radiosity;
+
 /// Lab 06's contract (the DTU radiosity framework's `calcAnalyticalFF`, `Hemicube`,
 /// `calcFF`, `maxenergy_patch`, `distributeEnergy` and `colorReconstruction`).
 #[crate::contract]

@@ -9,6 +9,9 @@ use glam::{UVec2, Vec2, Vec3};
 
 use crate::sampling::Rng;
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab07`.
+pub type Contract = dyn Antialiasing;
+
 /// Lab 07's contract (DTU `RayCaster::compute_jitters` and `RayCaster::compute_pixel`).
 #[crate::contract]
 pub trait Antialiasing: Send + Sync {

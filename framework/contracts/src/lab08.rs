@@ -49,6 +49,9 @@ pub struct NearbyPhoton {
     pub distance_squared: f32,
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab08`.
+pub type Contract = dyn PhotonMapping;
+
 /// Lab 08's contract (DTU `PointLight::emit`, `ParticleTracer::trace_particle`'s roulette and
 /// `PhotonCaustics::shade`).
 #[crate::contract]

@@ -47,6 +47,9 @@ pub enum TextureFilter {
     Bilinear,
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab09`.
+pub type Contract = dyn Texturing;
+
 /// Lab 09's contract (the DTU framework's `Plane::intersect` and `Sphere::intersect` texture
 /// coordinates, the triangle's interpolated `texcoord`, ELUMI's corresponder functions, and
 /// `Texture::sample_nearest` / `Texture::sample_linear`).

@@ -16,6 +16,9 @@ use glam::Vec3;
 
 use crate::scene::Material;
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab10`.
+pub type Contract = dyn Fresnel;
+
 /// Lab 10's contract (DTU `fresnel.h` and `Volume::get_transmittance`).
 #[crate::contract]
 pub trait Fresnel: Send + Sync {

@@ -52,6 +52,9 @@ pub enum HemisphereSampler {
     Cosine,
 }
 
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab11`.
+pub type Contract = dyn AmbientOcclusion;
+
 /// Lab 11's contract: one method per exercise.
 #[crate::contract]
 pub trait AmbientOcclusion: Send + Sync {

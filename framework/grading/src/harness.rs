@@ -13,7 +13,7 @@ use libtest_mimic::{Arguments, Failed, Trial};
 
 use super::task::{self, MakeReport, Task};
 use super::{Exercise, LabContext, LabId, Visibility, run_exercise, verdict};
-use pipeline::{LabSlots, Pipeline};
+use pipeline::Pipeline;
 
 /// What a lab's checks run on.
 pub struct LabChecks<S: ?Sized + 'static> {
@@ -45,7 +45,7 @@ pub type GenerateGolden<S> =
 /// Runs the tests the command line asks for, one per exercise, and exits with libtest's
 /// status; or, run by `raylab` with a task ([`crate::task`]), does the task. Under `raylab grade` a test ends its process with the check's verdict record
 /// ([`verdict`]) instead.
-pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
+pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
     let task = Task::from_env();
     let LabChecks {
         lab,
@@ -80,14 +80,14 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
             std::process::exit(0)
         }
         Some(Task::Render(job)) => {
-            finish(job.run(S::install(subject, ctx.base.clone())));
+            finish(job.run(ctx.base.clone().with_part(subject)));
         }
         Some(Task::Report(job)) => {
             let Some(report) = report else {
                 eprintln!("error: this program of {lab} was built without its `report` feature");
                 std::process::exit(2)
             };
-            finish(report(&job, S::install(subject, ctx.base.clone())));
+            finish(report(&job, ctx.base.clone().with_part(subject)));
         }
         Some(Task::Golden(dir)) => {
             if !ctx.has_key(lab) {
@@ -114,6 +114,53 @@ pub fn run<S: ?Sized + LabSlots + Send + Sync + 'static>(checks: LabChecks<S>) -
         })
         .collect();
     libtest_mimic::run(&args, trials).exit()
+}
+
+/// The answer key of `lab` in `base` (the program built with the lab's `reference` feature);
+/// where the tree does not hold it (a handout before its release), the program ends, saying so.
+pub fn key_of<S: ?Sized + Send + Sync + 'static>(lab: LabId, base: &Pipeline) -> Arc<S> {
+    base.part::<S>().unwrap_or_else(|| {
+        eprintln!(
+            "error: the solution of {lab} is not in this tree (it is not released yet), so \
+             `--features reference` has nothing to check; `cargo test -p {lab}` checks your own code"
+        );
+        std::process::exit(1)
+    })
+}
+
+/// The whole of a lab's program, `labs/labNN/tests/checks.rs`: `grading::lab_program!(lab03,
+/// lab03_checks);` names its lab crate and its checks crate, whose contract is
+/// `contracts::lab03::Contract`.
+/// The program checks the student's code (`labNN::Student`), or with the lab's `reference`
+/// feature the answer key, in `reference::pipeline`, with the lab's report figures when built
+/// with its `report` feature.
+#[macro_export]
+macro_rules! lab_program {
+    ($lab:ident, $checks:ident) => {
+        fn main() {
+            let lab = $checks::checks::LAB;
+            let base = ::reference::pipeline(lab.number());
+            #[cfg(feature = "reference")]
+            let subject = $crate::harness::key_of::<::contracts::$lab::Contract>(lab, &base);
+            #[cfg(not(feature = "reference"))]
+            let subject: ::std::sync::Arc<::contracts::$lab::Contract> =
+                ::std::sync::Arc::new($lab::Student);
+            $crate::harness::run($crate::harness::LabChecks {
+                lab,
+                lab_dir: env!("CARGO_MANIFEST_DIR"),
+                exercises: $checks::checks::exercises(),
+                subject,
+                base,
+                key_labs: ::reference::KEYS,
+                hidden: cfg!(feature = "hidden-exercises"),
+                #[cfg(feature = "report")]
+                report: Some($checks::report::make),
+                #[cfg(not(feature = "report"))]
+                report: None,
+                generate_golden: $checks::generate_golden,
+            })
+        }
+    };
 }
 
 /// Ends a task's process: 0 when it succeeded, 1 with the error on standard error.

@@ -3,6 +3,7 @@
 //! all go through [`run_exercise`], so they judge student code the same way.
 
 pub mod chi2;
+pub mod corpus;
 mod golden;
 pub mod harness;
 mod property;
@@ -142,9 +143,9 @@ impl LabContext {
     /// are not the answer key (a handout before the lab's solution is released): the base of
     /// the lab's other exercises is then the student's own code. Call after
     /// [`Self::with_key_labs`].
-    pub fn with_own_code<S: ?Sized + pipeline::LabSlots>(mut self, student: &Arc<S>) -> Self {
+    pub fn with_own_code<S: ?Sized + Send + Sync + 'static>(mut self, student: &Arc<S>) -> Self {
         if !self.has_key(self.lab) {
-            self.base = S::install(student.clone(), self.base);
+            self.base = self.base.with_part(student.clone());
         }
         self
     }

@@ -18,12 +18,14 @@ pub mod render;
 
 pub use contracts::PartSlot;
 
+use std::any::{Any, TypeId};
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
 use contracts::lab09::{self, Addressing, TextureFilter};
-use contracts::{lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11};
+use contracts::{Waiting, lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11};
 use raylab_core::math::Ray;
 
 use crate::photon::{PhotonMap, PhotonSettings};
@@ -105,46 +107,111 @@ pub struct Pipeline {
     pub texture_filter: TextureFilter,
     /// What textures do outside `[0, 1]` (lab 09).
     pub texture_addressing: Addressing,
+    /// Each lab's code by contract, as [`Pipeline::with_part`] put it in.
+    pub parts: Parts,
 }
 
-/// A lab contract with its slots in the [`Pipeline`]: how a whole lab's code goes in, so that
-/// code generic over the labs (`raylab render --pipeline student`) needs no list of slots.
-pub trait LabSlots {
-    /// `base` with every slot of this lab holding `code`.
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline;
+/// The code of each lab in a pipeline, by contract: what [`Pipeline::with_part`] put in, so
+/// that code generic over the labs (a lab's program, `raylab render --pipeline student`) and the
+/// checks of a lab the integrator does not call reach a lab's code without a list of slots.
+#[derive(Clone, Default)]
+pub struct Parts(BTreeMap<TypeId, Arc<dyn Any + Send + Sync>>);
+
+impl Parts {
+    /// The contracts it holds code for.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether it holds no code.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
 }
 
-/// `impl LabSlots` for a contract whose code fills the one slot `$slot`.
-macro_rules! one_slot {
-    ($($contract:ty => $slot:ident),* $(,)?) => {$(
-        impl LabSlots for $contract {
-            fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
-                Pipeline { $slot: code, ..base }
-            }
+impl std::fmt::Debug for Parts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Parts({} contracts)", self.0.len())
+    }
+}
+
+/// Sets the integrator's slot `$slot` when `$code` (an `&dyn Any` holding an `Arc<S>`) is the
+/// code of the contract `$contract`.
+macro_rules! fill_slots {
+    ($pipeline:ident, $code:ident; $($contract:ty => $($slot:ident)|+),* $(,)?) => {$(
+        if let Some(code) = $code.downcast_ref::<Arc<$contract>>() {
+            $(fill_slots!(@set $pipeline.$slot, code);)+
         }
     )*};
+    (@set $pipeline:ident.intersection, $code:ident) => {
+        $pipeline.intersection = Some($code.clone())
+    };
+    (@set $pipeline:ident.$slot:ident, $code:ident) => {
+        $pipeline.$slot = $code.clone()
+    };
 }
 
-one_slot! {
-    dyn lab01::CameraRays => camera,
-    dyn lab03::Shadows => shadows,
-    dyn lab04::Reflection => reflection,
-    dyn lab05::Radiometry => radiometry,
-    dyn lab06::Radiosity => radiosity,
-    dyn lab07::Antialiasing => antialiasing,
-    dyn lab08::PhotonMapping => photon_mapping,
-    dyn lab09::Texturing => texturing,
-    dyn lab10::Fresnel => fresnel,
-    dyn lab11::AmbientOcclusion => ambient_occlusion,
-}
+impl Pipeline {
+    /// This pipeline with `code` as the code of the contract `S` (`dyn contracts::lab03::Shadows`,
+    /// say): the integrator's slots of that contract hold it, and [`Self::part`] gives it back.
+    /// A contract the integrator does not call is held for [`Self::part`] alone.
+    pub fn with_part<S: ?Sized + Send + Sync + 'static>(mut self, code: Arc<S>) -> Self {
+        let any: &dyn Any = &code;
+        fill_slots!(self, any;
+            dyn lab01::CameraRays => camera,
+            dyn lab02::Lab02 => intersection | shading,
+            dyn lab02::Shading => shading,
+            dyn lab03::Shadows => shadows,
+            dyn lab04::Reflection => reflection,
+            dyn lab05::Radiometry => radiometry,
+            dyn lab06::Radiosity => radiosity,
+            dyn lab07::Antialiasing => antialiasing,
+            dyn lab08::PhotonMapping => photon_mapping,
+            dyn lab09::Texturing => texturing,
+            dyn lab10::Fresnel => fresnel,
+            dyn lab11::AmbientOcclusion => ambient_occlusion,
+        );
+        self.parts.0.insert(TypeId::of::<S>(), Arc::new(code));
+        self
+    }
 
-/// Lab 02's code fills two slots: the intersections and the shading.
-impl LabSlots for dyn lab02::Lab02 {
-    fn install(code: Arc<Self>, base: Pipeline) -> Pipeline {
+    /// The code of the contract `S` that [`Self::with_part`] put in; `None` when there is none
+    /// (the slot of a lab whose answer key the tree does not hold).
+    pub fn part<S: ?Sized + Send + Sync + 'static>(&self) -> Option<Arc<S>> {
+        self.parts
+            .0
+            .get(&TypeId::of::<S>())
+            .and_then(|code| code.downcast_ref::<Arc<S>>())
+            .cloned()
+    }
+
+    /// The pipeline of every lab up to `lab` with no lab's code in it: each slot a
+    /// [`contracts::Waiting`] one that names its lab, the framework's intersection kernels, and
+    /// the defaults of the integrator's settings. The answer key fills it (`reference::pipeline`).
+    pub fn waiting(lab: u32) -> Self {
         Pipeline {
-            intersection: Some(code.clone()),
-            shading: code,
-            ..base
+            camera: Arc::new(Waiting::<dyn lab01::CameraRays>::new(1)),
+            intersection: None,
+            shading: Arc::new(Waiting::<dyn lab02::Shading>::new(2)),
+            shadows: Arc::new(Waiting::<dyn lab03::Shadows>::new(3)),
+            reflection: Arc::new(Waiting::<dyn lab04::Reflection>::new(4)),
+            radiometry: Arc::new(Waiting::<dyn lab05::Radiometry>::new(5)),
+            radiosity: Arc::new(Waiting::<dyn lab06::Radiosity>::new(6)),
+            antialiasing: Arc::new(Waiting::<dyn lab07::Antialiasing>::new(7)),
+            photon_mapping: Arc::new(Waiting::<dyn lab08::PhotonMapping>::new(8)),
+            caustics: None,
+            photons: PhotonSettings::DEFAULT,
+            texturing: Arc::new(Waiting::<dyn lab09::Texturing>::new(9)),
+            fresnel: Arc::new(Waiting::<dyn lab10::Fresnel>::new(10)),
+            ambient_occlusion: Arc::new(Waiting::<dyn lab11::AmbientOcclusion>::new(11)),
+            parts: Parts::default(),
+            lab,
+            view: View::Shaded,
+            area_light_samples: 4,
+            max_depth: 10,
+            texture_filter: TextureFilter::Bilinear,
+            texture_addressing: Addressing::Repeat,
+            occlusion_rays: (64, lab11::HemisphereSampler::Cosine),
         }
     }
 }

@@ -8,32 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-use std::sync::Arc;
-
-use contracts::lab01::CameraRays;
-use grading::harness::{self, LabChecks};
-use lab01_checks::checks;
-
-fn subject() -> Arc<dyn CameraRays> {
-    #[cfg(feature = "reference")]
-    return Arc::new(reference::lab01::Lab01);
-    #[cfg(not(feature = "reference"))]
-    return Arc::new(lab01::Student);
-}
-
-fn main() {
-    harness::run(LabChecks {
-        lab: checks::LAB,
-        lab_dir: env!("CARGO_MANIFEST_DIR"),
-        exercises: checks::exercises(),
-        subject: subject(),
-        base: reference::pipeline(1),
-        key_labs: reference::KEYS,
-        hidden: cfg!(feature = "hidden-exercises"),
-        #[cfg(feature = "report")]
-        report: Some(lab01_checks::report::make),
-        #[cfg(not(feature = "report"))]
-        report: None,
-        generate_golden: lab01_checks::generate_golden,
-    })
-}
+grading::lab_program!(lab01, lab01_checks);

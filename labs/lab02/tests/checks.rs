@@ -8,32 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-use std::sync::Arc;
-
-use contracts::lab02::Lab02;
-use grading::harness::{self, LabChecks};
-use lab02_checks::checks;
-
-fn subject() -> Arc<dyn Lab02> {
-    #[cfg(feature = "reference")]
-    return Arc::new(reference::lab02::Lab02);
-    #[cfg(not(feature = "reference"))]
-    return Arc::new(lab02::Student);
-}
-
-fn main() {
-    harness::run(LabChecks {
-        lab: checks::LAB,
-        lab_dir: env!("CARGO_MANIFEST_DIR"),
-        exercises: checks::exercises(),
-        subject: subject(),
-        base: reference::pipeline(2),
-        key_labs: reference::KEYS,
-        hidden: cfg!(feature = "hidden-exercises"),
-        #[cfg(feature = "report")]
-        report: Some(lab02_checks::report::make),
-        #[cfg(not(feature = "report"))]
-        report: None,
-        generate_golden: lab02_checks::generate_golden,
-    })
-}
+grading::lab_program!(lab02, lab02_checks);

@@ -8,32 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-use std::sync::Arc;
-
-use contracts::lab06::Radiosity;
-use grading::harness::{self, LabChecks};
-use lab06_checks::checks;
-
-fn subject() -> Arc<dyn Radiosity> {
-    #[cfg(feature = "reference")]
-    return Arc::new(reference::lab06::Lab06);
-    #[cfg(not(feature = "reference"))]
-    return Arc::new(lab06::Student);
-}
-
-fn main() {
-    harness::run(LabChecks {
-        lab: checks::LAB,
-        lab_dir: env!("CARGO_MANIFEST_DIR"),
-        exercises: checks::exercises(),
-        subject: subject(),
-        base: reference::pipeline(6),
-        key_labs: reference::KEYS,
-        hidden: cfg!(feature = "hidden-exercises"),
-        #[cfg(feature = "report")]
-        report: Some(lab06_checks::report::make),
-        #[cfg(not(feature = "report"))]
-        report: None,
-        generate_golden: lab06_checks::generate_golden,
-    })
-}
+grading::lab_program!(lab06, lab06_checks);

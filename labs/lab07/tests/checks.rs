@@ -8,32 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-use std::sync::Arc;
-
-use contracts::lab07::Antialiasing;
-use grading::harness::{self, LabChecks};
-use lab07_checks::checks;
-
-fn subject() -> Arc<dyn Antialiasing> {
-    #[cfg(feature = "reference")]
-    return Arc::new(reference::lab07::Lab07);
-    #[cfg(not(feature = "reference"))]
-    return Arc::new(lab07::Student);
-}
-
-fn main() {
-    harness::run(LabChecks {
-        lab: checks::LAB,
-        lab_dir: env!("CARGO_MANIFEST_DIR"),
-        exercises: checks::exercises(),
-        subject: subject(),
-        base: reference::pipeline(7),
-        key_labs: reference::KEYS,
-        hidden: cfg!(feature = "hidden-exercises"),
-        #[cfg(feature = "report")]
-        report: Some(lab07_checks::report::make),
-        #[cfg(not(feature = "report"))]
-        report: None,
-        generate_golden: lab07_checks::generate_golden,
-    })
-}
+grading::lab_program!(lab07, lab07_checks);

@@ -8,32 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-use std::sync::Arc;
-
-use contracts::lab08::PhotonMapping;
-use grading::harness::{self, LabChecks};
-use lab08_checks::checks;
-
-fn subject() -> Arc<dyn PhotonMapping> {
-    #[cfg(feature = "reference")]
-    return Arc::new(reference::lab08::Lab08);
-    #[cfg(not(feature = "reference"))]
-    return Arc::new(lab08::Student);
-}
-
-fn main() {
-    harness::run(LabChecks {
-        lab: checks::LAB,
-        lab_dir: env!("CARGO_MANIFEST_DIR"),
-        exercises: checks::exercises(),
-        subject: subject(),
-        base: reference::pipeline(8),
-        key_labs: reference::KEYS,
-        hidden: cfg!(feature = "hidden-exercises"),
-        #[cfg(feature = "report")]
-        report: Some(lab08_checks::report::make),
-        #[cfg(not(feature = "report"))]
-        report: None,
-        generate_golden: lab08_checks::generate_golden,
-    })
-}
+grading::lab_program!(lab08, lab08_checks);

@@ -8,32 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-use std::sync::Arc;
-
-use contracts::lab09::Texturing;
-use grading::harness::{self, LabChecks};
-use lab09_checks::checks;
-
-fn subject() -> Arc<dyn Texturing> {
-    #[cfg(feature = "reference")]
-    return Arc::new(reference::lab09::Lab09);
-    #[cfg(not(feature = "reference"))]
-    return Arc::new(lab09::Student);
-}
-
-fn main() {
-    harness::run(LabChecks {
-        lab: checks::LAB,
-        lab_dir: env!("CARGO_MANIFEST_DIR"),
-        exercises: checks::exercises(),
-        subject: subject(),
-        base: reference::pipeline(9),
-        key_labs: reference::KEYS,
-        hidden: cfg!(feature = "hidden-exercises"),
-        #[cfg(feature = "report")]
-        report: Some(lab09_checks::report::make),
-        #[cfg(not(feature = "report"))]
-        report: None,
-        generate_golden: lab09_checks::generate_golden,
-    })
-}
+grading::lab_program!(lab09, lab09_checks);

@@ -7,9 +7,10 @@
 //! - `reference/` holds only the released labs' solutions; its `pipeline()` — the base every
 //!   check runs an exercise in — takes a released lab's solution and the student's own code for
 //!   the labs not released;
-//! - a lab whose solution is not released loses its `reference` feature (there is nothing to
-//!   switch to);
-//! - the instructor's parts stay behind: `tests/` (the mutant corpus holds solutions), `.ci/`,
+//! - a lab whose solution is not released has nothing for its `reference` feature to switch
+//!   to: its program says so and stops;
+//! - the instructor's parts stay behind: `tests/`, each lab's tests but its program
+//!   (`labs/labNN/tests/checks.rs`; the mutant corpus holds solutions), `.ci/`,
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
 
 use course::LabId;
@@ -211,10 +212,21 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
     )?;
     for lab in crate::labs::labs() {
         let name = format!("{lab}");
-        copy_dir(
-            &root.join("labs").join(&name),
-            &out.join("labs").join(&name),
-        )?;
+        let to = out.join("labs").join(&name);
+        copy_dir(&root.join("labs").join(&name), &to)?;
+        // Of a lab's tests only its program goes: the mutant corpus and the statistics tests
+        // hold the answer key's code and mistakes to reject.
+        let tests = to.join("tests");
+        for entry in fs::read_dir(&tests).map_err(io(&tests))? {
+            let path = entry.map_err(io(&tests))?.path();
+            if path.file_name().is_some_and(|n| n != "checks.rs") {
+                if path.is_dir() {
+                    fs::remove_dir_all(&path).map_err(io(&path))?;
+                } else {
+                    fs::remove_file(&path).map_err(io(&path))?;
+                }
+            }
+        }
     }
     if options.answer_key {
         copy_dir(&root.join("reference"), &out.join("reference"))
@@ -273,31 +285,20 @@ fn check_releasable(root: &Path, released: &BTreeSet<LabId>) -> Result<(), Error
     Ok(())
 }
 
-/// Writes `reference/`: the released solutions, and the manifest whose default features are
-/// their keys, so that `pipeline()` has the student's code in the slots of the labs not
-/// released (see `reference/src/lib.rs`).
+/// Writes `reference/`: its manifest, build script and `lib.rs`, and the released solutions
+/// only, so that `pipeline()` has the student's code in the slots of the labs not released
+/// (the build script lists the solutions present; see `reference/src/lib.rs`).
 fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     let dir = out.join("reference");
     fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
-    for file in ["build.rs", "src/lib.rs"] {
+    for file in ["Cargo.toml", "build.rs", "src/lib.rs"] {
         copy_file(&root.join("reference").join(file), &dir.join(file))?;
     }
     for &lab in released {
         let file = format!("src/{lab}.rs");
         copy_file(&root.join("reference").join(&file), &dir.join(&file))?;
     }
-    let all: Vec<String> = crate::labs::labs()
-        .iter()
-        .map(|l| format!("\"key-{l}\""))
-        .collect();
-    let keys: Vec<String> = released.iter().map(|l| format!("\"key-{l}\"")).collect();
-    let manifest = replace_once(
-        &read(&root.join("reference/Cargo.toml"))?,
-        &format!("default = [{}]\n", all.join(", ")),
-        &format!("default = [{}]\n", keys.join(", ")),
-        "reference/Cargo.toml",
-    )?;
-    write(&dir.join("Cargo.toml"), &manifest)
+    Ok(())
 }
 
 /// The handout's README: what is in it and how to work with it.

@@ -68,6 +68,10 @@ fn handout_then_grade_four_submissions() {
     // The handout's target directory (also the grading's) starts with the dependencies this
     // run has compiled: what is checked is the workflow, not a second build of crates.io.
     let handout_target = workflow_target_dir();
+    // The stubs written again: the new handout has the repository's file dates, older than
+    // the correct code an earlier run built in this target directory.
+    let stubs = read(&handout.join("labs/lab01/src/lib.rs"));
+    write_lab(&handout, 1, &stubs);
     phase("target directory seeded");
     assert!(
         !handout.join("tests").exists(),
@@ -179,17 +183,17 @@ fn handout_then_grade_four_submissions() {
     let edited = subs.join("edited");
     copy_tree(&handout, &edited);
     let checks = edited.join("labs/lab01/tests/checks.rs");
-    let text = read(&checks).replace("exercises: checks::exercises(),", "exercises: Vec::new(),");
+    let text = read(&checks).replace(
+        "grading::lab_program!(lab01, lab01_checks);",
+        "fn main() {}",
+    );
+    assert_ne!(text, read(&checks), "the edit changes the lab's program");
     fs::write(&checks, text).unwrap();
     fs::write(edited.join("labs/lab01/golden/extra.json"), "[]").unwrap();
 
     // In the handout (built in a target directory of its own: cargo would take a tree of the
     // same layout and version for the repository's; the grading tree below has a version of
     // its own and shares this one): stubs fail, correct code passes.
-    // The stubs written again: the new handout has the repository's file dates, older than
-    // the correct code an earlier run built in this target directory.
-    let stubs = read(&handout.join("labs/lab01/src/lib.rs"));
-    write_lab(&handout, 1, &stubs);
     let (ok, out) = cargo(&handout, &handout_target, &["test", "-p", "lab01"]);
     assert!(!ok && out.contains("is not implemented yet"), "{out}");
     write_lab(&handout, 1, &correct_code(1));

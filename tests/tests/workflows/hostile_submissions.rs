@@ -657,7 +657,8 @@ fn hostile_submissions_gain_nothing() {
     match fs::read_to_string(lab02(&tree).join("tests/checks.rs")) {
         Ok(checks) => {
             problems.check(
-                checks == handout_checks && checks.contains("harness::run(LabChecks {"),
+                checks == handout_checks
+                    && checks.contains("grading::lab_program!(lab02, lab02_checks);"),
                 "vandal",
                 || {
                     "the grading tree's labs/lab02/tests/checks.rs differs from the handout's"

@@ -12,7 +12,7 @@
 //! The transmitted cosine `cos θ₂` that goes with a random `cos θ₁` comes from the base's
 //! lab 04 `refract` (Snell's law), never from a formula of the checks. The energy balance
 //! `R + T = 1` against the Fresnel transmission coefficients is checked on the reference in
-//! the workspace tests (`tests/tests/lab10_energy.rs`): its formulas would answer Exercise
+//! the lab's own tests (`labs/lab10/tests/energy.rs`): its formulas would answer Exercise
 //! 10.3.
 
 use std::sync::Arc;

@@ -1,11 +1,15 @@
-//! Lab 07 variants.
+//! Lab 07's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use contracts::lab07::Antialiasing;
 use raylab_core::glam::{UVec2, Vec2, Vec3};
 use raylab_core::sampling::Rng;
 use reference::lab07::Lab07 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type JittersFn = fn(u32, &mut Rng) -> Vec<Vec2>;
 type PixelFn = fn(UVec2, &[Vec2], &mut dyn FnMut(Vec2) -> Vec3) -> Vec3;
@@ -327,3 +331,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab07, lab07_checks);

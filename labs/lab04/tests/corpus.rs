@@ -1,4 +1,8 @@
-//! Lab 04 variants.
+//! Lab 04's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use std::f32::consts::PI;
 
@@ -9,7 +13,7 @@ use raylab_core::math::{RAY_EPSILON, Ray};
 use raylab_core::scene::Hit;
 use reference::lab04::Lab04 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type ReflectFn = fn(Vec3, Vec3) -> Vec3;
 type ReflectedRayFn = fn(&Ray, &Hit) -> Ray;
@@ -490,3 +494,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab04, lab04_checks);

@@ -1,6 +1,8 @@
-//! Lab 11 variants: the mistakes of the worksheet's hand-in (the disc radius drawn without the
-//! square root, the extra 1/π of its shader, the centre for "straight back" in the angular
-//! map) and the other usual ones, and correct alternatives.
+//! Lab 11's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -10,7 +12,7 @@ use raylab_core::math::{Onb, RAY_EPSILON, Ray};
 use raylab_core::sampling::Rng;
 use reference::lab11::Lab11 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 /// What a variant changes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -402,3 +404,5 @@ impl AmbientOcclusion for Variant {
         }
     }
 }
+
+grading::corpus_tests!(lab11, lab11_checks);

@@ -1,4 +1,8 @@
-//! Lab 03 variants.
+//! Lab 03's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use contracts::lab02::LightSample;
 use contracts::lab03::Shadows;
@@ -7,7 +11,7 @@ use raylab_core::math::{RAY_EPSILON, Ray};
 use raylab_core::sampling::Rng;
 use reference::lab03::Lab03 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type ShadowRayFn = fn(Vec3, &LightSample) -> Ray;
 type StratifiedFn = fn(u32, &mut Rng) -> Vec<Vec2>;
@@ -392,7 +396,7 @@ mod tests {
     /// random numbers map to the light differently.
     #[test]
     fn the_soft_shadow_z_test_alone_discriminates() {
-        let ctx = crate::context(3);
+        let ctx = corpus_context(reference::KEYS);
         let reference = checks::load_area_reference(&ctx).expect("the snapshot exists");
         let tol = checks::AREA_TOLERANCE;
         let part_of = |id: &str| match id {
@@ -441,3 +445,5 @@ mod tests {
         }
     }
 }
+
+grading::corpus_tests!(lab03, lab03_checks);

@@ -1,4 +1,8 @@
-//! Lab 09 variants.
+//! Lab 09's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use std::f32::consts::{PI, TAU};
 
@@ -8,7 +12,7 @@ use raylab_core::math::Onb;
 use raylab_core::scene::{Plane, Sphere, Texture};
 use reference::lab09::Lab09 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type PlaneFn = fn(&Plane, Vec3) -> Vec2;
 type SphereFn = fn(&Sphere, Vec3) -> Vec2;
@@ -485,3 +489,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab09, lab09_checks);

@@ -1,4 +1,8 @@
-//! Lab 08 variants.
+//! Lab 08's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use std::f32::consts::PI;
 
@@ -9,7 +13,7 @@ use raylab_core::sampling::Rng;
 use raylab_core::scene::PointLight;
 use reference::lab08::Lab08 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type PointFn = fn(&PointLight, u32, &mut Rng) -> EmittedPhoton;
 type AreaFn = fn(Vec3, Vec3, Vec3, f32, u32, &mut Rng) -> EmittedPhoton;
@@ -535,3 +539,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab08, lab08_checks);

@@ -1,6 +1,8 @@
-//! Lab 05 variants: the mistakes of the worksheet's hand-in (the seed's 0.42 W/sr, the bulb as
-//! a unit sphere, 685 lm/W with V = 0.1, the polar angle over [0, π]) and the other usual
-//! ones, and correct alternatives.
+//! Lab 05's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use std::f64::consts::PI;
 
@@ -13,7 +15,7 @@ use raylab_core::math::Onb;
 use raylab_core::sampling::Rng;
 use reference::lab05::Lab05 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type PhotonsFn = fn(f64, f64, f64) -> f64;
 type BulbFn = fn(f64, f64, f64, f64) -> SphericalBulb;
@@ -469,3 +471,5 @@ fn midpoint(l: &dyn Fn(f64, f64) -> f64, n: u32, theta_max: f64, weight: fn(f64)
     }
     sum
 }
+
+grading::corpus_tests!(lab05, lab05_checks);

@@ -1,11 +1,15 @@
-//! Lab 10 variants.
+//! Lab 10's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use contracts::lab10::Fresnel;
 use raylab_core::glam::Vec3;
 use raylab_core::scene::Material;
 use reference::lab10::Lab10 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type PairFn = fn(f32, f32, f32, f32) -> f32;
 type ReflectanceFn = fn(f32, f32, f32) -> f32;
@@ -345,3 +349,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab10, lab10_checks);

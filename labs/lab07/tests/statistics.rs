@@ -1,6 +1,6 @@
 //! Each statistic of lab 07's checks accepts the reference's jitters and rejects the mistake it
-//! is there for. These tests need correct jitters and averages, so they live here, with the
-//! reference, and not in the framework's checks that every handout ships.
+//! is there for. These tests need correct jitters and averages, so they run on the answer key,
+//! in the instructors' tests of the lab (a handout ships only `tests/checks.rs`).
 
 use contracts::lab07::Antialiasing;
 use grading::for_all;

@@ -1,7 +1,8 @@
 //! Energy at an interface, on lab 10's reference: the Fresnel reflectance and the
 //! transmittance from the Fresnel transmission coefficients add up to one, for each
 //! polarisation and for unpolarised light. The transmission coefficients answer Exercise 10.3
-//! (`R = 1 − T`), so this check runs here, on the answer key, and not in the handout's checks.
+//! (`R = 1 − T`), so this check runs on the answer key, in the instructors' tests of the lab (a
+//! handout ships only `tests/checks.rs`).
 
 use contracts::lab10::Fresnel;
 use reference::lab10::Lab10;

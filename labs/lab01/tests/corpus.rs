@@ -1,11 +1,15 @@
-//! Lab 01 variants.
+//! Lab 01's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use contracts::lab01::{CameraBasis, CameraRays};
 use raylab_core::glam::{UVec2, Vec2, Vec3};
 use raylab_core::math::Ray;
 use reference::lab01::Lab01 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type Coords = fn(Vec2, UVec2) -> Vec2;
 type Basis = fn(Vec3, Vec3, Vec3) -> CameraBasis;
@@ -281,3 +285,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab01, lab01_checks);

@@ -1,4 +1,8 @@
-//! Lab 02 variants.
+//! Lab 02's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant overrides
+//! one or two functions of the answer key. The tests at the end run it through the lab's checks
+//! with and without the key, and check the reference passes and the stubs fail cleanly. This
+//! file is the instructors' (a handout leaves it out).
 
 use std::f32::consts::PI;
 
@@ -8,7 +12,7 @@ use raylab_core::math::Ray;
 use raylab_core::scene::{DirectionalLight, Plane, PointLight, Sphere};
 use reference::lab02::Lab02 as Reference;
 
-use super::Verdict;
+use grading::corpus::Verdict;
 
 type PlaneFn = fn(&Ray, &Plane) -> Option<SurfaceHit>;
 type TriangleFn = fn(&Ray, Vec3, Vec3, Vec3) -> Option<TriangleHit>;
@@ -440,3 +444,5 @@ pub fn variants() -> Vec<Variant> {
         },
     ]
 }
+
+grading::corpus_tests!(lab02, lab02_checks);
