@@ -17,6 +17,7 @@ use std::sync::OnceLock;
 
 pub use exercise::{DeniedItem, ExerciseInfo, Visibility, parse_table};
 pub use lab_id::LabId;
+pub use registry::{Entry as RegistryEntry, parse as parse_registry};
 
 /// The registry as it was built in.
 pub const REGISTRY: &str = include_str!("../../../labs/course.toml");

@@ -52,28 +52,38 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
         None => crate::labs::labs(),
     };
     for lab in labs {
-        let program = LabProgram::build(lab, &["reference"]).map_err(|e| Error::Invalid {
-            what: format!("{lab}"),
-            reason: e.to_string(),
-        })?;
-        let output = program
-            .command(&Task::Golden(root.join(lab.folder())))
-            .stdin(Stdio::null())
-            .stderr(Stdio::inherit())
-            .output()
-            .map_err(|e| Error::io(&program.executable, e))?;
-        if !output.status.success() {
-            return Err(Error::Invalid {
-                what: format!("{lab}'s golden data"),
-                reason: format!(
-                    "its program stopped ({}); its messages are above",
-                    output.status
-                ),
-            });
-        }
-        for path in task::answer_lines(&String::from_utf8_lossy(&output.stdout)) {
-            println!("{path}");
+        for path in generate(&crate::lab_program::workspace_root(), &root, lab)? {
+            println!("{}", path.display());
         }
     }
     Ok(())
+}
+
+/// Builds lab `lab`'s program in the workspace at `workspace` with its answer key and has it
+/// write the lab's golden data under `root`; the files it wrote.
+pub fn generate(workspace: &Path, root: &Path, lab: LabId) -> Result<Vec<PathBuf>, Error> {
+    let program =
+        LabProgram::build_in(workspace, lab, &["reference"]).map_err(|e| Error::Invalid {
+            what: format!("{lab}"),
+            reason: e.to_string(),
+        })?;
+    let output = program
+        .command(&Task::Golden(root.join(lab.folder())))
+        .stdin(Stdio::null())
+        .stderr(Stdio::inherit())
+        .output()
+        .map_err(|e| Error::io(&program.executable, e))?;
+    if !output.status.success() {
+        return Err(Error::Invalid {
+            what: format!("{lab}'s golden data"),
+            reason: format!(
+                "its program stopped ({}); its messages are above",
+                output.status
+            ),
+        });
+    }
+    Ok(task::answer_lines(&String::from_utf8_lossy(&output.stdout))
+        .into_iter()
+        .map(PathBuf::from)
+        .collect())
 }

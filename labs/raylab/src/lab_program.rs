@@ -48,9 +48,14 @@ impl LabProgram {
     /// Builds lab `lab`'s program with the lab crate's `features` (`cargo test -p labNN --test
     /// checks --no-run`); cargo's progress goes to standard error as it builds.
     pub fn build(lab: LabId, features: &[&str]) -> Result<Self, BuildFailure> {
+        Self::build_in(&workspace_root(), lab, features)
+    }
+
+    /// [`Self::build`] in the workspace at `root`.
+    pub fn build_in(root: &Path, lab: LabId, features: &[&str]) -> Result<Self, BuildFailure> {
         let mut command = cargo();
         command
-            .current_dir(workspace_root())
+            .current_dir(root)
             .args([
                 "test",
                 "--no-run",

@@ -13,6 +13,8 @@ mod handout;
 mod hint;
 mod lab_program;
 mod labs;
+#[cfg(feature = "instructor")]
+mod new_lab;
 mod render;
 mod report;
 mod status;
@@ -56,6 +58,10 @@ enum Command {
     /// Write the Gradescope autograder (setup.sh, run_autograder) that grades as `grade` does.
     #[cfg(feature = "instructor")]
     Gradescope(gradescope::GradescopeArgs),
+    /// Add a lab to the course: its skeleton (one exercise, checked from the start) and its line
+    /// in labs/course.toml.
+    #[cfg(feature = "instructor")]
+    NewLab(new_lab::NewLabArgs),
 }
 
 fn main() -> ExitCode {
@@ -76,6 +82,8 @@ fn main() -> ExitCode {
         Some(Command::Grade(args)) => grade::run(&args),
         #[cfg(feature = "instructor")]
         Some(Command::Gradescope(args)) => gradescope::run(&args),
+        #[cfg(feature = "instructor")]
+        Some(Command::NewLab(args)) => new_lab::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,181 @@
+//! The course author's workflow: `raylab new-lab` in a copy of the repository writes the new
+//! lab's places and its registry line and nothing else, and right after it the lab's checks fail
+//! its one exercise cleanly on the stubs and pass on the answer key.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use raylab_tests::workflow::{cargo_in as cargo, root, target_dir};
+
+/// Every file under `dir` (but `target/` and `.git/`): its path relative to `dir` and its bytes.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    fn walk(dir: &Path, at: &Path, out: &mut BTreeMap<String, Vec<u8>>) {
+        for entry in fs::read_dir(at).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap();
+            if name == "target" || name == ".git" {
+                continue;
+            }
+            if path.is_dir() {
+                walk(dir, &path, out);
+            } else {
+                let relative = path
+                    .strip_prefix(dir)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
+                out.insert(relative, fs::read(&path).unwrap());
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// The repository's files as git lists them (tracked, and new ones not ignored), copied to `to`.
+fn copy_repository(to: &Path) {
+    let listed = std::process::Command::new("git")
+        .args([
+            "ls-files",
+            "-z",
+            "--cached",
+            "--others",
+            "--exclude-standard",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("git runs");
+    assert!(listed.status.success());
+    for file in listed.stdout.split(|&b| b == 0).filter(|f| !f.is_empty()) {
+        let file = PathBuf::from(String::from_utf8(file.to_vec()).unwrap());
+        let from = root().join(&file);
+        if !from.is_file() {
+            continue; // deleted in the work tree
+        }
+        let dest = to.join(&file);
+        fs::create_dir_all(dest.parent().unwrap()).unwrap();
+        fs::copy(&from, &dest).unwrap();
+    }
+}
+
+/// The lines of `after` that `before` does not have, when `after` only adds lines.
+fn added_lines(before: &[u8], after: &[u8]) -> Option<Vec<String>> {
+    let (before, after) = (
+        String::from_utf8_lossy(before),
+        String::from_utf8_lossy(after),
+    );
+    let mut old = before.lines().peekable();
+    let mut added = Vec::new();
+    for line in after.lines() {
+        if old.peek() == Some(&line) {
+            old.next();
+        } else {
+            added.push(line.to_string());
+        }
+    }
+    old.peek().is_none().then_some(added)
+}
+
+#[test]
+fn new_lab_writes_only_the_lab_s_places_and_its_registry_line() {
+    let work = target_dir().join("raylab-new-lab-test");
+    let _ = fs::remove_dir_all(&work);
+    let tree = work.join("tree");
+    copy_repository(&tree);
+    let before = files(&tree);
+
+    let next = course::last().number() + 1;
+    let lab = format!("lab{next:02}");
+    let tree_arg = tree.to_string_lossy().into_owned();
+    let args = [
+        "run",
+        "--quiet",
+        "-p",
+        "raylab",
+        "--",
+        "new-lab",
+        &next.to_string(),
+        "--title",
+        "Path tracing",
+        "--root",
+        &tree_arg,
+    ];
+    // The command builds the new lab's program in the copy with the cargo and the target
+    // directory it runs with: this test run's, whose dependencies the copy's crates reuse.
+    let (ok, out) = cargo(&root(), &target_dir(), &args);
+    assert!(ok, "raylab new-lab failed:\n{out}");
+
+    let after = files(&tree);
+    let own = [
+        format!("labs/{lab}/"),
+        format!("framework/contracts/src/{lab}.rs"),
+        format!("reference/src/{lab}.rs"),
+        format!("docs/{lab}.md"),
+    ];
+    let mut problems = Vec::new();
+    for (path, bytes) in &after {
+        let is_own = own
+            .iter()
+            .any(|p| path == p || (p.ends_with('/') && path.starts_with(p)));
+        match before.get(path) {
+            None if is_own => {}
+            None => problems.push(format!("new file outside the lab's places: {path}")),
+            Some(old) if old == bytes => {}
+            Some(old) => {
+                let added = added_lines(old, bytes);
+                let expected = match path.as_str() {
+                    "labs/course.toml" => Some(format!("{lab} = \"Path tracing\"")),
+                    "README.md" => Some(format!(
+                        "| {lab} | path tracing | [docs/{lab}.md](docs/{lab}.md) |"
+                    )),
+                    // Cargo's own record of the workspace's packages.
+                    "Cargo.lock" => None,
+                    _ => {
+                        problems.push(format!("changed outside the lab's places: {path}"));
+                        continue;
+                    }
+                };
+                if let Some(line) = expected
+                    && added.as_deref() != Some(std::slice::from_ref(&line))
+                {
+                    problems.push(format!(
+                        "{path}: expected one new line `{line}`, got {added:?}"
+                    ));
+                }
+            }
+        }
+    }
+    for path in before.keys().filter(|p| !after.contains_key(*p)) {
+        problems.push(format!("removed: {path}"));
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert!(after.contains_key(&format!("labs/{lab}/golden/luminance.json")));
+
+    // The stubs fail the one exercise cleanly; the answer key passes it, with the corpus.
+    let target = target_dir();
+    let (ok, out) = cargo(&tree, &target, &["test", "-p", &lab, "--test", "checks"]);
+    assert!(!ok, "the stubs pass:\n{out}");
+    assert!(
+        out.contains(&format!("Exercise {next}.1 — `luminance`"))
+            && out.contains("is not implemented yet")
+            && out.contains("0 passed; 1 failed"),
+        "{out}"
+    );
+    let (ok, out) = cargo(
+        &tree,
+        &target,
+        &["test", "-p", &lab, "--features", "reference"],
+    );
+    assert!(
+        ok && out.contains("1 passed; 0 failed"),
+        "the answer key fails:\n{out}"
+    );
+
+    // The same number again is refused before anything is written.
+    let built = files(&tree);
+    let (ok, out) = cargo(&root(), &target_dir(), &args);
+    assert!(!ok && out.contains("a new lab comes after it"), "{out}");
+    assert!(files(&tree) == built, "a refused new-lab changed the tree");
+}
