@@ -3,14 +3,14 @@
 //! handout — and [`pipeline`], the reference [`Pipeline`] every check and render starts from.
 //!
 //! Which labs' solutions the crate holds is which `src/labNN.rs` of the registry's labs are in
-//! the tree (the build script lists them: no line here names a lab). Each key is the type
+//! the tree (`contracts::answer_keys!` lists them: no line here names a lab). Each key is the type
 //! `labNN::LabNN`, which implements the lab's `contracts::labNN::Contract`; the slot of a lab
 //! whose solution the crate does not hold is a [`contracts::Waiting`] one, so that no lab's tests need another lab's student
 //! crate (a lab's harness puts its own student's code in its own slot).
 
 use pipeline::Pipeline;
 
-include!(concat!(env!("OUT_DIR"), "/keys.rs"));
+contracts::answer_keys!("../labs/course.toml");
 
 /// The reference pipeline with every lab enabled up to `lab`: the answer key in the slot of
 /// each lab whose solution this crate holds ([`KEYS`]), a waiting slot in the others. The

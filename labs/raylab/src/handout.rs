@@ -285,13 +285,13 @@ fn check_releasable(root: &Path, released: &BTreeSet<LabId>) -> Result<(), Error
     Ok(())
 }
 
-/// Writes `reference/`: its manifest, build script and `lib.rs`, and the released solutions
-/// only, so that `pipeline()` has the student's code in the slots of the labs not released
-/// (the build script lists the solutions present; see `reference/src/lib.rs`).
+/// Writes `reference/`: its manifest and `lib.rs`, and the released solutions only, so that
+/// `pipeline()` has the student's code in the slots of the labs not released (it lists the
+/// solutions present; see `reference/src/lib.rs`).
 fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     let dir = out.join("reference");
     fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
-    for file in ["Cargo.toml", "build.rs", "src/lib.rs"] {
+    for file in ["Cargo.toml", "src/lib.rs"] {
         copy_file(&root.join("reference").join(file), &dir.join(file))?;
     }
     for &lab in released {
