@@ -104,6 +104,19 @@ pub fn sidak(family_alpha: f64, m: usize) -> f64 {
     -((-family_alpha).ln_1p() / m as f64).exp_m1()
 }
 
+/// The largest |z| each of `tests` statistical tests may reach when the whole family is to
+/// fail a correct implementation with probability `family_alpha` at most (Šidák).
+pub fn family_z_limit(family_alpha: f64, tests: usize) -> f64 {
+    normal_two_sided_quantile(sidak(family_alpha, tests))
+}
+
+/// Pearson's χ² of counts against equal expected counts, and the statistic as a z-score
+/// (Wilson–Hilferty, `counts.len() − 1` degrees of freedom).
+pub fn chi_square_uniform_z(counts: &[u32]) -> (f64, f64) {
+    let chi2 = chi_square_uniform(counts);
+    (chi2, wilson_hilferty_z(chi2, counts.len() as u32 - 1))
+}
+
 /// Pearson's χ² statistic of observed counts against equal expected counts (`counts.len() − 1`
 /// degrees of freedom).
 pub fn chi_square_uniform(counts: &[u32]) -> f64 {

@@ -6,6 +6,7 @@ use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 
 use contracts::lab02::{Intersection, Lab02, LightSample, Shading, SurfaceHit, TriangleHit};
+pub use grading::radiometry::samples_of;
 use grading::strategies::{point, scale, triangle_strategy, unit_vector};
 use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
@@ -948,18 +949,6 @@ pub fn lambertian_strategy() -> impl Strategy<Value = LambertianInput> {
         unit_vector(),
         prop::collection::vec((unit_vector(), radiance), 0..4),
     )
-}
-
-/// Light samples at distance 1 from `(direction, radiance)` pairs.
-pub fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
-    lights
-        .iter()
-        .map(|&(direction, radiance)| LightSample {
-            direction,
-            distance: 1.0,
-            radiance,
-        })
-        .collect()
 }
 
 fn exercise_2_6(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {

@@ -18,8 +18,8 @@ use std::sync::Arc;
 use glam::{DVec3, Vec2, Vec3};
 use proptest::prelude::*;
 
-use contracts::lab02::LightSample;
 use contracts::lab04::{Interface, Reflection};
+pub use grading::radiometry::samples_of;
 use grading::scenes::glossy_default_scene;
 use grading::strategies::{index_strategy, point, scale, unit_vector};
 use grading::{
@@ -285,18 +285,6 @@ pub fn phong_strategy() -> impl Strategy<Value = PhongInput> {
             let v = unit_with_cosine(n, v, 0.02, 1.0).unwrap_or(n);
             (rho_d, rho_s, s, n, v, lights)
         })
-}
-
-/// Light samples from (direction, radiance) pairs.
-pub fn samples_of(lights: &[(Vec3, Vec3)]) -> Vec<LightSample> {
-    lights
-        .iter()
-        .map(|&(direction, radiance)| LightSample {
-            direction,
-            distance: 1.0,
-            radiance,
-        })
-        .collect()
 }
 
 // ---------------------------------------------------------------------------------------------

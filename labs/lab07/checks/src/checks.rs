@@ -39,7 +39,7 @@ use glam::{DVec2, UVec2, Vec2, Vec3};
 use proptest::prelude::*;
 
 use contracts::lab07::Antialiasing;
-use grading::stats::{chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z};
+use grading::stats::{chi_square_uniform_z, family_z_limit};
 use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_name, cell_of,
     check_one_per_cell, compare_vec3, for_all,
@@ -173,13 +173,7 @@ pub fn image_error(
 
 /// The largest |z| a statistic of Exercise 7.1 may reach.
 pub fn z_limit() -> f64 {
-    normal_two_sided_quantile(sidak(FAMILY_ALPHA, STATISTICAL_TESTS))
-}
-
-/// Pearson's χ² of counts against equal expected counts, with its z-score (Wilson–Hilferty).
-fn chi_square_z(counts: &[u32]) -> (f64, f64) {
-    let chi2 = chi_square_uniform(counts);
-    (chi2, wilson_hilferty_z(chi2, counts.len() as u32 - 1))
+    family_z_limit(FAMILY_ALPHA, STATISTICAL_TESTS)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -293,7 +287,7 @@ pub fn check_pooled_uniformity(s: u32, pixels: &[Vec<Vec2>], z_max: f64) -> Resu
         let (bx, by) = ((o.x * K as f64) as u32, (o.y * K as f64) as u32);
         counts[(by.min(K - 1) * K + bx.min(K - 1)) as usize] += 1;
     }
-    let (chi2, z) = chi_square_z(&counts);
+    let (chi2, z) = chi_square_uniform_z(&counts);
     if z > z_max {
         let total: u32 = counts.iter().sum();
         return Err(format!(

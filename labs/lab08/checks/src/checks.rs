@@ -51,7 +51,7 @@ use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 
 use contracts::lab08::{EmittedPhoton, NearbyPhoton, PhotonMapping, Scatter};
-use grading::stats::{chi_square_uniform, normal_two_sided_quantile, sidak, wilson_hilferty_z};
+use grading::stats::{chi_square_uniform_z, family_z_limit};
 use grading::strategies::{point, scale, unit_vector};
 use grading::{Exercise, GoldenFile, LabContext, compare_vec3, for_all};
 use pipeline::photon::{PhotonSettings, PhotonTrace, StoreRule, trace_photons};
@@ -155,18 +155,13 @@ pub fn part_pipeline(part: Part, student: &Arc<dyn PhotonMapping>, base: &Pipeli
 
 /// The largest |z| of a statistic when an exercise makes `tests` statistical tests.
 pub fn z_limit(tests: usize) -> f64 {
-    normal_two_sided_quantile(sidak(FAMILY_ALPHA, tests))
+    family_z_limit(FAMILY_ALPHA, tests)
 }
 
 /// Whether the next number of `rng` differs from that of `before` (a copy taken before a
 /// call): the call drew from `rng`.
 fn advanced(rng: &Rng, before: &Rng) -> bool {
     rng.clone().next_u32() != before.clone().next_u32()
-}
-
-/// Pearson's χ² of counts against equal expected counts, as a z-score (Wilson–Hilferty).
-fn chi_square_z(counts: &[u32]) -> f64 {
-    wilson_hilferty_z(chi_square_uniform(counts), counts.len() as u32 - 1)
 }
 
 fn close(a: Vec3, b: Vec3) -> bool {
@@ -333,7 +328,7 @@ fn exercise_8_1(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
         sum += d.as_dvec3();
     }
     let z_max = z_limit(4);
-    let z = chi_square_z(&cells);
+    let (_, z) = chi_square_uniform_z(&cells);
     if z.abs() > z_max {
         return Err(format!(
             "the directions of {DIRECTIONS} photons drawn one after another are not uniform on the sphere: χ² on 128 cells of equal solid angle (8 bands of z, 16 sectors of azimuth) has z = {z:.1} (limit {z_max:.2}); cell counts from z = −1 up: {cells:?}"
@@ -509,13 +504,13 @@ fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             let sector = (((local.y.atan2(local.x) / (2.0 * PI)) + 0.5) * 16.0) as usize;
             sectors[sector.min(15)] += 1;
         }
-        let z = chi_square_z(&bands);
+        let (_, z) = chi_square_uniform_z(&bands);
         if z.abs() > z_max {
             return Err(format!(
                 "the directions of {DIRECTIONS} photons about the normal {normal} are not cosine-weighted: cos²θ of a cosine-weighted direction is uniform in [0, 1], but χ² on 16 bands of it has z = {z:.1} (limit {z_max:.2}); counts from cos²θ = 0 up: {bands:?}"
             ));
         }
-        let z = chi_square_z(&sectors);
+        let (_, z) = chi_square_uniform_z(&sectors);
         if z.abs() > z_max {
             return Err(format!(
                 "the directions of {DIRECTIONS} photons about the normal {normal} do not spread evenly around it: χ² on 16 sectors of azimuth has z = {z:.1} (limit {z_max:.2}); counts: {sectors:?}"
