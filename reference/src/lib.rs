@@ -2,15 +2,15 @@
 //! `contracts` — every lab in the course's repository, the released ones in a
 //! handout — and [`pipeline`], the reference [`Pipeline`] every check and render starts from.
 //!
-//! Which labs' solutions the crate holds is which `src/labNN.rs` of the registry's labs are in
-//! the tree (`contracts::answer_keys!` lists them: no line here names a lab). Each key is the type
+//! Which labs' solutions the crate holds is which `src/labNN.rs` are in the tree
+//! (`contracts::answer_keys!` lists them: no line here names a lab). Each key is the type
 //! `labNN::LabNN`, which implements the lab's `contracts::labNN::Contract`; the slot of a lab
 //! whose solution the crate does not hold is a [`contracts::Waiting`] one, so that no lab's tests need another lab's student
 //! crate (a lab's harness puts its own student's code in its own slot).
 
 use pipeline::Pipeline;
 
-contracts::answer_keys!("../labs/course.toml");
+contracts::answer_keys!();
 
 /// The reference pipeline with every lab enabled up to `lab`: the answer key in the slot of
 /// each lab whose solution this crate holds ([`KEYS`]), a waiting slot in the others. The

@@ -34,6 +34,22 @@ fn every_lab_of_the_course_has_its_crate_docs_and_readme_row() {
         );
         assert!(!lab.exercises.is_empty(), "{id} has no exercises");
     }
+    // The contracts' and the key's modules are their `src/labNN.rs` files: one per lab of the
+    // registry, no more.
+    let registered: Vec<String> = course::labs().iter().map(|l| l.to_string()).collect();
+    for dir in ["framework/contracts/src", "reference/src"] {
+        let mut files: Vec<String> = fs::read_dir(root().join(dir))
+            .unwrap()
+            .filter_map(|e| e.unwrap().file_name().into_string().ok())
+            .filter_map(|n| n.strip_suffix(".rs").map(str::to_string))
+            .filter(|n| n.starts_with("lab"))
+            .collect();
+        files.sort();
+        assert_eq!(
+            files, registered,
+            "{dir}'s lab files are not the registry's labs"
+        );
+    }
 }
 
 #[test]

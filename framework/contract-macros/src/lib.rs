@@ -235,107 +235,83 @@ fn compile_error(message: &str, span: Span) -> TokenStream {
     tokens
 }
 
-#[path = "../../course/src/registry.rs"]
-#[allow(dead_code)]
-mod registry;
-
-/// The labs of the registry at `path` (relative to the manifest of the crate being compiled),
-/// and the text that makes that crate depend on the registry's file: `Err` with a message.
-fn registered_labs(
-    input: TokenStream,
-) -> Result<(Vec<String>, std::path::PathBuf, String), String> {
-    let tokens: Vec<TokenTree> = input.into_iter().collect();
-    let relative = match tokens.as_slice() {
-        [TokenTree::Literal(l)] => l
-            .to_string()
-            .strip_prefix('"')
-            .and_then(|s| s.strip_suffix('"'))
-            .map(str::to_string)
-            .ok_or("expected the registry's path as a string literal")?,
-        _ => return Err("expected the registry's path as a string literal".into()),
-    };
+/// The labs whose module file `src/labNN.rs` the crate being compiled holds, in order. Only
+/// files inside the crate's own package are read: units that trees of the same layout share in
+/// one target directory (the grader's) then never depend on another tree's files.
+fn lab_files(input: TokenStream) -> Result<Vec<String>, String> {
+    if !input.is_empty() {
+        return Err("takes no arguments".into());
+    }
     let manifest =
         std::env::var("CARGO_MANIFEST_DIR").map_err(|_| "CARGO_MANIFEST_DIR is not set")?;
-    let dir = std::path::PathBuf::from(&manifest);
-    let file = dir.join(&relative);
-    let text = std::fs::read_to_string(&file)
-        .map_err(|e| format!("cannot read the registry {}: {e}", file.display()))?;
-    let labs = registry::parse(&text).map_err(|e| format!("{}:{e}", file.display()))?;
-    // `include_str!` makes the crate depend on the registry: cargo rebuilds it when the
-    // registry changes, and the expansion with it.
-    let depend = format!(
-        "const _: &str = ::core::include_str!(::core::concat!(::core::env!(\"CARGO_MANIFEST_DIR\"), \"/{relative}\"));"
-    );
-    Ok((
-        labs.iter().map(|l| format!("lab{:02}", l.number)).collect(),
-        dir,
-        depend,
-    ))
+    let src = std::path::Path::new(&manifest).join("src");
+    let entries = std::fs::read_dir(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+    let mut labs: Vec<String> = entries
+        .filter_map(|entry| entry.ok()?.file_name().into_string().ok())
+        .filter_map(|name| {
+            let lab = name.strip_suffix(".rs")?;
+            let digits = lab.strip_prefix("lab")?;
+            (digits.len() == 2 && digits.bytes().all(|b| b.is_ascii_digit()) && digits != "00")
+                .then(|| lab.to_string())
+        })
+        .collect();
+    labs.sort();
+    Ok(labs)
 }
 
-/// `lab_modules!("../../labs/course.toml")` in the contracts crate's `lib.rs`: `pub mod labNN;`
-/// for every lab of the registry (`src/labNN.rs`, a compile error naming a missing one), so that
-/// a new lab's contract needs no line there.
+/// `lab_modules!()` in the contracts crate's `lib.rs`: `pub mod labNN;` for every lab contract
+/// `src/labNN.rs` (one per lab of the registry `labs/course.toml`: `tests/tests/course.rs`
+/// checks it), so that a new lab's contract needs no line there. The crate's build script has
+/// cargo rebuild it when a file comes or goes.
 #[proc_macro]
 pub fn lab_modules(input: TokenStream) -> TokenStream {
-    let expand = || -> Result<String, String> {
-        let (labs, dir, mut out) = registered_labs(input)?;
-        for lab in labs {
-            if !dir.join("src").join(format!("{lab}.rs")).is_file() {
-                return Err(format!(
-                    "the registry lists {lab}, but its contract src/{lab}.rs is not in the tree"
-                ));
-            }
-            out.push_str(&format!("pub mod {lab};"));
-        }
-        Ok(out)
-    };
-    match expand() {
-        Ok(code) => parse(&code),
-        Err(message) => compile_error(&message, Span::call_site()),
+    match lab_files(input) {
+        Ok(labs) => parse(
+            &labs
+                .iter()
+                .map(|lab| format!("pub mod {lab};"))
+                .collect::<String>(),
+        ),
+        Err(message) => compile_error(&format!("lab_modules!: {message}"), Span::call_site()),
     }
 }
 
-/// `answer_keys!("../labs/course.toml")` in the answer key's `lib.rs`: `pub mod labNN;` for every
-/// lab of the registry whose solution `src/labNN.rs` is in the tree (all of them in the course's
-/// repository, the released ones in a handout), `KEYS` listing them, and `install_keys`, which
-/// puts each key `labNN::LabNN` into a pipeline as its lab's `contracts::labNN::Contract`.
+/// `answer_keys!()` in the answer key's `lib.rs`: `pub mod labNN;` for every solution
+/// `src/labNN.rs` in the tree (every lab's in the course's repository, the released ones in a
+/// handout), `KEYS` listing them, and `install_keys`, which puts each key `labNN::LabNN` into a
+/// pipeline as its lab's `contracts::labNN::Contract`.
 #[proc_macro]
 pub fn answer_keys(input: TokenStream) -> TokenStream {
-    let expand = || -> Result<String, String> {
-        let (labs, dir, mut out) = registered_labs(input)?;
-        let present: Vec<String> = labs
-            .into_iter()
-            .filter(|lab| dir.join("src").join(format!("{lab}.rs")).is_file())
-            .collect();
-        let mut numbers = Vec::new();
-        let mut installs = Vec::new();
-        for lab in &present {
-            out.push_str(&format!("pub mod {lab};"));
-            let number = &lab[3..];
-            numbers.push(number.trim_start_matches('0').to_string());
-            installs.push(format!(
-                "|p: Pipeline| p.with_part::<::contracts::{lab}::Contract>(::std::sync::Arc::new({lab}::Lab{number}))"
-            ));
+    let labs = match lab_files(input) {
+        Ok(labs) => labs,
+        Err(message) => {
+            return compile_error(&format!("answer_keys!: {message}"), Span::call_site());
         }
-        out.push_str(&format!(
-            "/// The labs whose solution this crate holds: the slots of [`pipeline`] that are the \
-             answer key. Checks compare a student's function with the key's where it is present \
-             (`LabContext::with_key_labs`), and judge by golden cases and properties elsewhere.\n\
-             pub const KEYS: &[u32] = &[{}];\
-             /// `pipeline` with the code of every lab whose solution this crate holds.\n\
-             fn install_keys(pipeline: Pipeline) -> Pipeline {{\
-                 let keys: [fn(Pipeline) -> Pipeline; {}] = [{}];\
-                 keys.into_iter().fold(pipeline, |pipeline, install| install(pipeline))\
-             }}",
-            numbers.join(", "),
-            installs.len(),
-            installs.join(", ")
-        ));
-        Ok(out)
     };
-    match expand() {
-        Ok(code) => parse(&code),
-        Err(message) => compile_error(&message, Span::call_site()),
+    let mut out = String::new();
+    let mut numbers = Vec::new();
+    let mut installs = Vec::new();
+    for lab in &labs {
+        out.push_str(&format!("pub mod {lab};"));
+        let number = &lab[3..];
+        numbers.push(number.trim_start_matches('0').to_string());
+        installs.push(format!(
+            "|p: Pipeline| p.with_part::<::contracts::{lab}::Contract>(::std::sync::Arc::new({lab}::Lab{number}))"
+        ));
     }
+    out.push_str(&format!(
+        "/// The labs whose solution this crate holds: the slots of [`pipeline`] that are the \
+         answer key. Checks compare a student's function with the key's where it is present \
+         (`LabContext::with_key_labs`), and judge by golden cases and properties elsewhere.\n\
+         pub const KEYS: &[u32] = &[{}];\
+         /// `pipeline` with the code of every lab whose solution this crate holds.\n\
+         fn install_keys(pipeline: Pipeline) -> Pipeline {{\
+             let keys: [fn(Pipeline) -> Pipeline; {}] = [{}];\
+             keys.into_iter().fold(pipeline, |pipeline, install| install(pipeline))\
+         }}",
+        numbers.join(", "),
+        installs.len(),
+        installs.join(", ")
+    ));
+    parse(&out)
 }

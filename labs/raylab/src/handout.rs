@@ -291,7 +291,7 @@ fn check_releasable(root: &Path, released: &BTreeSet<LabId>) -> Result<(), Error
 fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     let dir = out.join("reference");
     fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
-    for file in ["Cargo.toml", "src/lib.rs"] {
+    for file in ["Cargo.toml", "build.rs", "src/lib.rs"] {
         copy_file(&root.join("reference").join(file), &dir.join(file))?;
     }
     for &lab in released {
