@@ -84,6 +84,18 @@ fn new_lab_writes_only_the_lab_s_places_and_its_registry_line() {
     let _ = fs::remove_dir_all(&work);
     let tree = work.join("tree");
     copy_repository(&tree);
+    // A version of its own: cargo gives a path crate of the same version and place in the
+    // workspace the same unit in a shared target directory, and this copy's course (its
+    // registry embedded) must not be the repository's.
+    let manifest = tree.join("Cargo.toml");
+    let text = fs::read_to_string(&manifest).unwrap();
+    let tagged = text.replacen(
+        "\nversion = \"0.1.0\"\n",
+        "\nversion = \"0.1.0-new-lab\"\n",
+        1,
+    );
+    assert_ne!(text, tagged, "the workspace's version is 0.1.0");
+    fs::write(&manifest, tagged).unwrap();
     let before = files(&tree);
 
     let next = course::last().number() + 1;
