@@ -339,6 +339,21 @@ fn write_page(
     Ok(path)
 }
 
+/// The cut-out `crop` of `film` — `[x, y, width, height]` as fractions of the image — magnified
+/// `zoom` times (nearest neighbour): a close-up beside the whole render.
+pub fn crop_zoom(film: &Film, crop: [f32; 4], zoom: u32) -> Film {
+    let (w, h) = (film.width as f32, film.height as f32);
+    let (x0, y0) = ((crop[0] * w) as u32, (crop[1] * h) as u32);
+    let (cw, ch) = ((crop[2] * w) as u32, (crop[3] * h) as u32);
+    let mut out = Film::new(cw * zoom, ch * zoom);
+    for y in 0..out.height {
+        for x in 0..out.width {
+            out.set(x, y, film.get(x0 + x / zoom, y0 + y / zoom));
+        }
+    }
+    out
+}
+
 /// Render settings for a report figure.
 pub fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
     RenderSettings {

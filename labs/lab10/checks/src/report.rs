@@ -140,16 +140,7 @@ fn panels_figure(
 
 /// The cut-out [`CROP`] of `film`, magnified [`ZOOM`] times.
 fn crop_zoom(film: &Film) -> Film {
-    let (w, h) = (film.width as f32, film.height as f32);
-    let (x0, y0) = ((CROP[0] * w) as u32, (CROP[1] * h) as u32);
-    let (cw, ch) = ((CROP[2] * w) as u32, (CROP[3] * h) as u32);
-    let mut out = Film::new(cw * ZOOM, ch * ZOOM);
-    for y in 0..out.height {
-        for x in 0..out.width {
-            out.set(x, y, film.get(x0 + x / ZOOM, y0 + y / ZOOM));
-        }
-    }
-    out
+    figures::crop_zoom(film, CROP, ZOOM)
 }
 
 fn closeup_figure(
