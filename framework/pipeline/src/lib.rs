@@ -117,24 +117,6 @@ pub struct Pipeline {
 #[derive(Clone, Default)]
 pub struct Parts(BTreeMap<TypeId, Arc<dyn Any + Send + Sync>>);
 
-impl Parts {
-    /// The contracts it holds code for.
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-
-    /// Whether it holds no code.
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-}
-
-impl std::fmt::Debug for Parts {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Parts({} contracts)", self.0.len())
-    }
-}
-
 /// Sets the integrator's slot `$slot` when `$code` (an `&dyn Any` holding an `Arc<S>`) is the
 /// code of the contract `$contract`.
 macro_rules! fill_slots {

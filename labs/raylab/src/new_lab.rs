@@ -185,6 +185,50 @@ fn write(path: &Path, text: &str) -> Result<(), Error> {
     fs::write(path, text).map_err(|e| Error::io(path, e))
 }
 
+/// Each place of a new lab (its path in the repository) and its text, both templates of
+/// [`Skeleton::fill`].
+const TEMPLATES: &[(&str, &str)] = &[
+    (
+        "framework/contracts/src/@lab@.rs",
+        include_str!("new_lab/contract.rs.txt"),
+    ),
+    (
+        "labs/@lab@/Cargo.toml",
+        include_str!("new_lab/Cargo.toml.txt"),
+    ),
+    (
+        "labs/@lab@/exercises.toml",
+        include_str!("new_lab/exercises.toml.txt"),
+    ),
+    ("labs/@lab@/src/lib.rs", include_str!("new_lab/stub.rs.txt")),
+    (
+        "labs/@lab@/tests/checks.rs",
+        include_str!("new_lab/program.rs.txt"),
+    ),
+    (
+        "labs/@lab@/tests/corpus.rs",
+        include_str!("new_lab/corpus.rs.txt"),
+    ),
+    (
+        "labs/@lab@/checks/Cargo.toml",
+        include_str!("new_lab/checks.Cargo.toml.txt"),
+    ),
+    (
+        "labs/@lab@/checks/src/lib.rs",
+        include_str!("new_lab/checks_lib.rs.txt"),
+    ),
+    (
+        "labs/@lab@/checks/src/checks.rs",
+        include_str!("new_lab/checks.rs.txt"),
+    ),
+    (
+        "labs/@lab@/checks/src/report.rs",
+        include_str!("new_lab/report.rs.txt"),
+    ),
+    ("reference/src/@lab@.rs", include_str!("new_lab/key.rs.txt")),
+    ("docs/@lab@.md", include_str!("new_lab/docs.md.txt")),
+];
+
 /// The text of a new lab's places.
 struct Skeleton {
     lab: LabId,
@@ -196,24 +240,10 @@ struct Skeleton {
 impl Skeleton {
     /// Each file of the skeleton: its path in the repository and its text.
     fn files(&self) -> Vec<(String, String)> {
-        let lab = self.lab;
-        vec![
-            (format!("framework/contracts/src/{lab}.rs"), self.contract()),
-            (format!("labs/{lab}/Cargo.toml"), self.manifest()),
-            (format!("labs/{lab}/exercises.toml"), self.table()),
-            (format!("labs/{lab}/src/lib.rs"), self.stub()),
-            (format!("labs/{lab}/tests/checks.rs"), self.program()),
-            (format!("labs/{lab}/tests/corpus.rs"), self.corpus()),
-            (
-                format!("labs/{lab}/checks/Cargo.toml"),
-                self.checks_manifest(),
-            ),
-            (format!("labs/{lab}/checks/src/lib.rs"), self.checks_lib()),
-            (format!("labs/{lab}/checks/src/checks.rs"), self.checks()),
-            (format!("labs/{lab}/checks/src/report.rs"), self.report()),
-            (format!("reference/src/{lab}.rs"), self.key()),
-            (format!("docs/{lab}.md"), self.docs()),
-        ]
+        TEMPLATES
+            .iter()
+            .map(|(path, text)| (self.fill(path), self.fill(text)))
+            .collect()
     }
 
     /// Fills the template `text`: `@lab@` (`lab12`), `@n@` (`12`), `@NN@` (`12` with two
@@ -237,54 +267,6 @@ impl Skeleton {
             self.title.to_lowercase()
         ));
         Some(format!("{}{row}{}", &readme[..end], &readme[end..]))
-    }
-
-    fn contract(&self) -> String {
-        self.fill(include_str!("new_lab/contract.rs.txt"))
-    }
-
-    fn manifest(&self) -> String {
-        self.fill(include_str!("new_lab/Cargo.toml.txt"))
-    }
-
-    fn table(&self) -> String {
-        self.fill(include_str!("new_lab/exercises.toml.txt"))
-    }
-
-    fn stub(&self) -> String {
-        self.fill(include_str!("new_lab/stub.rs.txt"))
-    }
-
-    fn program(&self) -> String {
-        self.fill(include_str!("new_lab/program.rs.txt"))
-    }
-
-    fn corpus(&self) -> String {
-        self.fill(include_str!("new_lab/corpus.rs.txt"))
-    }
-
-    fn checks_manifest(&self) -> String {
-        self.fill(include_str!("new_lab/checks.Cargo.toml.txt"))
-    }
-
-    fn checks_lib(&self) -> String {
-        self.fill(include_str!("new_lab/checks_lib.rs.txt"))
-    }
-
-    fn checks(&self) -> String {
-        self.fill(include_str!("new_lab/checks.rs.txt"))
-    }
-
-    fn report(&self) -> String {
-        self.fill(include_str!("new_lab/report.rs.txt"))
-    }
-
-    fn key(&self) -> String {
-        self.fill(include_str!("new_lab/key.rs.txt"))
-    }
-
-    fn docs(&self) -> String {
-        self.fill(include_str!("new_lab/docs.md.txt"))
     }
 }
 
