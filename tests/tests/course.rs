@@ -93,7 +93,7 @@ fn every_lab_has_its_program_and_its_corpus() {
 fn cargo_tree(format: &str, args: &[&str]) -> Vec<String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = std::process::Command::new(cargo)
-        .args(["tree", "--offline", "--prefix", "none", "--format", format])
+        .args(["tree", "--locked", "--prefix", "none", "--format", format])
         .args(args)
         .current_dir(root())
         .output()

@@ -1,17 +1,12 @@
-//! Image files in and out, and the load budget every loader of the framework reads under.
-//!
-//! A file is checked to be a regular file under [`LoadBudget::max_file_bytes`] before it is
-//! read; an image's header is read and its size checked against the budget before a decoder
-//! allocates anything, and the decoders run with the `image` crate's [`image::Limits`] set
-//! and behind `catch_unwind`, so a malformed file ends in an error naming it, never in a panic,
-//! an abort or an exhausted memory.
+//! Image files out, and the load budget every loader of the framework reads under: a file is
+//! checked to be a regular file under [`LoadBudget::max_file_bytes`] before it is read (images
+//! in are decoded in `decode.rs`).
 
-use std::io::{self, Cursor, Read};
+use std::io::{self, Read};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use glam::Vec3;
-
+use super::decode::decode_image;
 use super::{Film, ToneMap};
 use crate::Error;
 
@@ -156,204 +151,6 @@ pub(crate) fn one_line(message: &str) -> String {
         .join("; ")
 }
 
-/// An image decoded under the budget, as linear-or-encoded RGB floats.
-pub(crate) struct DecodedImage {
-    /// The pixels, row by row from the top, as the file stores them (no transfer function
-    /// applied).
-    pub rgb: image::Rgb32FImage,
-    /// Whether the file holds floats (OpenEXR, Radiance HDR), i.e. linear values.
-    pub is_float: bool,
-}
-
-/// Bytes per pixel that the framework adds to a decoder's own output: the linear float RGB
-/// copy and the texels or film made from it.
-const FLOAT_COPIES_BYTES_PER_PIXEL: u64 = 2 * 12;
-
-/// Reads and decodes the image file `path` under `budget`. The error is the reason only (the
-/// caller names the file): a file that is not a regular file or too large, an unknown
-/// format, an image over the pixel or memory budget (refused from its header, before any
-/// decoding), a decoder's error, or a decoder's panic.
-pub(crate) fn decode_image(path: &Path, budget: &LoadBudget) -> Result<DecodedImage, String> {
-    decode_image_reason(path, budget).map_err(|reason| one_line(&reason))
-}
-
-fn decode_image_reason(path: &Path, budget: &LoadBudget) -> Result<DecodedImage, String> {
-    let bytes = read_bounded(path, budget).map_err(|e| e.to_string())?;
-    let reader = image::ImageReader::new(Cursor::new(bytes.as_slice()))
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
-    let format = reader.format().ok_or_else(|| {
-        "the file is not an image raylab reads (PNG, JPEG, OpenEXR or Radiance HDR)".to_string()
-    })?;
-    let decoded = crate::panic::catch_panic(|| {
-        if format == image::ImageFormat::OpenExr {
-            check_exr_header(&bytes, budget)?;
-        }
-        decode_under_budget(reader, budget)
-    })
-    .map_err(|caught| {
-        format!(
-            "the {} decoder failed on this file (it panicked: {})",
-            format_name(format),
-            caught.message
-        )
-    })??;
-    Ok(decoded)
-}
-
-fn format_name(format: image::ImageFormat) -> &'static str {
-    match format {
-        image::ImageFormat::Png => "PNG",
-        image::ImageFormat::Jpeg => "JPEG",
-        image::ImageFormat::OpenExr => "OpenEXR",
-        image::ImageFormat::Hdr => "Radiance HDR",
-        _ => "image",
-    }
-}
-
-fn decode_under_budget(
-    mut reader: image::ImageReader<Cursor<&[u8]>>,
-    budget: &LoadBudget,
-) -> Result<DecodedImage, String> {
-    use image::ImageDecoder;
-    let side = u32::try_from(budget.max_pixels).unwrap_or(u32::MAX);
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(side);
-    limits.max_image_height = Some(side);
-    limits.max_alloc = Some(budget.max_decode_bytes);
-    reader.limits(limits);
-    let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
-    let (width, height) = decoder.dimensions();
-    let colour = decoder.color_type();
-    check_size(
-        u64::from(width),
-        u64::from(height),
-        u64::from(colour.bytes_per_pixel()),
-        budget,
-    )?;
-    if width == 0 || height == 0 {
-        return Err("the image has no pixels".into());
-    }
-    let is_float = matches!(colour, image::ColorType::Rgb32F | image::ColorType::Rgba32F);
-    let img = image::DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())?;
-    Ok(DecodedImage {
-        rgb: img.into_rgb32f(),
-        is_float,
-    })
-}
-
-/// Refuses an image of `width × height` pixels whose decoder output takes
-/// `decoder_bytes_per_pixel` bytes a pixel when it is over the pixel or memory budget.
-fn check_size(
-    width: u64,
-    height: u64,
-    decoder_bytes_per_pixel: u64,
-    budget: &LoadBudget,
-) -> Result<(), String> {
-    let pixels = width.saturating_mul(height);
-    if pixels > budget.max_pixels {
-        return Err(format!(
-            "the image is {width} × {height} = {pixels} pixels; the load budget allows at most {} pixels",
-            budget.max_pixels
-        ));
-    }
-    let bytes = pixels.saturating_mul(decoder_bytes_per_pixel + FLOAT_COPIES_BYTES_PER_PIXEL);
-    if bytes > budget.max_decode_bytes {
-        return Err(format!(
-            "decoding the {width} × {height} image takes about {} MiB; the load budget allows {} MiB",
-            bytes >> 20,
-            budget.max_decode_bytes >> 20
-        ));
-    }
-    Ok(())
-}
-
-/// Checks an OpenEXR file's headers (read with the `exr` crate's metadata reader, which reads
-/// no pixels) against the budget before `image` decodes it: the data and display windows of
-/// every part, their channels, tiles and levels, and the compression. Only the compressions
-/// whose decoders in exr 1.74 allocate no more than the window's pixels are read: none, RLE
-/// and ZIP (the ones raylab writes, and most tools' default); the others are refused (see
-/// docs/architecture.md, "Decisions").
-fn check_exr_header(bytes: &[u8], budget: &LoadBudget) -> Result<(), String> {
-    use exr::compression::Compression;
-    use exr::meta::BlockDescription;
-    use exr::meta::attribute::LevelMode;
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
-        .map_err(|e| format!("not a readable OpenEXR header: {e}"))?;
-    let parts = meta.headers.len();
-    let mut total_pixels = 0u64;
-    let mut total_bytes = 0u64;
-    for (i, header) in meta.headers.iter().enumerate() {
-        let part = if parts > 1 {
-            format!("part {i}: ")
-        } else {
-            String::new()
-        };
-        if header.deep {
-            return Err(format!(
-                "{part}deep OpenEXR data is not an image raylab reads"
-            ));
-        }
-        match header.compression {
-            Compression::Uncompressed
-            | Compression::RLE
-            | Compression::ZIP1
-            | Compression::ZIP16 => {}
-            other => {
-                return Err(format!(
-                    "{part}the file uses {other}, which raylab does not read (its decoder can \
-                     exhaust memory or panic on a malformed file); save it with ZIP, RLE or no \
-                     compression"
-                ));
-            }
-        }
-        let window = header.layer_size;
-        let display = header.shared_attributes.display_window.size;
-        let mut levels = 1;
-        if let BlockDescription::Tiles(tiles) = &header.blocks {
-            let tile = tiles.tile_size;
-            if (tile.0 as u64).saturating_mul(tile.1 as u64) > budget.max_pixels {
-                return Err(format!(
-                    "{part}the tiles are {} × {} pixels; the load budget allows at most {} pixels",
-                    tile.0, tile.1, budget.max_pixels
-                ));
-            }
-            levels = match tiles.level_mode {
-                LevelMode::Singular => 1,
-                // The smaller levels of a mip map add up to a third of the image, those of a
-                // rip map to three times it.
-                LevelMode::MipMap => 2,
-                LevelMode::RipMap => 4,
-            };
-        }
-        for (w, h) in [(window.0, window.1), (display.0, display.1)] {
-            check_size(w as u64, h as u64, 16, budget).map_err(|e| format!("{part}{e}"))?;
-        }
-        let pixels = (window.0 as u64).saturating_mul(window.1 as u64);
-        let channels = header.channels.list.len() as u64;
-        total_pixels = total_pixels.saturating_add(pixels.saturating_mul(levels));
-        total_bytes = total_bytes.saturating_add(
-            pixels
-                .saturating_mul(levels)
-                .saturating_mul(channels.saturating_mul(4)),
-        );
-    }
-    if total_pixels > budget.max_pixels {
-        return Err(format!(
-            "the {parts} parts of the file hold {total_pixels} pixels; the load budget allows at most {}",
-            budget.max_pixels
-        ));
-    }
-    if total_bytes > budget.max_decode_bytes {
-        return Err(format!(
-            "the channels of the file take {} MiB; the load budget allows {} MiB",
-            total_bytes >> 20,
-            budget.max_decode_bytes >> 20
-        ));
-    }
-    Ok(())
-}
-
 fn create_parent(path: &Path) -> Result<(), Error> {
     match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => {
@@ -368,61 +165,75 @@ pub fn write_png(film: &Film, path: &Path, tonemap: ToneMap) -> Result<(), Error
     write_srgb8_png(&film.to_srgb8(tonemap), film.width, film.height, path)
 }
 
-/// Writes 8-bit sRGB pixels (`width × height × 3` bytes, row by row) as a PNG file.
+/// Writes 8-bit sRGB pixels (`width × height × 3` bytes, row by row) as a PNG file (fast
+/// deflate, adaptive row filters).
 pub fn write_srgb8_png(bytes: &[u8], width: u32, height: u32, path: &Path) -> Result<(), Error> {
     create_parent(path)?;
-    image::save_buffer_with_format(
-        path,
-        bytes,
-        width,
-        height,
-        image::ExtendedColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| Error::ImageOutput {
+    let failed = |reason: String| Error::ImageOutput {
         path: path.to_path_buf(),
-        reason: e.to_string(),
-    })
+        reason,
+    };
+    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    let mut out = io::BufWriter::new(file);
+    let mut encoder = png::Encoder::new(&mut out, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::Filter::Adaptive);
+    let mut writer = encoder.write_header().map_err(|e| failed(e.to_string()))?;
+    writer
+        .write_image_data(bytes)
+        .and_then(|()| writer.finish())
+        .map_err(|e| failed(e.to_string()))?;
+    io::Write::flush(&mut out).map_err(|e| Error::io(path, e))
 }
 
-/// Writes the film's linear radiance, unmodified, as a 32-bit float OpenEXR file.
+/// Writes the film's linear radiance, unmodified, as a 32-bit float OpenEXR file (one
+/// uncompressed RGB layer).
 pub fn write_exr(film: &Film, path: &Path) -> Result<(), Error> {
+    use exr::prelude::{Image, SpecificChannels, WritableImage};
     create_parent(path)?;
-    let data: Vec<f32> = film.pixels.iter().flat_map(|p| p.to_array()).collect();
-    let buffer = image::Rgb32FImage::from_raw(film.width, film.height, data).ok_or_else(|| {
-        Error::ImageOutput {
-            path: path.to_path_buf(),
-            reason: "pixel count does not match the size".into(),
-        }
-    })?;
-    buffer
-        .save_with_format(path, image::ImageFormat::OpenExr)
-        .map_err(|e| Error::ImageOutput {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })
+    let failed = |reason: String| Error::ImageOutput {
+        path: path.to_path_buf(),
+        reason,
+    };
+    if film.pixels.len() != film.width as usize * film.height as usize {
+        return Err(failed("pixel count does not match the size".into()));
+    }
+    let width = film.width as usize;
+    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    let mut out = io::BufWriter::new(file);
+    Image::from_channels(
+        (width, film.height as usize),
+        SpecificChannels::rgb(|p: exr::math::Vec2<usize>| {
+            let c = film.pixels[p.y() * width + p.x()];
+            (c.x, c.y, c.z)
+        }),
+    )
+    .write()
+    .to_buffered(&mut out)
+    .map_err(|e| failed(e.to_string()))?;
+    io::Write::flush(&mut out).map_err(|e| Error::io(path, e))
 }
 
-/// Reads a float image (OpenEXR, or any format `image` decodes) into a film, under the
+/// Reads a float image (OpenEXR, or any format the loaders decode) into a film, under the
 /// [`LoadBudget::current`] budget.
 pub fn read_exr(path: &Path) -> Result<Film, Error> {
-    let rgb = decode_image(path, &LoadBudget::current())
-        .map_err(|reason| Error::Texture {
-            path: path.to_path_buf(),
-            reason,
-        })?
-        .rgb;
-    let (width, height) = rgb.dimensions();
+    let image = decode_image(path, &LoadBudget::current()).map_err(|reason| Error::Texture {
+        path: path.to_path_buf(),
+        reason,
+    })?;
     Ok(Film {
-        width,
-        height,
-        pixels: rgb.pixels().map(|p| Vec3::from(p.0)).collect(),
+        width: image.width,
+        height: image.height,
+        pixels: image.rgb,
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     #[test]
     fn exr_round_trip_is_exact() {

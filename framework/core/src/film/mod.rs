@@ -2,15 +2,17 @@
 //! image output (sRGB PNG for viewing, OpenEXR for exact float comparison).
 
 mod color;
+mod decode;
 mod image_io;
 mod rgbe;
 mod tonemap;
 
 pub use color::{linear_to_srgb, luminance, srgb_to_linear};
+pub(crate) use decode::decode_image;
+pub(crate) use image_io::one_line;
 pub use image_io::{
     LoadBudget, read_bounded, read_exr, read_text_bounded, write_exr, write_png, write_srgb8_png,
 };
-pub(crate) use image_io::{decode_image, one_line};
 pub use rgbe::RgbeImage;
 pub use tonemap::ToneMap;
 

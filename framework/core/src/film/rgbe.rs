@@ -102,8 +102,30 @@ impl RgbeImage {
                 && head[1] == 2
                 && (usize::from(head[2]) << 8 | usize::from(head[3])) == w;
             if !rle {
-                for p in take(&mut at, 4 * w)?.chunks_exact(4) {
-                    out.push([p[0], p[1], p[2], p[3]]);
+                // Flat pixels, in which (1, 1, 1, n) repeats the row's previous pixel
+                // n · 256^k times after k repeats in a row (the run-length encoding of the
+                // first Radiance files).
+                let (mut x, mut shift) = (0, 0);
+                while x < w {
+                    let p = take(&mut at, 4)?;
+                    if p[..3] != [1, 1, 1] {
+                        out.push([p[0], p[1], p[2], p[3]]);
+                        (x, shift) = (x + 1, 0);
+                        continue;
+                    }
+                    let n = usize::from(p[3]) << shift;
+                    let Some(&previous) = out.last().filter(|_| x > 0 && shift <= 16) else {
+                        return Err(format!(
+                            "row {row}: a repeat at column {x} has no pixel to repeat"
+                        ));
+                    };
+                    if n == 0 || x + n > w {
+                        return Err(format!(
+                            "row {row}: a repeat of {n} pixels at column {x} does not fit the width {w}"
+                        ));
+                    }
+                    out.extend(std::iter::repeat_n(previous, n));
+                    (x, shift) = (x + n, shift + 8);
                 }
                 continue;
             }
@@ -184,6 +206,18 @@ mod tests {
         let img = RgbeImage::parse(&encoded, &LoadBudget::DEFAULT).unwrap();
         assert_eq!(img.pixels.len(), 48);
         assert!(img.pixels.iter().all(|p| *p == img.pixels[0]));
+
+        // Old-style runs: (1, 1, 1, n) repeats the previous pixel, 256 n times after a repeat.
+        let mut bytes = b"#?RADIANCE\n\n-Y 1 +X 260\n".to_vec();
+        bytes.extend([9, 8, 7, 130, 1, 1, 1, 2, 1, 1, 1, 1, 5, 5, 5, 5]);
+        let img = RgbeImage::parse(&bytes, &LoadBudget::DEFAULT).unwrap();
+        assert_eq!(img.pixels.len(), 260);
+        assert!(img.pixels[..259].iter().all(|p| *p == [9, 8, 7, 130]));
+        assert_eq!(img.pixels[259], [5, 5, 5, 5]);
+        let mut bytes = b"#?RADIANCE\n\n-Y 1 +X 4\n".to_vec();
+        bytes.extend([1, 1, 1, 2, 9, 9, 9, 9]);
+        let e = RgbeImage::parse(&bytes, &LoadBudget::DEFAULT).unwrap_err();
+        assert!(e.contains("no pixel to repeat"), "{e}");
 
         assert!(RgbeImage::parse(b"P6\n", &LoadBudget::DEFAULT).is_err());
         let e = RgbeImage::parse(

@@ -2,8 +2,6 @@
 
 use std::path::Path;
 
-use glam::Vec3;
-
 use super::Texture;
 use crate::Error;
 use crate::film::{LoadBudget, decode_image, srgb_to_linear};
@@ -26,12 +24,11 @@ impl TextureFile for Texture {
                 path: path.to_path_buf(),
                 reason,
             })?;
-        let (width, height) = decoded.rgb.dimensions();
+        let (width, height) = (decoded.width, decoded.height);
         let texels = decoded
             .rgb
-            .pixels()
-            .map(|p| {
-                let c = Vec3::from(p.0);
+            .into_iter()
+            .map(|c| {
                 if decoded.is_float {
                     c
                 } else {
