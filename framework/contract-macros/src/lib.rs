@@ -11,13 +11,18 @@
 //! - `impl Shadows for Waiting<dyn Shadows>`: every method panics, saying that it waits for
 //!   the lab's solution (the slot of a lab whose answer key the tree does not hold);
 //! - `impl ContractMethods for dyn Shadows`: the names of the trait's methods, which the tests
-//!   compare with the functions of the lab's exercise table.
+//!   compare with the functions of the lab's exercise table;
+//! - the wire code (`wire.rs`): `impl Shadows for wire::Remote<C>` (each call encoded and run
+//!   by a transport on code apart from the checks) and `impl wire::Serves<dyn Shadows>` and
+//!   `wire::Serve` (an encoded call run on an implementation, on the student's side).
 //!
 //! The paths are the `contracts` crate's own (`crate::PartSlot`): the attribute is for that
 //! crate's traits. A contract's shape is simple, and the parser here reads that shape only:
 //! no generics, methods without bodies that take `&self` and name each argument.
 
 use proc_macro::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenStream, TokenTree};
+
+mod wire;
 
 /// See the crate's documentation.
 #[proc_macro_attribute]
@@ -67,13 +72,20 @@ fn expand(item: TokenStream) -> Expansion {
     let mut forwards = TokenStream::new();
     let mut waiting = TokenStream::new();
     let mut names = Vec::new();
+    let mut wire_methods = Vec::new();
     for method in split(body.stream(), ';') {
         let method = strip_attributes(method);
         if method.is_empty() {
             continue;
         }
         let (ident, params) = signature(&method)?;
-        let args = argument_names(params)?;
+        let args = argument_names(params.clone())?;
+        let params: Vec<Vec<TokenTree>> = split(params.stream(), ',').into_iter().skip(1).collect();
+        wire_methods.push(wire::WireMethod::new(
+            ident.to_string(),
+            method.clone(),
+            &params,
+        )?);
         let mut call = format!("self.pick(\"{ident}\").{ident}(");
         for arg in &args {
             call.push_str(&format!("{arg},"));
@@ -102,6 +114,7 @@ fn expand(item: TokenStream) -> Expansion {
         "impl crate::ContractMethods for dyn {name} {{ const METHODS: &'static [&'static str] = &[{}]; }}",
         list.join(", ")
     )));
+    out.extend(wire::expand(&name.to_string(), &wire_methods)?);
     Ok(out)
 }
 

@@ -78,3 +78,12 @@ pub type Contract = dyn Lab02;
 pub trait Lab02: Intersection + Shading {}
 
 impl<T: Intersection + Shading + ?Sized> Lab02 for T {}
+
+impl crate::wire::Serve for dyn Lab02 {
+    fn serve(&self, method: &str, args: &[u8], host: &dyn crate::wire::Host) -> Vec<u8> {
+        use crate::wire::Serves;
+        Serves::<dyn Intersection>::serve_part(self, method, args, host)
+            .or_else(|| Serves::<dyn Shading>::serve_part(self, method, args, host))
+            .unwrap_or_else(|| crate::wire::unknown_method(method))
+    }
+}

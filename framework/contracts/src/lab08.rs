@@ -21,7 +21,7 @@ use crate::scene::PointLight;
 
 /// A photon leaving a light: the ray it travels along and the power (radiant flux, W per
 /// channel) it carries.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EmittedPhoton {
     /// From the point of emission along the unit direction of travel.
     pub ray: Ray,
@@ -30,7 +30,7 @@ pub struct EmittedPhoton {
 }
 
 /// What a photon does at a glass surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Scatter {
     /// It is reflected about the surface.
     Reflect,

@@ -15,6 +15,7 @@ pub use raylab_types::{glam, math, sampling, scene};
 contract_macros::lab_modules!();
 
 mod part_slot;
+pub mod wire;
 
 pub use contract_macros::{answer_keys, contract};
 pub use part_slot::{ContractMethods, PartSlot, WAITING_FOR_LAB, Waiting};

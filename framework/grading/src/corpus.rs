@@ -188,6 +188,35 @@ macro_rules! corpus_tests {
             );
         }
 
+        /// The key and the stubs called through the contract's wire code (as `raylab grade`
+        /// calls a student's code compiled apart), here without leaving the process.
+        #[test]
+        fn over_the_wire_the_reference_passes_and_the_stubs_fail() {
+            use ::contracts::wire::{Loopback, Remote};
+            let remote = |code: ::std::sync::Arc<::contracts::$lab::Contract>| {
+                let remote: ::std::sync::Arc<::contracts::$lab::Contract> =
+                    ::std::sync::Arc::new(Remote::<::contracts::$lab::Contract>::new(
+                        ::std::sync::Arc::new(Loopback(code)),
+                    ));
+                remote
+            };
+            let exercises = $checks::checks::exercises();
+            let ctx = corpus_context(::reference::KEYS);
+            $crate::corpus::assert_all_pass($crate::corpus::run_all(
+                &exercises,
+                &remote(key()),
+                &ctx,
+            ));
+            $crate::corpus::assert_all_fail_cleanly(
+                &exercises,
+                $crate::corpus::run_all(
+                    &exercises,
+                    &remote(::std::sync::Arc::new($lab::Student)),
+                    &ctx,
+                ),
+            );
+        }
+
         #[test]
         fn every_mistake_is_rejected_and_every_alternative_accepted() {
             let exercises = $checks::checks::exercises();

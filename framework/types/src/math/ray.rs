@@ -10,7 +10,7 @@ use glam::Vec3;
 /// `let mut r = *ray;`) holds each vector within one store, and a query that reads the direction
 /// right after the copy is served from that store instead of stalling until it reaches the
 /// cache (docs/performance.md).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(16))]
 pub struct Ray {
     /// Where the ray starts.

@@ -2,7 +2,7 @@ use glam::Vec2;
 
 /// The PCG32 generator (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient
 /// Statistically Good Algorithms for Random Number Generation"), XSH-RR output.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Rng {
     state: u64,
     inc: u64,

@@ -3,7 +3,7 @@ use glam::{Vec2, Vec3};
 use super::MaterialId;
 
 /// Everything a shader needs to know about a ray–surface intersection (the DTU `HitInfo`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Hit {
     /// Distance `t` along the ray to the hit.
     pub distance: f32,
@@ -27,7 +27,7 @@ pub struct Hit {
 }
 
 /// The primitive a [`Hit`] lies on.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum HitSurface {
     /// Not known (a hit made up by hand).
     #[default]

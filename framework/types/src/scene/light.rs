@@ -1,7 +1,7 @@
 use glam::Vec3;
 
 /// An isotropic point light of radiant intensity `intensity` (W/sr per channel).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PointLight {
     /// Position of the light.
     pub position: Vec3,
@@ -10,7 +10,7 @@ pub struct PointLight {
 }
 
 /// A light infinitely far away: parallel rays travelling along `direction`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DirectionalLight {
     /// Unit direction the light travels in (from the light towards the scene).
     pub direction: Vec3,

@@ -21,7 +21,7 @@ use super::Texture;
 pub struct MaterialId(pub u32);
 
 /// Which shader a material uses, keyed by the MTL `illum` number as in the DTU framework.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum IllumModel {
     /// `illum 0` or `1`: Lambertian diffuse reflection.
     Lambertian,
@@ -69,7 +69,7 @@ impl IllumModel {
 }
 
 /// A surface material with the MTL parameters the labs use.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Material {
     /// Name from the MTL file or scene file.
     pub name: String,

@@ -3,7 +3,7 @@ use std::path::PathBuf;
 use glam::Vec3;
 
 /// An RGB image in linear floating point, looked up by texture coordinates.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Texture {
     /// File the texture was loaded from.
     pub path: PathBuf,
