@@ -20,5 +20,7 @@ pub mod scene;
 mod test_rng;
 
 pub use error::{Error, PanicError};
-pub use panic::{CaughtPanic, catch_panic, catch_quietly, exercise_in, panic_message, quietly};
+pub use panic::{
+    CaughtPanic, catch_panic, catch_quietly, exercise_in, panic_message, quietly, resume_panic,
+};
 pub use raylab_types::{glam, math, sampling};

@@ -103,6 +103,14 @@ pub fn catch_panic<T>(f: impl FnOnce() -> T) -> Result<T, CaughtPanic> {
     })
 }
 
+/// Continues, on this thread, a panic raised elsewhere (in a student's code compiled apart
+/// from the checks) with its `message` and source `location`, as [`catch_panic`] reports them.
+pub fn resume_panic(message: String, location: Option<String>) -> ! {
+    install_hook();
+    LOCATION.with(|cell| *cell.borrow_mut() = location);
+    std::panic::resume_unwind(Box::new(message))
+}
+
 /// Runs `f`, returning its panic (if any) as a [`PanicError`] about `context`, without the
 /// hook printing it or the panics of the rayon workers `f` uses (see [`quietly`]).
 pub fn catch_quietly<T>(context: &str, f: impl FnOnce() -> T) -> Result<T, PanicError> {
