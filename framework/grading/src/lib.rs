@@ -5,6 +5,7 @@
 pub mod chi2;
 pub mod corpus;
 mod golden;
+pub mod graded;
 pub mod harness;
 mod property;
 pub mod radiometry;

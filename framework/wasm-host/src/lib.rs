@@ -242,7 +242,7 @@ impl Guest {
         if let Some(bytes) = state.memory_refused.take() {
             return (
                 format!(
-                    "the code asked for {} MiB of memory; it may have {} MiB",
+                    "the code ran out of memory: it asked for {} MiB; it may have {} MiB",
                     bytes >> 20,
                     MEMORY_LIMIT >> 20
                 ),
@@ -253,7 +253,11 @@ impl Guest {
             Some(Trap::StackOverflow) => {
                 "the code overflowed its stack (a recursion without end?)".to_string()
             }
-            Some(Trap::UnreachableCodeReached) => "the code aborted".to_string(),
+            Some(Trap::UnreachableCodeReached) => {
+                "the code aborted (`std::process::exit` and `abort` end only the student's code \
+                 here, which counts as a crash)"
+                    .to_string()
+            }
             Some(trap) => format!("the code stopped: {trap}"),
             None => format!("{error:#}"),
         };
@@ -318,37 +322,36 @@ fn export(caller: &mut Caller<'_, State>, name: &str) -> wasmtime::Result<Extern
         .ok_or_else(|| wasmtime::format_err!("the module exports no `{name}`"))
 }
 
-/// Writes into `dir` the crate that compiles a lab crate to a module [`StudentModule`] runs:
-/// its manifest (a `cdylib` named `{lab}-guest` that depends on the lab crate at `lab_dir` and
-/// on the framework's `contracts` and `raylab-guest` in `framework`) and its one line of code,
-/// `raylab_guest::serve!(labNN::Student as contracts::labNN::Contract);`. With `standalone`,
-/// the crate is a workspace of its own. Built for `wasm32-unknown-unknown`, the module is
-/// `{lab}_guest.wasm`.
-pub fn write_guest_crate(
-    dir: &Path,
-    lab: &str,
-    lab_dir: &Path,
-    framework: &Path,
-    standalone: bool,
-) -> std::io::Result<()> {
-    let path = |p: &Path| p.display().to_string().replace('\\', "/");
-    let manifest = format!(
-        "[package]\nname = \"{lab}-guest\"\nversion = \"0.1.0\"\nedition = \"2024\"\npublish = false\n\n\
-         [lib]\ncrate-type = [\"cdylib\"]\npath = \"lib.rs\"\n\n\
-         [dependencies]\n{lab} = {{ path = \"{}\" }}\n\
-         contracts = {{ path = \"{}\" }}\nraylab-guest = {{ path = \"{}\" }}\n{}",
-        path(lab_dir),
-        path(&framework.join("contracts")),
-        path(&framework.join("guest")),
-        if standalone { "\n[workspace]\n" } else { "" },
-    );
-    std::fs::create_dir_all(dir)?;
-    std::fs::write(dir.join("Cargo.toml"), manifest)?;
-    std::fs::write(
-        dir.join("lib.rs"),
-        format!(
-            "//! {lab} compiled to WebAssembly for grading (written by `raylab grade`).\n\
-             raylab_guest::serve!({lab}::Student as contracts::{lab}::Contract);\n"
-        ),
-    )
+/// The student's module named by an environment variable, loaded at the first call: a graded
+/// program lists its tests without one, and a module that does not load fails each exercise
+/// that calls it, saying why.
+pub struct ModuleFromEnv {
+    var: &'static str,
+    module: std::sync::OnceLock<Result<StudentModule, String>>,
+}
+
+impl ModuleFromEnv {
+    /// The module the variable `var` names.
+    pub fn new(var: &'static str) -> Self {
+        Self {
+            var,
+            module: std::sync::OnceLock::new(),
+        }
+    }
+}
+
+impl Transport for ModuleFromEnv {
+    fn call(&self, method: &str, args: Vec<u8>, callbacks: &mut [Callback<'_>]) -> Vec<u8> {
+        let module = self.module.get_or_init(|| {
+            let path = std::env::var_os(self.var)
+                .ok_or_else(|| format!("{} names no student module", self.var))?;
+            StudentModule::load(Path::new(&path))
+        });
+        match module {
+            Ok(module) => module.call(method, args, callbacks),
+            Err(e) => {
+                raylab_core::resume_panic(format!("the student's code cannot run: {e}"), None)
+            }
+        }
+    }
 }

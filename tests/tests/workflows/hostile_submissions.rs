@@ -21,7 +21,7 @@ use raylab_tests::workflow::{
 };
 
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
-const ATTACKS: [(&str, &str); 14] = [
+const ATTACKS: [(&str, &str); 15] = [
     ("exit_zero", include_str!("../../hostile/exit_zero.rs")),
     (
         "forged_output",
@@ -54,6 +54,7 @@ const ATTACKS: [(&str, &str); 14] = [
         "delegate_to_framework",
         include_str!("../../hostile/delegate_to_framework.rs"),
     ),
+    ("memory_hole", include_str!("../../hostile/memory_hole.rs")),
 ];
 
 /// Lab 02's exercises and their points.
@@ -706,14 +707,12 @@ fn hostile_submissions_gain_nothing() {
         });
     }
 
-    // Processes left behind are named (and were stopped: see the pgrep checks).
+    // In WebAssembly the student's code starts no process (and none is left: see the pgrep
+    // checks).
     for name in ["vandal", "process_flood"].into_iter().filter(|n| seen(n)) {
         let r = report(name);
-        problems.check(r.contains("left processes running"), name, || {
-            format!(
-                "report.md does not say processes were left running:\n{:.1000}",
-                r
-            )
+        problems.check(!r.contains("left processes running"), name, || {
+            format!("report.md says processes were left running:\n{:.1000}", r)
         });
     }
 
@@ -751,11 +750,13 @@ fn hostile_submissions_gain_nothing() {
             );
         }
     }
-    for name in ["exit_zero", "forged_output"]
-        .into_iter()
-        .filter(|n| seen(n))
-    {
-        every_reason(&mut problems, name, &["did not complete"]);
+    // `exit` ends only the student's code, as a crash; the forger's `std::os::unix` does not
+    // exist in WebAssembly.
+    if seen("exit_zero") {
+        every_reason(&mut problems, "exit_zero", &["aborted"]);
+    }
+    if seen("forged_output") {
+        every_reason(&mut problems, "forged_output", &["does not compile"]);
     }
     if seen("unsafe_fd") {
         // Other than in the submission's name.
@@ -783,11 +784,6 @@ fn hostile_submissions_gain_nothing() {
                 format!("{} is {size} bytes, not under 1 MB", file.display())
             });
         }
-        problems.check(
-            report("output_flood").contains("output cut"),
-            "output_flood",
-            || "report.md does not say \"output cut\"".into(),
-        );
     }
 
     assert!(problems.0.is_empty(), "{}", problems.report());

@@ -5,10 +5,13 @@
 //! into the grading tree (the handout with the hidden tests put back and the whole answer key,
 //! so that every check has the key in every slot but the one it checks); sources that read
 //! files outside their lab at compile time are flagged and not compiled ([`scan`]); each lab is
-//! compiled in the sandbox with the key's sources out of sight ([`sandbox`]; a lab that does
-//! not compile is graded as failing), the checks are then linked with the key, and every
-//! exercise's test runs in a sandboxed process of its own with a time limit, passing only on
-//! the check's verdict record ([`runner`]). After each
+//! compiled to a WebAssembly module in the sandbox with the key's sources out of sight
+//! ([`sandbox`]; a lab that does not compile is graded as failing). Each lab's graded program
+//! (its checks with every key, `grading::graded`, which holds no student code and is built once
+//! per grading) runs every exercise in a sandboxed process of its own with a time limit,
+//! calling the student's code only inside its module, where it can address nothing of the
+//! program's; an exercise passes only on the check's verdict record ([`runner`]). An
+//! exercise's files are gone when it ends, but for the images the report keeps. After each
 //! submission the tree is verified against its hashes. The results go to per-student reports
 //! and the class gradebooks ([`reports`]), written when every student process has ended.
 
@@ -605,7 +608,8 @@ fn grade_submission(
         }
         bar.set_message(format!("{student}: compiling labs/{lab}/src"));
         let started = std::time::Instant::now();
-        let built = workspace.build_lib(&format!("{lab}"))?;
+        let module = workspace.runs.join(student).join(format!("{lab}.wasm"));
+        let built = workspace.build_module(lab, &module)?;
         timings.build += started.elapsed().as_secs_f64();
         if let Err(errors) = built {
             broken.insert(
@@ -627,7 +631,7 @@ fn grade_submission(
         .collect();
     bar.set_message(format!("{student}: building the checks"));
     let started = std::time::Instant::now();
-    let build = workspace.build_checks(&to_build)?;
+    let build = workspace.build_graded(&to_build)?;
     timings.build += started.elapsed().as_secs_f64();
 
     let mut exercises = Vec::new();
@@ -665,6 +669,8 @@ fn grade_submission(
             &lab_dir,
             &runs.join(format!("list-{lab}")),
         )?;
+        let listing = runs.join(format!("list-{lab}"));
+        fs::remove_dir_all(&listing).map_err(io(&listing))?;
         timings.run += started.elapsed().as_secs_f64();
         for info in infos {
             if let Some(lines) = answered.get(info.id.as_str()) {
@@ -689,9 +695,11 @@ fn grade_submission(
             if scratch.exists() {
                 fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
             }
+            let module = runs.join(format!("{lab}.wasm"));
             let how = ExerciseRun {
                 sandbox: &workspace.sandbox,
                 executable,
+                module: &module,
                 lab_dir: &lab_dir,
                 scratch: &scratch,
                 timeout,
@@ -715,6 +723,8 @@ fn grade_submission(
                 crate::handout::copy_file(image, &dir.join(&relative))?;
                 images.push(relative);
             }
+            // Nothing of a run outlives it but what the report keeps.
+            fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
             exercises.push(ExerciseGrade {
                 score: if run.status == Status::Passed {
                     info.points
@@ -729,6 +739,11 @@ fn grade_submission(
                 seconds: run.seconds,
             });
         }
+    }
+    // The student's modules and runs: nothing is left behind.
+    let runs = workspace.runs.join(student);
+    if runs.exists() {
+        fs::remove_dir_all(&runs).map_err(io(&runs))?;
     }
     Ok(StudentGrade {
         student: student.to_string(),

@@ -45,6 +45,7 @@ impl Workspace {
     /// Fetches the tree's dependencies and settles its lock file, outside the sandbox (which
     /// has no network) and before any student code is in the tree.
     pub fn prepare(&self) -> Result<(), Error> {
+        self.write_graded_crates()?;
         let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
             .args(["fetch", "--quiet"])
             .current_dir(&self.tree)
@@ -68,6 +69,49 @@ impl Workspace {
         fs::create_dir_all(&self.target).map_err(io(&self.target))
     }
 
+    /// Writes, for each lab crate of the tree, its guest crate (the lab compiled to a
+    /// WebAssembly module) and its graded program (`grading::graded`).
+    fn write_graded_crates(&self) -> Result<(), Error> {
+        let framework = self.tree.join("framework");
+        let mut members = String::new();
+        for lab in course::labs() {
+            let name = format!("{lab}");
+            let lab_dir = self.tree.join("labs").join(&name);
+            if !lab_dir.join("Cargo.toml").is_file() {
+                continue;
+            }
+            let guest = lab_dir.join("guest");
+            grading::graded::write_guest_crate(&guest, &name, &lab_dir, &framework, false)
+                .map_err(io(&guest))?;
+            let graded = lab_dir.join("graded");
+            grading::graded::write_graded_crate(
+                &graded,
+                &name,
+                &lab_dir.join("checks"),
+                &framework,
+                &self.tree.join("reference"),
+            )
+            .map_err(io(&graded))?;
+            members.push_str(&format!(
+                "    \"labs/{name}/guest\",\n    \"labs/{name}/graded\",\n"
+            ));
+        }
+        if members.is_empty() {
+            return Ok(());
+        }
+        let manifest = self.tree.join("Cargo.toml");
+        let text = fs::read_to_string(&manifest).map_err(io(&manifest))?;
+        let Some(at) = text.find("    \"labs/*/checks\",\n") else {
+            return Err(Error::Invalid {
+                what: manifest.display().to_string(),
+                reason: "its workspace members have no line `\"labs/*/checks\",`".into(),
+            });
+        };
+        let mut text = text;
+        text.insert_str(at, &members);
+        fs::write(&manifest, text).map_err(io(&manifest))
+    }
+
     /// Runs `cargo ARGS --offline --locked` in the sandbox with the directories `hidden` (in
     /// the tree) out of sight, killed after the build time limit; `Err` only when it could not
     /// be started.
@@ -79,25 +123,27 @@ impl Workspace {
         run_captured(command, None, self.build_timeout, COMPILER_OUTPUT_LIMIT)
     }
 
-    /// `cargo build --lib -p PACKAGE` with the answer key's sources (`reference/src`) out of
-    /// sight: this is the one build in which the student's code runs at compile time (its
-    /// macros, constant evaluation), so nothing it names or reads can be the key. `Err` with
-    /// the compiler's messages when it does not compile.
-    pub fn build_lib(&self, package: &str) -> Result<Result<(), String>, Error> {
-        let run = self.cargo(
-            &[
-                "build",
-                "--quiet",
-                "--message-format=short",
-                "--lib",
-                "-p",
-                package,
-                // As the checks' build will: cargo must find this build fresh there.
-                "--features",
-                HIDDEN_EXERCISES,
-            ],
-            &[ANSWER_KEY_SOURCES],
-        )?;
+    /// `cargo build --lib -p PACKAGE [--target TARGET]` with the answer key's sources
+    /// (`reference/src`) out of sight: this is the one build in which the student's code runs
+    /// at compile time (its macros, constant evaluation), so nothing it names or reads can be
+    /// the key. `Err` with the compiler's messages when it does not compile.
+    pub fn build_lib(
+        &self,
+        package: &str,
+        target: Option<&str>,
+    ) -> Result<Result<(), String>, Error> {
+        let mut args = vec![
+            "build",
+            "--quiet",
+            "--message-format=short",
+            "--lib",
+            "-p",
+            package,
+        ];
+        if let Some(target) = target {
+            args.extend(["--target", target]);
+        }
+        let run = self.cargo(&args, &[ANSWER_KEY_SOURCES])?;
         Ok(match run.status {
             Some(status) if status.success() => Ok(()),
             Some(_) => Err(compiler_errors(&run.text())),
@@ -108,65 +154,56 @@ impl Workspace {
         })
     }
 
-    /// `cargo test --no-run --test checks` for the checks of `labs`, linking each lab's code
-    /// built by [`Self::build_lib`] with the answer key: the executable of each lab that built,
-    /// the compiler's messages for each that did not. The lab's own code is not compiled again
-    /// here (cargo finds it fresh); should it be, the lab fails rather than compile student code
-    /// with the key in view.
-    pub fn build_checks(&self, labs: &[LabId]) -> Result<Build, Error> {
+    /// Compiles the submission's `lab` to its WebAssembly module (the lab's guest crate, see
+    /// [`Self::build_lib`]) and copies it to `to`; `Err` with the compiler's messages when it
+    /// does not compile.
+    pub fn build_module(&self, lab: LabId, to: &Path) -> Result<Result<(), String>, Error> {
+        let built = self.build_lib(&format!("{lab}-guest"), Some(WASM_TARGET))?;
+        if built.is_ok() {
+            let module = self
+                .target
+                .join(WASM_TARGET)
+                .join("debug")
+                .join(format!("{lab}_guest.wasm"));
+            crate::handout::copy_file(&module, to)?;
+        }
+        Ok(built)
+    }
+
+    /// `cargo build --bins` of the graded programs of `labs` (`grading::graded`): the
+    /// executable of each lab that built, the compiler's messages for each that did not. No
+    /// student code is in them (they call it in its module), so cargo builds each once per
+    /// grading and finds it fresh for every later submission.
+    pub fn build_graded(&self, labs: &[LabId]) -> Result<Build, Error> {
         if labs.is_empty() {
-            // Without a `-p`, cargo would build every package's tests.
+            // Without a `-p`, cargo would build every package.
             return Ok(Build {
                 executables: BTreeMap::new(),
                 errors: BTreeMap::new(),
             });
         }
         let mut args = vec![
-            "test",
-            "--no-run",
-            "--no-fail-fast",
+            "build",
+            "--bins",
             "--message-format=json-render-diagnostics",
-            "--test",
-            "checks",
         ];
-        let features: Vec<String> = labs
-            .iter()
-            .map(|l| format!("{l}/{HIDDEN_EXERCISES}"))
-            .collect();
-        let features = features.join(",");
-        args.extend(["--features", &features]);
-        let packages: Vec<String> = labs.iter().map(|l| format!("{l}")).collect();
+        let packages: Vec<String> = labs.iter().map(|l| format!("{l}-graded")).collect();
         for package in &packages {
             args.extend(["-p", package]);
         }
         let run = self.cargo(&args, &[])?;
         let mut executables = BTreeMap::new();
-        let mut recompiled = BTreeMap::new();
         for line in String::from_utf8_lossy(&run.output).lines() {
             let Ok(message) = serde_json::from_str::<serde_json::Value>(line) else {
                 continue;
             };
-            if let Some(lab) = recompiled_lab(&message, labs) {
-                recompiled.insert(
-                    lab,
-                    format!(
-                        "labs/{lab}/src was compiled again with the checks, where the answer key is in view; it was not used (a fault of the grader: please report it)"
-                    ),
-                );
-                continue;
-            }
             let (Some(executable), Some(target)) = (
                 message["executable"].as_str(),
                 message["target"]["name"].as_str(),
             ) else {
                 continue;
             };
-            let source = Path::new(message["target"]["src_path"].as_str().unwrap_or_default());
-            if target != "checks" {
-                continue;
-            }
-            let checks_of = |l: &LabId| source.ends_with(format!("labs/{l}/tests/checks.rs"));
-            if let Some(&lab) = labs.iter().find(|l| checks_of(l)) {
+            if let Some(&lab) = labs.iter().find(|l| target == format!("{l}-graded")) {
                 executables.insert(lab, PathBuf::from(executable));
             }
         }
@@ -176,15 +213,11 @@ impl Workspace {
             .collect::<Vec<_>>()
             .join("\n");
         let stderr = compiler_errors(&text);
-        for lab in recompiled.keys() {
-            executables.remove(lab);
-        }
-        let mut errors: BTreeMap<LabId, String> = labs
+        let errors: BTreeMap<LabId, String> = labs
             .iter()
             .filter(|l| !executables.contains_key(l))
             .map(|&l| (l, stderr.clone()))
             .collect();
-        errors.extend(recompiled);
         Ok(Build {
             executables,
             errors,
@@ -192,25 +225,11 @@ impl Workspace {
     }
 }
 
-/// The lab crates' feature that makes the hidden exercises tests too.
-const HIDDEN_EXERCISES: &str = "hidden-exercises";
+/// What a lab is compiled to for grading.
+const WASM_TARGET: &str = "wasm32-unknown-unknown";
 
 /// The answer key's sources in the grading tree, out of sight while student code compiles.
 const ANSWER_KEY_SOURCES: &str = "reference/src";
-
-/// The lab of `labs` whose own code (its `lib` target) cargo's `message` says was compiled
-/// rather than found fresh.
-fn recompiled_lab(message: &serde_json::Value, labs: &[LabId]) -> Option<LabId> {
-    if message["reason"] != "compiler-artifact" || message["fresh"] != false {
-        return None;
-    }
-    let kinds = message["target"]["kind"].as_array()?;
-    if !kinds.iter().any(|k| k == "lib") {
-        return None;
-    }
-    let name = message["target"]["name"].as_str()?;
-    labs.iter().copied().find(|l| name == format!("{l}"))
-}
 
 /// The error lines of cargo's output, without its progress lines; at most 60 lines.
 fn compiler_errors(stderr: &str) -> String {
@@ -421,8 +440,10 @@ pub fn list_tests(
 pub struct ExerciseRun<'a> {
     /// The sandbox.
     pub sandbox: &'a Sandbox,
-    /// The lab's checks executable.
+    /// The lab's graded program.
     pub executable: &'a Path,
+    /// The student's code of the lab, compiled to WebAssembly.
+    pub module: &'a Path,
     /// The lab's directory in the grading tree (golden data, snapshots).
     pub lab_dir: &'a Path,
     /// The exercise's own empty directory.
@@ -437,9 +458,13 @@ pub struct ExerciseRun<'a> {
 /// when the output holds the check's verdict record, with this run's secret, saying so.
 pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Result<Run, Error> {
     fs::create_dir_all(how.scratch).map_err(io(how.scratch))?;
+    // The module beside the exercise's files, which the program in the sandbox sees.
+    let module = how.scratch.join("student.wasm");
+    crate::handout::copy_file(how.module, &module)?;
     how.sandbox.give_scratch(how.scratch)?;
     let secret = verdict::new_secret().map_err(io(Path::new("/dev/urandom")))?;
     let scratch = how.scratch.to_string_lossy();
+    let module = module.to_string_lossy();
     let command = how.sandbox.exercise(
         how.executable,
         how.lab_dir,
@@ -449,6 +474,7 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
             ("CARGO_TARGET_DIR", &scratch),
             ("RUST_BACKTRACE", "0"),
             (verdict::CHANNEL_VAR, "stdin"),
+            (grading::graded::MODULE_VAR, &module),
         ],
     );
     let run = run_captured(command, Some(&secret), how.timeout, OUTPUT_LIMIT);
@@ -720,7 +746,7 @@ mod tests {
         };
         workspace.prepare().unwrap();
         let errors = workspace
-            .build_lib("lab")
+            .build_lib("lab", None)
             .unwrap()
             .expect_err("the key's sources were in view of the student's build");
         assert!(errors.contains("reference/src/lib.rs"), "{errors}");
@@ -730,7 +756,10 @@ mod tests {
             "lab/tests/checks.rs",
             "#[test]\nfn key() { assert_eq!(reference::KEY, \"the answer\"); }\n",
         );
-        workspace.build_lib("lab").unwrap().expect("the lab builds");
+        workspace
+            .build_lib("lab", None)
+            .unwrap()
+            .expect("the lab builds");
         let run = workspace
             .cargo(
                 &[

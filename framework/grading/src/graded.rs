@@ -1,0 +1,129 @@
+//! The crates `raylab grade` writes into its tree for each graded lab, so that a submission's
+//! code runs in WebAssembly apart from the checks (docs/architecture.md, "Graded code runs in
+//! WebAssembly"):
+//!
+//! - `labs/labNN/guest`: the lab crate compiled to a `wasm32` module, one line of code
+//!   (`raylab_guest::serve!`);
+//! - `labs/labNN/graded`: the lab's graded program, [`graded_program!`]: the lab's checks, with
+//!   every exercise (hidden ones too) and the answer keys, calling the student's code only
+//!   through the module [`MODULE_VAR`] names. It does not depend on the lab crate, so
+//!   it is built once per grading and no student code is ever compiled into it.
+
+use std::io;
+use std::path::Path;
+
+/// The environment variable that names, for a graded program, the student's module.
+pub const MODULE_VAR: &str = "RAYLAB_STUDENT_MODULE";
+
+/// The whole of a graded program, `labs/labNN/graded/main.rs`:
+/// `grading::graded_program!(lab03, lab03_checks);`.
+#[macro_export]
+macro_rules! graded_program {
+    ($lab:ident, $checks:ident) => {
+        fn main() {
+            let lab = $checks::checks::LAB;
+            let subject: ::std::sync::Arc<::contracts::$lab::Contract> = ::std::sync::Arc::new(
+                ::contracts::wire::Remote::<::contracts::$lab::Contract>::new(
+                    ::std::sync::Arc::new(::wasm_host::ModuleFromEnv::new(
+                        $crate::graded::MODULE_VAR,
+                    )),
+                ),
+            );
+            $crate::harness::run($crate::harness::LabChecks {
+                lab,
+                lab_dir: concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+                exercises: $checks::checks::exercises(),
+                subject,
+                base: ::reference::pipeline(lab.number()),
+                key_labs: ::reference::KEYS,
+                hidden: true,
+                report: None,
+                generate_golden: $checks::generate_golden,
+            })
+        }
+    };
+}
+
+fn manifest(package: &str, lib_or_bin: &str, dependencies: &[(&str, &Path)]) -> String {
+    let mut text = format!(
+        "[package]\nname = \"{package}\"\nversion.workspace = true\nedition.workspace = true\n\
+         publish = false\n\n{lib_or_bin}\n[dependencies]\n"
+    );
+    for (name, path) in dependencies {
+        text.push_str(&format!(
+            "{name} = {{ path = \"{}\" }}\n",
+            path.display().to_string().replace('\\', "/")
+        ));
+    }
+    text
+}
+
+/// Writes the guest crate of lab `lab` (e.g. "lab03") into `dir`: a `cdylib` named
+/// `{lab}-guest` that depends on the lab crate at `lab_dir` and on `contracts` and
+/// `raylab-guest` in `framework`. Built for `wasm32-unknown-unknown`, it is
+/// `{lab}_guest.wasm`. With `standalone`, the crate is a workspace of its own, with the
+/// package fields written out.
+pub fn write_guest_crate(
+    dir: &Path,
+    lab: &str,
+    lab_dir: &Path,
+    framework: &Path,
+    standalone: bool,
+) -> io::Result<()> {
+    let mut text = manifest(
+        &format!("{lab}-guest"),
+        "[lib]\ncrate-type = [\"cdylib\"]\npath = \"lib.rs\"\n",
+        &[
+            (lab, lab_dir),
+            ("contracts", &framework.join("contracts")),
+            ("raylab-guest", &framework.join("guest")),
+        ],
+    );
+    if standalone {
+        text = text
+            .replace("version.workspace = true", "version = \"0.1.0\"")
+            .replace("edition.workspace = true", "edition = \"2024\"");
+        text.push_str("\n[workspace]\n");
+    }
+    std::fs::create_dir_all(dir)?;
+    std::fs::write(dir.join("Cargo.toml"), text)?;
+    std::fs::write(
+        dir.join("lib.rs"),
+        format!(
+            "//! {lab} compiled to WebAssembly for grading (written by `raylab grade`).\n\
+             raylab_guest::serve!({lab}::Student as contracts::{lab}::Contract);\n"
+        ),
+    )
+}
+
+/// Writes the graded program of lab `lab` into `dir` (`labs/labNN/graded` of a tree whose
+/// framework is `framework` and whose answer key is `reference`): a binary `{lab}-graded`
+/// of one line, [`graded_program!`].
+pub fn write_graded_crate(
+    dir: &Path,
+    lab: &str,
+    checks_dir: &Path,
+    framework: &Path,
+    reference: &Path,
+) -> io::Result<()> {
+    let text = manifest(
+        &format!("{lab}-graded"),
+        &format!("[[bin]]\nname = \"{lab}-graded\"\npath = \"main.rs\"\n"),
+        &[
+            (&format!("{lab}-checks"), checks_dir),
+            ("contracts", &framework.join("contracts")),
+            ("grading", &framework.join("grading")),
+            ("wasm-host", &framework.join("wasm-host")),
+            ("reference", reference),
+        ],
+    );
+    std::fs::create_dir_all(dir)?;
+    std::fs::write(dir.join("Cargo.toml"), text)?;
+    std::fs::write(
+        dir.join("main.rs"),
+        format!(
+            "//! The graded program of {lab} (written by `raylab grade`).\n\
+             grading::graded_program!({lab}, {lab}_checks);\n"
+        ),
+    )
+}
