@@ -97,6 +97,15 @@ fn lab01_in_webassembly() {
             corpus::run_all(exercises, &code, &ctx)
         };
     corpus::assert_all_pass(run("lab01-key", &key_as_student("lab01"), &checks));
+    // The same module compiled once to machine code, as the grader runs it.
+    let wasm = compile("lab01-key", "lab01", &key_as_student("lab01"));
+    let cwasm = wasm.with_extension("cwasm");
+    StudentModule::precompile(&wasm, &cwasm).unwrap();
+    // SAFETY: written just above by `precompile`.
+    let module = unsafe { StudentModule::load_precompiled(&cwasm) }.unwrap();
+    let code: Arc<contracts::lab01::Contract> =
+        Arc::new(Remote::<contracts::lab01::Contract>::new(Arc::new(module)));
+    corpus::assert_all_pass(corpus::run_all(&checks, &code, &ctx));
     corpus::assert_all_fail_cleanly(&checks, run("lab01-stubs", &stubs("lab01"), &checks));
 
     // A panic, a runaway allocation and a recursion without end in one exercise each.

@@ -12,8 +12,13 @@
 use std::io;
 use std::path::Path;
 
-/// The environment variable that names, for a graded program, the student's module.
+/// The environment variable that names, for a graded program, the student's module (a
+/// `.wasm` file, or a `.cwasm` file the program precompiled).
 pub const MODULE_VAR: &str = "RAYLAB_STUDENT_MODULE";
+
+/// The environment variable that asks a graded program to compile the module of
+/// [`MODULE_VAR`] to the `.cwasm` file it names, and end.
+pub const PRECOMPILE_VAR: &str = "RAYLAB_PRECOMPILE";
 
 /// The whole of a graded program, `labs/labNN/graded/main.rs`:
 /// `grading::graded_program!(lab03, lab03_checks);`.
@@ -21,6 +26,18 @@ pub const MODULE_VAR: &str = "RAYLAB_STUDENT_MODULE";
 macro_rules! graded_program {
     ($lab:ident, $checks:ident) => {
         fn main() {
+            if let Some(out) = ::std::env::var_os($crate::graded::PRECOMPILE_VAR) {
+                let wasm = ::std::env::var_os($crate::graded::MODULE_VAR).unwrap_or_default();
+                let compiled = ::wasm_host::StudentModule::precompile(
+                    ::std::path::Path::new(&wasm),
+                    ::std::path::Path::new(&out),
+                );
+                if let Err(e) = compiled {
+                    eprintln!("error: {e}");
+                    ::std::process::exit(1);
+                }
+                ::std::process::exit(0);
+            }
             let lab = $checks::checks::LAB;
             let subject: ::std::sync::Arc<::contracts::$lab::Contract> = ::std::sync::Arc::new(
                 ::contracts::wire::Remote::<::contracts::$lab::Contract>::new(

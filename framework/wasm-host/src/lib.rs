@@ -25,6 +25,10 @@ use wasmtime::{
 /// functions take small inputs; the largest, a texture, is copied into it).
 pub const MEMORY_LIMIT: usize = 256 << 20;
 
+/// The extension of [`StudentModule::precompile`]'s output, which [`ModuleFromEnv`] loads as
+/// machine code.
+pub const PRECOMPILED_EXTENSION: &str = "cwasm";
+
 /// The longest panic message kept, in bytes.
 const PANIC_TEXT_LIMIT: u32 = 64 << 10;
 
@@ -74,6 +78,19 @@ impl ResourceLimiter for State {
     }
 }
 
+/// The engine every student module is compiled and precompiled with.
+fn engine() -> Result<Engine, String> {
+    let mut config = Config::new();
+    // Bounds-checked memories that reserve the address space of their limit and no more (an
+    // exercise's process runs under an address-space limit), so that growing up to the limit
+    // never moves one.
+    config.memory_reservation(MEMORY_LIMIT as u64);
+    config.memory_guard_size(0);
+    config.memory_reservation_for_growth(0);
+    config.max_wasm_stack(1 << 20);
+    Engine::new(&config).map_err(|e| format!("{e:#}"))
+}
+
 /// One instance of the module and its exports.
 struct Guest {
     store: Store<State>,
@@ -94,16 +111,36 @@ impl StudentModule {
 
     /// Compiles a module from its bytes (see [`StudentModule::load`]).
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, String> {
-        let mut config = Config::new();
-        // Bounds-checked memories that reserve the address space of their limit and no more
-        // (an exercise's process runs under an address-space limit), so that growing up to
-        // the limit never moves one.
-        config.memory_reservation(MEMORY_LIMIT as u64);
-        config.memory_guard_size(0);
-        config.memory_reservation_for_growth(0);
-        config.max_wasm_stack(1 << 20);
-        let engine = Engine::new(&config).map_err(|e| format!("{e:#}"))?;
+        let engine = engine()?;
         let module = Module::new(&engine, bytes).map_err(|e| format!("not a module: {e:#}"))?;
+        Self::with_module(engine, module)
+    }
+
+    /// Compiles the module at `wasm` once and writes the machine code to `out`, for
+    /// [`StudentModule::load_precompiled`] (which then takes a millisecond where compiling
+    /// takes a tenth of a second, in every exercise's process).
+    pub fn precompile(wasm: &Path, out: &Path) -> Result<(), String> {
+        let bytes = std::fs::read(wasm).map_err(|e| format!("{}: {e}", wasm.display()))?;
+        let module = Module::new(&engine()?, &bytes).map_err(|e| format!("not a module: {e:#}"))?;
+        let code = module.serialize().map_err(|e| format!("{e:#}"))?;
+        std::fs::write(out, code).map_err(|e| format!("{}: {e}", out.display()))
+    }
+
+    /// Loads what [`StudentModule::precompile`] wrote.
+    ///
+    /// # Safety
+    /// `path` must hold the output of [`StudentModule::precompile`] of this build, untouched:
+    /// its machine code is run as it is. (The grader writes it from the student's module with
+    /// this program, before any student code runs, and the student's code has no files.)
+    pub unsafe fn load_precompiled(path: &Path) -> Result<Self, String> {
+        let engine = engine()?;
+        // SAFETY: as the caller promises.
+        let module = unsafe { Module::deserialize_file(&engine, path) }
+            .map_err(|e| format!("{}: {e:#}", path.display()))?;
+        Self::with_module(engine, module)
+    }
+
+    fn with_module(engine: Engine, module: Module) -> Result<Self, String> {
         let mut linker = Linker::new(&engine);
         linker
             .func_wrap("raylab", "call_back", call_back)
@@ -345,7 +382,13 @@ impl Transport for ModuleFromEnv {
         let module = self.module.get_or_init(|| {
             let path = std::env::var_os(self.var)
                 .ok_or_else(|| format!("{} names no student module", self.var))?;
-            StudentModule::load(Path::new(&path))
+            let path = Path::new(&path);
+            if path.extension().is_some_and(|e| e == PRECOMPILED_EXTENSION) {
+                // SAFETY: a `.cwasm` file is the grader's output of `precompile` (see there).
+                unsafe { StudentModule::load_precompiled(path) }
+            } else {
+                StudentModule::load(path)
+            }
         });
         match module {
             Ok(module) => module.call(method, args, callbacks),

@@ -671,6 +671,13 @@ fn grade_submission(
         )?;
         let listing = runs.join(format!("list-{lab}"));
         fs::remove_dir_all(&listing).map_err(io(&listing))?;
+        let module = runner::precompile(
+            &workspace.sandbox,
+            executable,
+            &lab_dir,
+            &runs.join(format!("compile-{lab}")),
+            &runs.join(format!("{lab}.wasm")),
+        )?;
         timings.run += started.elapsed().as_secs_f64();
         for info in infos {
             if let Some(lines) = answered.get(info.id.as_str()) {
@@ -695,7 +702,6 @@ fn grade_submission(
             if scratch.exists() {
                 fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
             }
-            let module = runs.join(format!("{lab}.wasm"));
             let how = ExerciseRun {
                 sandbox: &workspace.sandbox,
                 executable,

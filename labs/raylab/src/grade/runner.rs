@@ -436,6 +436,47 @@ pub fn list_tests(
         .collect())
 }
 
+/// Compiles the student's module `wasm` to machine code with the lab's graded program (in the
+/// sandbox, in `scratch`, before any student code runs), once for all the lab's exercises: the
+/// `.cwasm` file beside `wasm`, or `wasm` itself when it does not compile (its exercises then
+/// say why).
+pub fn precompile(
+    sandbox: &Sandbox,
+    executable: &Path,
+    lab_dir: &Path,
+    scratch: &Path,
+    wasm: &Path,
+) -> Result<PathBuf, Error> {
+    fs::create_dir_all(scratch).map_err(io(scratch))?;
+    let input = scratch.join("student.wasm");
+    crate::handout::copy_file(wasm, &input)?;
+    sandbox.give_scratch(scratch)?;
+    let output = scratch.join("student.cwasm");
+    let (input_text, output_text) = (input.to_string_lossy(), output.to_string_lossy());
+    let command = sandbox.exercise(
+        executable,
+        lab_dir,
+        scratch,
+        &[],
+        &[
+            (grading::graded::MODULE_VAR, &input_text),
+            (grading::graded::PRECOMPILE_VAR, &output_text),
+        ],
+    );
+    let run = run_captured(command, None, Duration::from_secs(120), OUTPUT_LIMIT);
+    sandbox.end_exercise();
+    let compiled = run?.status.is_some_and(|s| s.success()) && output.is_file();
+    let module = if compiled {
+        let to = wasm.with_extension("cwasm");
+        crate::handout::copy_file(&output, &to)?;
+        to
+    } else {
+        wasm.to_path_buf()
+    };
+    fs::remove_dir_all(scratch).map_err(io(scratch))?;
+    Ok(module)
+}
+
 /// How an exercise is run.
 pub struct ExerciseRun<'a> {
     /// The sandbox.
@@ -459,7 +500,8 @@ pub struct ExerciseRun<'a> {
 pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Result<Run, Error> {
     fs::create_dir_all(how.scratch).map_err(io(how.scratch))?;
     // The module beside the exercise's files, which the program in the sandbox sees.
-    let module = how.scratch.join("student.wasm");
+    let extension = how.module.extension().unwrap_or_default().to_string_lossy();
+    let module = how.scratch.join(format!("student.{extension}"));
     crate::handout::copy_file(how.module, &module)?;
     how.sandbox.give_scratch(how.scratch)?;
     let secret = verdict::new_secret().map_err(io(Path::new("/dev/urandom")))?;
