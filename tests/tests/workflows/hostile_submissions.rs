@@ -699,6 +699,16 @@ fn hostile_submissions_gain_nothing() {
         }
     }
 
+    // Nothing of a run is left behind: every exercise's directory and every student's
+    // modules are gone once the grade is written.
+    let runs = grades.join(".grading/runs");
+    let left: Vec<_> = fs::read_dir(&runs)
+        .map(|d| d.filter_map(|e| Some(e.ok()?.file_name())).collect())
+        .unwrap_or_default();
+    problems.check(left.is_empty(), "the class files", || {
+        format!("{} still holds {left:?}", runs.display())
+    });
+
     // A debugger started by the student's code cannot attach to the harness.
     if seen("debugger") {
         let r = report("debugger");

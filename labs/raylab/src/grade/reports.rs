@@ -124,6 +124,25 @@ fn has_section(e: &ExerciseGrade, lab_wide: bool) -> bool {
     (!e.passed() && !lab_wide) || !e.program_output.is_empty() || !e.images.is_empty()
 }
 
+/// `text` as a Markdown code span: shown as it is, never read as Markdown or HTML (a file
+/// name in a submission is the student's to choose: `docs/<img src=x onerror=…>.md`). The
+/// fence is one backtick longer than the longest run in `text`; control characters become
+/// U+FFFD.
+fn code_span(text: &str) -> String {
+    let text: String = text
+        .chars()
+        .map(|c| if c.is_control() { '\u{fffd}' } else { c })
+        .collect();
+    let mut longest = 0;
+    let mut run = 0;
+    for c in text.chars() {
+        run = if c == '`' { run + 1 } else { 0 };
+        longest = longest.max(run);
+    }
+    let fence = "`".repeat(longest + 1);
+    format!("{fence} {text} {fence}")
+}
+
 fn markdown(grade: &StudentGrade) -> String {
     let mut md = format!(
         "# Grade report: {}\n\n**{}/{} points**\n\n",
@@ -134,7 +153,7 @@ fn markdown(grade: &StudentGrade) -> String {
     if !grade.changed_files.is_empty() {
         md.push_str("## Files changed outside `labs/labNN/src/` (not used for grading)\n\n");
         for change in &grade.changed_files {
-            let _ = writeln!(md, "- {change}");
+            let _ = writeln!(md, "- {}", code_span(change));
         }
         md.push('\n');
     }
@@ -148,14 +167,14 @@ fn markdown(grade: &StudentGrade) -> String {
     if !grade.rejected.is_empty() {
         md.push_str("## Files not taken from the submission\n\n");
         for line in &grade.rejected {
-            let _ = writeln!(md, "- {line}");
+            let _ = writeln!(md, "- {}", code_span(line));
         }
         md.push('\n');
     }
     if !grade.flagged.is_empty() {
         md.push_str("## Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise\n\n");
         for line in &grade.flagged {
-            let _ = writeln!(md, "- flagged: {line}");
+            let _ = writeln!(md, "- flagged: {}", code_span(line));
         }
         md.push('\n');
     }
@@ -644,6 +663,15 @@ mod tests {
         // 2000-02-29 12:34 UTC, a leap day in a year divisible by 400.
         assert_eq!(utc_time(951_827_640), "2000-02-29 12:34 UTC");
         assert_eq!(utc_time(1_798_761_599), "2026-12-31 23:59 UTC");
+    }
+
+    #[test]
+    fn file_names_in_markdown_are_code() {
+        assert_eq!(
+            code_span("modified: docs/<img src=x onerror=alert(1)>.md"),
+            "` modified: docs/<img src=x onerror=alert(1)>.md `"
+        );
+        assert_eq!(code_span("a``b`\nc"), "``` a``b`\u{fffd}c ```");
     }
 
     #[test]
