@@ -317,10 +317,13 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     let handout = grading.join("handout");
     let workspace = Workspace {
         tree: grading.join("tree"),
-        target: args
-            .target_dir
-            .clone()
-            .unwrap_or_else(|| grading.join("target")),
+        // Absolute: cargo runs in the grading tree, the grader where it was started.
+        target: std::path::absolute(
+            args.target_dir
+                .clone()
+                .unwrap_or_else(|| grading.join("target")),
+        )
+        .map_err(io(&grading))?,
         runs: grading.join("runs"),
         sandbox,
         build_timeout: Duration::from_secs(args.build_timeout),
