@@ -42,6 +42,9 @@ fn text(tokens: &[TokenTree]) -> String {
     tokens.iter().cloned().collect::<TokenStream>().to_string()
 }
 
+/// How a slice type `[E]` travels: the owned type that starts so (and only such a type).
+const SLICE_AS_VEC: &str = "::std::vec::Vec<";
+
 /// `T`, or `Vec<E>` for a slice type `[E]`.
 fn owned_type(tokens: &[TokenTree]) -> String {
     if let [TokenTree::Group(g)] = tokens
@@ -51,7 +54,7 @@ fn owned_type(tokens: &[TokenTree]) -> String {
             .into_iter()
             .any(|t| matches!(&t, TokenTree::Punct(p) if p.as_char() == ';'))
     {
-        return format!("::std::vec::Vec<{}>", g.stream());
+        return format!("{SLICE_AS_VEC}{}>", g.stream());
     }
     text(tokens)
 }
@@ -168,7 +171,7 @@ fn put(w: &str, value: &str) -> String {
 
 /// Writes `decoded` (the owned value the far side sent back) over the `&mut` argument `arg`.
 fn write_back(arg: &str, owned: &str, decoded: &str) -> String {
-    if owned.starts_with(":: std :: vec :: Vec") || owned.starts_with("::std::vec::Vec") {
+    if owned.starts_with(SLICE_AS_VEC) {
         format!("{arg}.clone_from_slice(&{decoded});")
     } else {
         format!("*{arg} = {decoded};")
@@ -240,11 +243,8 @@ fn guest_callback(index: usize, args: &[Pass], ret: &str) -> String {
 
 /// The type a reference argument borrows: `[T]` for an owned `Vec<T>` made from a slice type.
 fn borrowed(owned: &str) -> String {
-    for prefix in [":: std :: vec :: Vec <", "::std::vec::Vec<"] {
-        if let Some(inner) = owned.strip_prefix(prefix) {
-            let inner = inner.trim_end();
-            return format!("[{}]", inner.strip_suffix('>').unwrap_or(inner));
-        }
+    if let Some(inner) = owned.strip_prefix(SLICE_AS_VEC) {
+        return format!("[{}]", inner.strip_suffix('>').unwrap_or(inner));
     }
     owned.to_string()
 }
