@@ -223,7 +223,7 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
             let other: Vec<_> = lib.difference(&needed).collect();
             assert!(
                 other.is_empty(),
-                "`cargo build --lib -p {name}` (the grader's build of the student's code) builds these with other features than `cargo test -p {name}`, which would then compile the student's code again: {other:?}; ask for the features in raylab-types' manifest"
+                "`cargo build --lib -p {name}` (a student's build of the lab alone) builds these with other features than `cargo test -p {name}`, which would then compile the student's code again: {other:?}; ask for the features in raylab-types' manifest"
             );
             let lib_run_time = run_time_units("normal", &["-p", &name]);
             let lab_run_time = run_time_units("normal,dev", &["-p", &name]);
