@@ -36,8 +36,15 @@ fn compile(name: &str, lab: &str, lib_rs: &str) -> PathBuf {
     .unwrap();
     std::fs::write(student.join("src/lib.rs"), lib_rs).unwrap();
     let guest = dir.join("guest");
-    grading::graded::write_guest_crate(&guest, lab, &student, &root.join("framework"), true)
-        .unwrap();
+    grading::graded::write_guest_crate(
+        &guest,
+        lab,
+        "test",
+        &student,
+        &root.join("framework"),
+        true,
+    )
+    .unwrap();
     std::fs::copy(root.join("Cargo.lock"), guest.join("Cargo.lock")).unwrap();
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
@@ -62,9 +69,9 @@ fn compile(name: &str, lab: &str, lib_rs: &str) -> PathBuf {
          `rustup target add wasm32-unknown-unknown`):\n{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    scratch.join(format!(
-        "target/wasm32-unknown-unknown/release/{lab}_guest.wasm"
-    ))
+    scratch
+        .join("target/wasm32-unknown-unknown/release")
+        .join(grading::graded::module_file(lab, "test"))
 }
 
 /// The answer key of `lab` as a student's `src/lib.rs`.

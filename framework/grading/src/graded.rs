@@ -75,21 +75,36 @@ fn manifest(package: &str, lib_or_bin: &str, dependencies: &[(&str, &Path)]) -> 
     text
 }
 
-/// Writes the guest crate of lab `lab` (e.g. "lab03") into `dir`: a `cdylib` named
+/// The file name of lab `lab`'s module built by a guest crate of [`write_guest_crate`] with
+/// `tag` (in `wasm32-unknown-unknown/<profile>/` of the target directory).
+pub fn module_file(lab: &str, tag: &str) -> String {
+    format!("{lab}_guest_{tag}.wasm")
+}
+
+/// The name of lab `lab`'s graded program written by [`write_graded_crate`] with `tag`.
+pub fn program_name(lab: &str, tag: &str) -> String {
+    format!("{lab}-graded-{tag}")
+}
+
+/// Writes the guest crate of lab `lab` (e.g. "lab03") into `dir`: a `cdylib` package
 /// `{lab}-guest` that depends on the lab crate at `lab_dir` and on `contracts` and
 /// `raylab-guest` in `framework`. Built for `wasm32-unknown-unknown`, it is
-/// `{lab}_guest.wasm`. With `standalone`, the crate is a workspace of its own, with the
-/// package fields written out.
+/// [`module_file`]`(lab, tag)`: cargo puts the builds of every tree that shares a target
+/// directory at one place, so each grading names its own by a `tag` of its own. With
+/// `standalone`, the crate is a workspace of its own, with the package fields written out.
 pub fn write_guest_crate(
     dir: &Path,
     lab: &str,
+    tag: &str,
     lab_dir: &Path,
     framework: &Path,
     standalone: bool,
 ) -> io::Result<()> {
+    let module = module_file(lab, tag);
+    let library = module.trim_end_matches(".wasm");
     let mut text = manifest(
         &format!("{lab}-guest"),
-        "[lib]\ncrate-type = [\"cdylib\"]\npath = \"lib.rs\"\n",
+        &format!("[lib]\nname = \"{library}\"\ncrate-type = [\"cdylib\"]\npath = \"lib.rs\"\n"),
         &[
             (lab, lab_dir),
             ("contracts", &framework.join("contracts")),
@@ -114,18 +129,22 @@ pub fn write_guest_crate(
 }
 
 /// Writes the graded program of lab `lab` into `dir` (`labs/labNN/graded` of a tree whose
-/// framework is `framework` and whose answer key is `reference`): a binary `{lab}-graded`
-/// of one line, [`graded_program!`].
+/// framework is `framework` and whose answer key is `reference`): a package `{lab}-graded`
+/// whose binary [`program_name`]`(lab, tag)` is one line, [`graded_program!`].
 pub fn write_graded_crate(
     dir: &Path,
     lab: &str,
+    tag: &str,
     checks_dir: &Path,
     framework: &Path,
     reference: &Path,
 ) -> io::Result<()> {
     let text = manifest(
         &format!("{lab}-graded"),
-        &format!("[[bin]]\nname = \"{lab}-graded\"\npath = \"main.rs\"\n"),
+        &format!(
+            "[[bin]]\nname = \"{}\"\npath = \"main.rs\"\n",
+            program_name(lab, tag)
+        ),
         &[
             (&format!("{lab}-checks"), checks_dir),
             ("contracts", &framework.join("contracts")),

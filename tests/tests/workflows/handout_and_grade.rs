@@ -448,8 +448,8 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
     fs::rename(&bundle, autograder.join("source")).unwrap();
     copy_tree(partial, &autograder.join("submission/my-raylab"));
     // In bubblewrap, as on one machine: the builds are those of the grading above. (`--run-as`,
-    // where a container cannot start bubblewrap, builds outside it and so rebuilds every
-    // dependency; the sandbox's unit tests check what it keeps the exercise from.)
+    // where a container cannot start bubblewrap, is the hostile corpus's second run, in
+    // hostile_submissions.rs; the sandbox's unit tests check what it keeps the exercise from.)
     let output = Command::new(autograder.join("source/run_autograder"))
         .env("AUTOGRADER", &autograder)
         .env("RAYLAB", target_dir().join("debug/raylab"))

@@ -4,10 +4,12 @@
 //! the vandal) and `z-honest` (graded last) — and checks that no attack gains anything: every
 //! attack scores 0 (`output_flood` its honest 11 of 14), the honest students keep their due,
 //! the grades and the grading tree are intact, no answer key reaches a report, no process
-//! outlives the run, and each attack's report says what was done about it.
+//! outlives the run, and each attack's report says what was done about it. It does so twice:
+//! in bubblewrap, and with `--run-as` (as Gradescope grades).
 //!
 //! `RAYLAB_HOSTILE_ONLY=exit_zero,vandal` grades only those attacks (with the honest
-//! submissions). The trees are kept in `target/raylab-hostile-test/` to be looked at.
+//! submissions). The trees are kept in `target/raylab-hostile-test/` (and `…-run-as/`) to be
+//! looked at.
 
 use std::fs;
 use std::os::unix::fs::symlink;
@@ -330,9 +332,41 @@ fn run_grade(raylab: &Path, args: &[String], grades: &Path, log: &Path) -> Grade
     }
 }
 
+/// The user `--run-as` grades as: `nobody`'s number on Debian.
+const RUN_AS: &str = "65534";
+
 #[test]
 fn hostile_submissions_gain_nothing() {
-    let work = target_dir().join("raylab-hostile-test");
+    grade_hostile_submissions(None);
+}
+
+/// The same corpus graded as Gradescope grades it, where bubblewrap cannot start: builds
+/// outside any sandbox, each exercise as an unprivileged user. Only root may do that; anyone
+/// else is refused, saying so.
+#[test]
+fn hostile_submissions_gain_nothing_run_as_another_user() {
+    use std::os::unix::fs::MetadataExt;
+    if fs::metadata("/proc/self").unwrap().uid() != 0 {
+        let (ok, out) = cargo(&[
+            "run", "--quiet", "-p", "raylab", "--", "grade", ".", "--run-as", RUN_AS,
+        ]);
+        assert!(
+            !ok && out.contains("needs the grader to run as root"),
+            "{out}"
+        );
+        return;
+    }
+    grade_hostile_submissions(Some(RUN_AS));
+}
+
+/// Grades the corpus in one run, in bubblewrap or `--run-as` the user `run_as`, and checks
+/// that no attack gains anything.
+fn grade_hostile_submissions(run_as: Option<&str>) {
+    let name = match run_as {
+        None => "raylab-hostile-test",
+        Some(_) => "raylab-hostile-test-run-as",
+    };
+    let work = target_dir().join(name);
     fs::create_dir_all(&work).unwrap();
     let work = fs::canonicalize(&work).unwrap();
     let handout = work.join("handout");
@@ -442,6 +476,9 @@ fn hostile_submissions_gain_nothing() {
         "--target-dir".into(),
         target.to_string_lossy().into_owned(),
     ]);
+    if let Some(user) = run_as {
+        args.extend(["--run-as".into(), user.into()]);
+    }
     let log = work.join("grade-output.txt");
     let run = run_grade(&raylab, &args, &grades, &log);
     // The vandal's leftovers would strike within these seconds.

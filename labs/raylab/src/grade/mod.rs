@@ -315,6 +315,11 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     }
     let grading = args.out.join(".grading");
     let handout = grading.join("handout");
+    fs::create_dir_all(&grading).map_err(io(&grading))?;
+    let place = fs::canonicalize(&grading).map_err(io(&grading))?;
+    // One tag per grading directory: its builds never mix with those of the repository, a
+    // handout, or another class's grading in a shared target directory.
+    let tag = format!("{:08x}", fnv1a(&place.to_string_lossy()));
     let workspace = Workspace {
         tree: grading.join("tree"),
         // Absolute: cargo runs in the grading tree, the grader where it was started.
@@ -325,6 +330,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         )
         .map_err(io(&grading))?,
         runs: grading.join("runs"),
+        tag: tag.clone(),
         sandbox,
         build_timeout: Duration::from_secs(args.build_timeout),
     };
@@ -334,8 +340,6 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         }
     }
     let released: BTreeSet<LabId> = args.release_solutions.iter().copied().collect();
-    fs::create_dir_all(&grading).map_err(io(&grading))?;
-    let place = fs::canonicalize(&grading).map_err(io(&grading))?;
     let framework_tag = format!(
         "framework.{}",
         Manifest::of(&repository_root().join("framework"))?.digest()
@@ -343,9 +347,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     let options = |grading| TreeOptions {
         released: released.clone(),
         answer_key: grading,
-        // One tag per grading directory: its builds never mix with those of the repository, a
-        // handout, or another class's grading in a shared target directory.
-        version_tag: grading.then(|| format!("grading.{:08x}", fnv1a(&place.to_string_lossy()))),
+        version_tag: grading.then(|| format!("grading.{tag}")),
         // The framework by its content: gradings from the same framework share its build.
         framework_tag: grading.then(|| framework_tag.clone()),
     };

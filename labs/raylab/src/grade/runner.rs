@@ -27,6 +27,9 @@ pub struct Workspace {
     pub target: PathBuf,
     /// Where each exercise runs, in an empty directory of its own.
     pub runs: PathBuf,
+    /// What the grading's builds are named by (`grading::graded`): unique to its directory, so
+    /// that gradings sharing a target directory never take each other's programs or modules.
+    pub tag: String,
     /// The sandbox builds and exercises run in.
     pub sandbox: Sandbox,
     /// How long one `cargo` invocation may take.
@@ -81,12 +84,15 @@ impl Workspace {
                 continue;
             }
             let guest = lab_dir.join("guest");
-            grading::graded::write_guest_crate(&guest, &name, &lab_dir, &framework, false)
-                .map_err(io(&guest))?;
+            grading::graded::write_guest_crate(
+                &guest, &name, &self.tag, &lab_dir, &framework, false,
+            )
+            .map_err(io(&guest))?;
             let graded = lab_dir.join("graded");
             grading::graded::write_graded_crate(
                 &graded,
                 &name,
+                &self.tag,
                 &lab_dir.join("checks"),
                 &framework,
                 &self.tree.join("reference"),
@@ -164,7 +170,7 @@ impl Workspace {
                 .target
                 .join(WASM_TARGET)
                 .join("debug")
-                .join(format!("{lab}_guest.wasm"));
+                .join(grading::graded::module_file(&format!("{lab}"), &self.tag));
             crate::handout::copy_file(&module, to)?;
         }
         Ok(built)
@@ -203,7 +209,8 @@ impl Workspace {
             ) else {
                 continue;
             };
-            if let Some(&lab) = labs.iter().find(|l| target == format!("{l}-graded")) {
+            let program = |l: &LabId| grading::graded::program_name(&format!("{l}"), &self.tag);
+            if let Some(&lab) = labs.iter().find(|l| target == program(l)) {
                 executables.insert(lab, PathBuf::from(executable));
             }
         }
@@ -782,6 +789,7 @@ mod tests {
         let workspace = Workspace {
             target: tree.join("target"),
             runs: tree.join("runs"),
+            tag: "test".into(),
             sandbox: Sandbox::new(false, None, limits).expect("bubblewrap is installed"),
             build_timeout: Duration::from_secs(300),
             tree: tree.clone(),

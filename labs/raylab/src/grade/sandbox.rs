@@ -244,7 +244,7 @@ impl Sandbox {
         );
         if let Some(user) = &self.run_as {
             return format!(
-                "run as the unprivileged user {} (uid {}; not in bubblewrap, which this machine cannot start): could not write the grader's files nor read the answer key's source; {limits}",
+                "run as the unprivileged user {} (uid {}; `--run-as`, not in bubblewrap): could not write the grader's files nor read the answer key's source; {limits}",
                 user.name, user.uid
             );
         }
@@ -271,12 +271,18 @@ impl Sandbox {
                 None,
                 false,
             );
+            // The environment a build in bubblewrap has, and nothing of the grader's
+            // (`RUSTFLAGS`, a compiler wrapper, …): the builds then share one target
+            // directory's units whichever way they run.
             command
                 .args(args)
                 .current_dir(tree)
-                .env("CARGO_TARGET_DIR", target)
-                .env("CARGO_TERM_COLOR", "never")
+                .env_clear()
                 .env("PATH", path)
+                .env("CARGO_HOME", &self.cargo_home)
+                .env("CARGO_TARGET_DIR", target)
+                .env("HOME", "/tmp")
+                .env("CARGO_TERM_COLOR", "never")
                 .stdin(Stdio::null());
             return command;
         };
