@@ -84,6 +84,66 @@ pub fn chi_square_pooled(
     })
 }
 
+/// The two-sample χ² test of two histograms over the same cells (Press et al., *Numerical
+/// Recipes*, §14.3): whether `a` and `b` are drawn from one distribution, whatever their totals.
+/// For a sampler whose density has no closed form, `b` is the answer key's histogram with
+/// many more samples. Cells below `min_count` samples of both together are pooled; cells empty
+/// in both take no part.
+pub fn chi_square_two_sample(
+    a: &[u64],
+    b: &[u64],
+    min_count: u64,
+) -> Result<ChiSquareOutcome, String> {
+    assert_eq!(a.len(), b.len(), "two histograms over the same cells");
+    let (n, m) = (a.iter().sum::<u64>() as f64, b.iter().sum::<u64>() as f64);
+    if n == 0.0 || m == 0.0 {
+        return Err("a histogram without samples".into());
+    }
+    let (ka, kb) = ((m / n).sqrt(), (n / m).sqrt());
+    let term = |x: f64, y: f64| {
+        let d = ka * x - kb * y;
+        d * d / (x + y)
+    };
+    let (mut statistic, mut cells, mut pooled_cells) = (0.0, 0u32, 0usize);
+    let (mut pool_a, mut pool_b, mut in_pool) = (0.0, 0.0, 0usize);
+    for (&x, &y) in a.iter().zip(b) {
+        if x + y == 0 {
+            continue;
+        }
+        if x + y < min_count {
+            pool_a += x as f64;
+            pool_b += y as f64;
+            in_pool += 1;
+            if pool_a + pool_b >= min_count as f64 {
+                statistic += term(pool_a, pool_b);
+                cells += 1;
+                pooled_cells += in_pool - 1;
+                (pool_a, pool_b, in_pool) = (0.0, 0.0, 0);
+            }
+        } else {
+            statistic += term(x as f64, y as f64);
+            cells += 1;
+        }
+    }
+    if in_pool > 0 {
+        statistic += term(pool_a, pool_b);
+        cells += 1;
+        pooled_cells += in_pool - 1;
+    }
+    if cells < 2 {
+        return Err(format!(
+            "only {cells} cell(s) with samples: too few for a χ² test"
+        ));
+    }
+    let degrees_of_freedom = cells - 1;
+    Ok(ChiSquareOutcome {
+        statistic,
+        degrees_of_freedom,
+        p_value: chi_square_p_value(statistic, degrees_of_freedom),
+        pooled_cells,
+    })
+}
+
 /// A grid over the sphere of directions, equal steps in `cos θ = z` and in `φ = atan2(y, x)`
 /// (so every cell has the same solid angle), for χ² tests of direction samplers in a local
 /// frame (`z` the normal).
@@ -197,6 +257,30 @@ mod tests {
         assert!(o.statistic.abs() < 1e-12 && (o.p_value - 1.0).abs() < 1e-12);
         assert!(chi_square_pooled(&[3, 1], &[4.0, 0.0], 5.0).is_err());
         assert!(chi_square_pooled(&[3], &[3.0], 5.0).is_err());
+    }
+
+    #[test]
+    fn two_samples_of_one_distribution_pass_and_of_two_fail() {
+        // Proportional histograms of different totals agree exactly.
+        let o = chi_square_two_sample(&[100, 200, 300], &[1000, 2000, 3000], 5).unwrap();
+        assert!(o.statistic.abs() < 1e-12 && o.degrees_of_freedom == 2);
+        // Two draws from one distribution pass; a shifted one fails.
+        let mut rng = raylab_core::sampling::Rng::new(3, 4);
+        let mut histogram = |shift: f32, n: usize| {
+            let mut h = vec![0u64; 10];
+            for _ in 0..n {
+                let x = (rng.next_f32() + shift * rng.next_f32()) / (1.0 + shift);
+                h[((x * 10.0) as usize).min(9)] += 1;
+            }
+            h
+        };
+        let (a, b, c) = (
+            histogram(0.0, 5_000),
+            histogram(0.0, 50_000),
+            histogram(0.2, 5_000),
+        );
+        assert!(chi_square_two_sample(&a, &b, 5).unwrap().p_value > 1e-3);
+        assert!(chi_square_two_sample(&c, &b, 5).unwrap().p_value < 1e-6);
     }
 
     #[test]
