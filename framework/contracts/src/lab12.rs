@@ -1,0 +1,116 @@
+//! Lab 12 — path tracing: the BSDF of a diffuse and glossy surface (its value, its density and
+//! a direction drawn from it), next-event estimation from emissive triangles (a point drawn on
+//! a triangle, its density per solid angle), multiple importance sampling with the power
+//! heuristic and Russian roulette by throughput (docs/lab12.md).
+//!
+//! Directions leave the surface: `wo` points back along the path (towards the camera), `wi`
+//! towards where light comes from; both are unit vectors. The `normal` is the shading normal,
+//! unit length, on the side of `wo`.
+
+use glam::Vec3;
+
+use crate::sampling::Rng;
+
+/// A surface as the path tracer shades it: a Lambertian base under a glossy lobe about the
+/// mirror direction (the normalised Phong lobe of Lafortune and Willems), docs/lab12.md,
+/// "The material".
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PathMaterial {
+    /// Diffuse reflectance `ρ_d` (`Kd`).
+    pub diffuse: Vec3,
+    /// Glossy reflectance `ρ_s` (`Ks`).
+    pub glossy: Vec3,
+    /// The glossy lobe's exponent `n`, from the roughness `r` as `n = 2/r² − 2`.
+    pub exponent: f32,
+}
+
+/// The BSDF of a pair of directions: its value and the density with which
+/// [`PathTracing::sample_bsdf`] draws the second.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BsdfValue {
+    /// `f(wo, wi)`, per steradian, without the cosine of `wi`.
+    pub value: Vec3,
+    /// The density of `wi` per unit solid angle.
+    pub pdf: f32,
+}
+
+/// A direction drawn from the BSDF, with the BSDF's value and density there.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BsdfSample {
+    /// `wi`, unit length, above the surface.
+    pub direction: Vec3,
+    /// `f(wo, wi)`: the whole BSDF, not the lobe that drew `wi`.
+    pub value: Vec3,
+    /// The density of `wi` per unit solid angle: the mixture's, not the lobe's.
+    pub pdf: f32,
+}
+
+/// A point drawn on an emitter, seen from the shaded point.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EmitterSample {
+    /// Unit direction from the shaded point to the point on the emitter.
+    pub direction: Vec3,
+    /// The distance to it.
+    pub distance: f32,
+    /// The radiance the emitter sends back along `direction`.
+    pub radiance: Vec3,
+    /// The density of `direction` per unit solid angle.
+    pub pdf: f32,
+}
+
+/// The lab's contract: what the student's `Student` implements, and the answer key's `Lab12`.
+pub type Contract = dyn PathTracing;
+
+/// Lab 12's contract: one method per exercise.
+#[crate::contract]
+pub trait PathTracing: Send + Sync {
+    /// **Exercise 12.1** — the luminance of a linear RGB colour (docs/lab12.md, §12.1).
+    fn luminance(&self, colour: Vec3) -> f32;
+
+    /// **Exercise 12.2** — the BSDF of `material` for light arriving from `wi` and leaving
+    /// towards `wo`: its value `ρ_d/π + ρ_s (n + 2)/(2π) cos^n α` (`α` the angle between `wi`
+    /// and the mirror direction of `wo`, `cos α` clamped at 0) and the density of the
+    /// mixture [`PathTracing::sample_bsdf`] draws from. Zero value and density when `wi` or
+    /// `wo` is below the surface.
+    fn bsdf(&self, material: &PathMaterial, normal: Vec3, wo: Vec3, wi: Vec3) -> BsdfValue;
+
+    /// **Exercise 12.3** — a direction `wi` drawn from the BSDF: the glossy lobe with
+    /// probability `P_s = Σρ_s / (Σρ_d + Σρ_s)` (one `rng.next_f32()`), otherwise the
+    /// cosine-weighted hemisphere, the direction from one `rng.next_vec2()`; with the BSDF's
+    /// value and the mixture's density there. `None` when `wi` falls below the surface.
+    fn sample_bsdf(
+        &self,
+        material: &PathMaterial,
+        normal: Vec3,
+        wo: Vec3,
+        rng: &mut Rng,
+    ) -> Option<BsdfSample>;
+
+    /// **Exercise 12.4** — a point drawn uniformly on the emissive `triangle` (one
+    /// `rng.next_vec2()`), seen from `position`, and its density per unit solid angle. The
+    /// triangle emits `radiance` on the side its normal `(v1 − v0) × (v2 − v0)` faces; `None`
+    /// when `position` sees its back or it has no area.
+    fn sample_emitter(
+        &self,
+        triangle: [Vec3; 3],
+        radiance: Vec3,
+        position: Vec3,
+        rng: &mut Rng,
+    ) -> Option<EmitterSample>;
+
+    /// **Exercise 12.5** — the density per unit solid angle with which
+    /// [`PathTracing::sample_emitter`] draws the point at `distance` along the unit
+    /// `direction` from `position`, a point of `triangle` (for a ray that found it by
+    /// sampling the BSDF): 0 when `position` sees the triangle's back.
+    fn emitter_pdf(&self, triangle: [Vec3; 3], position: Vec3, direction: Vec3, distance: f32)
+    -> f32;
+
+    /// **Exercise 12.6** — the power heuristic's weight (β = 2) of a sample drawn with density
+    /// `pdf` by one strategy, when another, one sample too, would draw it with `other_pdf`.
+    fn power_heuristic(&self, pdf: f32, other_pdf: f32) -> f32;
+
+    /// **Exercise 12.7** — Russian roulette by throughput: the path goes on with probability
+    /// `q = min(1, max(throughput))` (one `rng.next_f32()`), and then its throughput is divided
+    /// by `q`: `Some(1/q)`; `None` when it ends.
+    fn roulette(&self, throughput: Vec3, rng: &mut Rng) -> Option<f32>;
+}

@@ -1,0 +1,111 @@
+//! # Lab 12 — Path tracing
+//!
+//! Read `docs/lab12.md` first. Then fill in the functions below in order and run
+//!
+//! ```text
+//! cargo test -p lab12                 # all exercises
+//! cargo test -p lab12 exercise_12_3   # one exercise
+//! raylab report --lab 12 --pipeline student
+//! ```
+//!
+//! `wo` points back along the path, `wi` towards the light; both are unit vectors, and
+//! `normal` is the unit shading normal on the side of `wo`.
+
+// The parameters of the stubs below are unused until you fill them in.
+#![allow(unused_variables)]
+
+use contracts::glam::Vec3;
+use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathTracing};
+use contracts::sampling::Rng;
+
+/// Your code of lab 12. The framework calls it through the `PathTracing` trait.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Student;
+
+impl PathTracing for Student {
+    /// **Exercise 12.1** — the luminance of a linear RGB colour (docs/lab12.md, §12.1).
+    ///
+    /// ```text
+    /// Y = 0.2126 R + 0.7152 G + 0.0722 B
+    /// ```
+    fn luminance(&self, colour: Vec3) -> f32 {
+        todo!("Exercise 12.1: luminance (docs/lab12.md, Exercise 12.1)")
+    }
+
+    /// **Exercise 12.2** — the BSDF's value and density for the pair `wo`, `wi`
+    /// (docs/lab12.md, §12.2):
+    ///
+    /// ```text
+    /// f   = ρ_d/π + ρ_s (n + 2)/(2π) cos^n α          r = 2 (n·wo) n − wo, cos α = max(0, r·wi)
+    /// pdf = (1 − P_s) cos θ_i/π + P_s (n + 1)/(2π) cos^n α      P_s = Σρ_s / (Σρ_d + Σρ_s)
+    /// ```
+    ///
+    /// Both are zero when `wi` or `wo` is below the surface.
+    fn bsdf(&self, material: &PathMaterial, normal: Vec3, wo: Vec3, wi: Vec3) -> BsdfValue {
+        todo!("Exercise 12.2: bsdf (docs/lab12.md, Exercise 12.2)")
+    }
+
+    /// **Exercise 12.3** — a direction drawn from the BSDF (docs/lab12.md, §12.3): choose the
+    /// glossy lobe with probability `P_s` from one `rng.next_f32()`, then draw the direction
+    /// from one `rng.next_vec2()` — about the mirror direction with `cos α = ξ₁^(1/(n+1))`, or
+    /// cosine-weighted about the normal. Return the whole BSDF's value and the mixture's
+    /// density at the direction drawn; `None` when it is below the surface.
+    fn sample_bsdf(
+        &self,
+        material: &PathMaterial,
+        normal: Vec3,
+        wo: Vec3,
+        rng: &mut Rng,
+    ) -> Option<BsdfSample> {
+        todo!("Exercise 12.3: sample_bsdf (docs/lab12.md, Exercise 12.3)")
+    }
+
+    /// **Exercise 12.4** — a uniform point on the emitting `triangle` from one
+    /// `rng.next_vec2()`, as a direction and distance from `position`, with the emitted
+    /// `radiance` and the density per unit solid angle (docs/lab12.md, §12.4):
+    ///
+    /// ```text
+    /// pdf_ω = d² / (A cos θ_l)     θ_l between the triangle's normal and the way back to `position`
+    /// ```
+    ///
+    /// `None` when `position` sees the triangle's back or the triangle has no area.
+    fn sample_emitter(
+        &self,
+        triangle: [Vec3; 3],
+        radiance: Vec3,
+        position: Vec3,
+        rng: &mut Rng,
+    ) -> Option<EmitterSample> {
+        todo!("Exercise 12.4: sample_emitter (docs/lab12.md, Exercise 12.4)")
+    }
+
+    /// **Exercise 12.5** — the density per unit solid angle with which `sample_emitter` would
+    /// draw the point at `distance` along `direction` from `position` on `triangle`
+    /// (docs/lab12.md, §12.5); 0 from the triangle's back.
+    fn emitter_pdf(
+        &self,
+        triangle: [Vec3; 3],
+        position: Vec3,
+        direction: Vec3,
+        distance: f32,
+    ) -> f32 {
+        todo!("Exercise 12.5: emitter_pdf (docs/lab12.md, Exercise 12.5)")
+    }
+
+    /// **Exercise 12.6** — the power heuristic's weight of a sample drawn with density `pdf`,
+    /// against a strategy that draws it with `other_pdf` (docs/lab12.md, §12.6):
+    ///
+    /// ```text
+    /// w = pdf² / (pdf² + other_pdf²)
+    /// ```
+    fn power_heuristic(&self, pdf: f32, other_pdf: f32) -> f32 {
+        todo!("Exercise 12.6: power_heuristic (docs/lab12.md, Exercise 12.6)")
+    }
+
+    /// **Exercise 12.7** — Russian roulette (docs/lab12.md, §12.7): go on with probability
+    /// `q = min(1, max(throughput))`, drawn with one `rng.next_f32()`, and return `Some(1/q)`,
+    /// the factor that keeps the estimate unbiased; `None` when the path ends.
+    fn roulette(&self, throughput: Vec3, rng: &mut Rng) -> Option<f32> {
+        todo!("Exercise 12.7: roulette (docs/lab12.md, Exercise 12.7)")
+    }
+}

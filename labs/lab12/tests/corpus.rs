@@ -1,0 +1,719 @@
+//! Lab 12's mutant corpus: realistic wrong implementations, each with the exercise that must
+//! reject it, and alternative correct ones every exercise must accept; each variant changes one
+//! function of the answer key. The tests at the end run it through the lab's checks with and
+//! without the key, and check the reference passes and the stubs fail cleanly. This file is the
+//! instructors' (a handout leaves it out).
+
+use std::f32::consts::{FRAC_1_PI, TAU};
+
+use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathTracing};
+use grading::corpus::Verdict;
+use raylab_core::glam::Vec3;
+use raylab_core::math::Onb;
+use raylab_core::sampling::Rng;
+use reference::lab12::Lab12 as Reference;
+
+/// What a variant changes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Change {
+    MeanOfChannels,
+    Bt601,
+    RedBlueSwapped,
+    DotWithWeights,
+    DiffuseWithoutPi,
+    LobeNormalisedLikePdf,
+    LobeNotClamped,
+    ValueWithCosine,
+    PdfNormalisedLikeValue,
+    PdfByLuminance,
+    MirrorSignWrong,
+    NotZeroBelow,
+    ZeroToTheZero,
+    MirrorByReflect,
+    InDoublePrecision,
+    PdfOfChosenLobe,
+    ValueOfChosenLobe,
+    UniformForCosine,
+    ExponentWithoutOne,
+    LobeAboutNormal,
+    OneNumberForBoth,
+    BelowKept,
+    FreshGenerator,
+    CosineBySqrt,
+    AzimuthFirst,
+    GlossyFromTop,
+    AreaDensity,
+    DistanceNotSquared,
+    NoEmitterCosine,
+    CrossAsArea,
+    NoSquareRoot,
+    TwoSided,
+    FoldedSquare,
+    PdfAreaDensity,
+    PdfDistanceNotSquared,
+    PdfTwoSided,
+    PdfCrossAsArea,
+    PdfInDouble,
+    Balance,
+    NaiveWithoutGuard,
+    OtherStrategysWeight,
+    NaiveWithGuard,
+    NoDivision,
+    MeanChannel,
+    ByLuminance,
+    SurviveAbove,
+    DividedByComplement,
+    NeverAdvances,
+    DrawOnlyWhenNeeded,
+}
+
+use Change::*;
+
+/// A lab 12 variant: the reference with one function changed.
+#[derive(Clone, Copy, Debug)]
+pub struct Variant {
+    /// What the variant does.
+    pub name: &'static str,
+    /// Mistake or alternative.
+    pub verdict: Verdict,
+    change: Change,
+}
+
+/// Every variant of lab 12.
+pub fn variants() -> Vec<Variant> {
+    let v = |name, verdict, change| Variant {
+        name,
+        verdict,
+        change,
+    };
+    let r = Verdict::Reject;
+    let ok = Verdict::Accept;
+    vec![
+        v("the mean of the channels", r("12.1"), MeanOfChannels),
+        v("BT.601 weights", r("12.1"), Bt601),
+        v("red and blue weights swapped", r("12.1"), RedBlueSwapped),
+        v("a dot product with the weights", ok, DotWithWeights),
+        v("ρ_d without 1/π", r("12.2"), DiffuseWithoutPi),
+        v(
+            "the lobe's value normalised by (n + 1)/(2π)",
+            r("12.2"),
+            LobeNormalisedLikePdf,
+        ),
+        v("cos α not clamped at 0", r("12.2"), LobeNotClamped),
+        v("the value times cos θ_i", r("12.2"), ValueWithCosine),
+        v(
+            "the lobe's density normalised by (n + 2)/(2π)",
+            r("12.2"),
+            PdfNormalisedLikeValue,
+        ),
+        v(
+            "P_s by luminance, not channel sums",
+            r("12.2"),
+            PdfByLuminance,
+        ),
+        v(
+            "the mirror direction wo − 2(n·wo)n",
+            r("12.2"),
+            MirrorSignWrong,
+        ),
+        v("not zero below the surface", r("12.2"), NotZeroBelow),
+        v(
+            "max(0, cos α)^n: 0⁰ = 1 behind the lobe at n = 0",
+            r("12.2"),
+            ZeroToTheZero,
+        ),
+        v(
+            "the mirror direction by glam's reflect",
+            ok,
+            MirrorByReflect,
+        ),
+        v("in double precision", ok, InDoublePrecision),
+        v(
+            "the density of the lobe drawn, not the mixture's",
+            r("12.3"),
+            PdfOfChosenLobe,
+        ),
+        v(
+            "the value of the lobe drawn, not the whole BSDF",
+            r("12.3"),
+            ValueOfChosenLobe,
+        ),
+        v(
+            "cos θ = ξ₁: uniform directions called cosine-weighted",
+            r("12.3"),
+            UniformForCosine,
+        ),
+        v("cos α = ξ₁^(1/n)", r("12.3"), ExponentWithoutOne),
+        v(
+            "the glossy lobe about the normal",
+            r("12.3"),
+            LobeAboutNormal,
+        ),
+        v(
+            "one number chooses the lobe and draws cos",
+            r("12.3"),
+            OneNumberForBoth,
+        ),
+        v("directions below the surface kept", r("12.3"), BelowKept),
+        v("a new generator every call", r("12.3"), FreshGenerator),
+        v("cos θ = √ξ₁ (ξ₁ for 1 − ξ₁)", ok, CosineBySqrt),
+        v("the azimuth from ξ₁, the cosine from ξ₂", ok, AzimuthFirst),
+        v("the glossy lobe when ξ ≥ 1 − P_s", ok, GlossyFromTop),
+        v("the density per unit area 1/A", r("12.4"), AreaDensity),
+        v(
+            "d/(A cos θ_l): the distance not squared",
+            r("12.4"),
+            DistanceNotSquared,
+        ),
+        v(
+            "d²/A without the cosine at the emitter",
+            r("12.4"),
+            NoEmitterCosine,
+        ),
+        v("|e₁ × e₂| as the area", r("12.4"), CrossAsArea),
+        v(
+            "β = ξ₁(1 − ξ₂), no square root: points crowd a vertex",
+            r("12.4"),
+            NoSquareRoot,
+        ),
+        v("two-sided: seen from behind too", r("12.4"), TwoSided),
+        v("the unit square folded onto the triangle", ok, FoldedSquare),
+        v("the density per unit area 1/A", r("12.5"), PdfAreaDensity),
+        v("the distance not squared", r("12.5"), PdfDistanceNotSquared),
+        v("two-sided: |cos θ_l|", r("12.5"), PdfTwoSided),
+        v("|e₁ × e₂| as the area", r("12.5"), PdfCrossAsArea),
+        v("in double precision", ok, PdfInDouble),
+        v(
+            "the balance heuristic pdf/(pdf + other)",
+            r("12.6"),
+            Balance,
+        ),
+        v(
+            "pdf²/(pdf² + other²): NaN at 0/0",
+            r("12.6"),
+            NaiveWithoutGuard,
+        ),
+        v(
+            "the other strategy's weight",
+            r("12.6"),
+            OtherStrategysWeight,
+        ),
+        v("pdf²/(pdf² + other²) with a zero guard", ok, NaiveWithGuard),
+        v("no division by q", r("12.7"), NoDivision),
+        v("q by the mean of the channels", r("12.7"), MeanChannel),
+        v("q by luminance", r("12.7"), ByLuminance),
+        v("going on when ξ ≥ q", r("12.7"), SurviveAbove),
+        v("divided by 1 − q", r("12.7"), DividedByComplement),
+        v("the same number every call", r("12.7"), NeverAdvances),
+        v("no number drawn when q = 1", ok, DrawOnlyWhenNeeded),
+    ]
+}
+
+/// The key's glossy-lobe probability.
+fn glossy_probability(m: &PathMaterial) -> f32 {
+    let (d, s) = (m.diffuse.element_sum(), m.glossy.element_sum());
+    if s > 0.0 { s / (d + s) } else { 0.0 }
+}
+
+fn mirror(normal: Vec3, wo: Vec3) -> Vec3 {
+    2.0 * normal.dot(wo) * normal - wo
+}
+
+fn about(axis: Vec3, cos: f32, phi: f32) -> Vec3 {
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    Onb::from_w(axis)
+        .to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos))
+        .normalize()
+}
+
+/// The parts of the key's BSDF a variant replaces: the mirror direction, the lobe `lobe(r·wi,
+/// n)`, the value's and the density's factors of the lobe, and the glossy probability.
+#[derive(Clone, Copy)]
+struct Parts {
+    mirror_of: fn(Vec3, Vec3) -> Vec3,
+    lobe: fn(f32, f32) -> f32,
+    value_k: fn(f32) -> f32,
+    pdf_k: fn(f32) -> f32,
+    p: f32,
+}
+
+/// The key's BSDF made of `parts`.
+fn bsdf_with(m: &PathMaterial, normal: Vec3, wo: Vec3, wi: Vec3, parts: Parts) -> BsdfValue {
+    let n = m.exponent;
+    let l = (parts.lobe)((parts.mirror_of)(normal, wo).dot(wi), n);
+    let cos_i = normal.dot(wi);
+    BsdfValue {
+        value: m.diffuse * FRAC_1_PI + m.glossy * ((parts.value_k)(n) * l),
+        pdf: (1.0 - parts.p) * cos_i.max(0.0) * FRAC_1_PI + parts.p * (parts.pdf_k)(n) * l,
+    }
+}
+
+fn clamped_lobe(cos: f32, n: f32) -> f32 {
+    if cos > 0.0 { cos.min(1.0).powf(n) } else { 0.0 }
+}
+
+fn value_factor(n: f32) -> f32 {
+    (n + 2.0) / TAU
+}
+
+fn pdf_factor(n: f32) -> f32 {
+    (n + 1.0) / TAU
+}
+
+/// The key's sampler with the direction drawn by `draw(choice, u, glossy?)`.
+fn sample_with(
+    m: &PathMaterial,
+    normal: Vec3,
+    wo: Vec3,
+    rng: &mut Rng,
+    draw: impl Fn(f32, Vec3, f32, &PathMaterial) -> Vec3,
+) -> Option<BsdfSample> {
+    let choice = rng.next_f32();
+    let u = rng.next_vec2();
+    let wi = draw(choice, Vec3::new(u.x, u.y, 0.0), glossy_probability(m), m);
+    if normal.dot(wi) <= 0.0 || normal.dot(wo) <= 0.0 {
+        return None;
+    }
+    let b = Reference.bsdf(m, normal, wo, wi);
+    Some(BsdfSample {
+        direction: wi,
+        value: b.value,
+        pdf: b.pdf,
+    })
+}
+
+fn emitter_pdf_with(
+    triangle: [Vec3; 3],
+    direction: Vec3,
+    distance: f32,
+    area: fn(f32) -> f32,
+    density: fn(f32, f32, f32) -> f32,
+) -> f32 {
+    let [a, b, c] = triangle;
+    let cross = (b - a).cross(c - a);
+    let double_area = cross.length();
+    let cos = -cross.dot(direction) / double_area;
+    if double_area > 0.0 && cos > 0.0 {
+        density(distance, area(double_area), cos)
+    } else {
+        0.0
+    }
+}
+
+impl PathTracing for Variant {
+    fn luminance(&self, c: Vec3) -> f32 {
+        match self.change {
+            MeanOfChannels => (c.x + c.y + c.z) / 3.0,
+            Bt601 => 0.299 * c.x + 0.587 * c.y + 0.114 * c.z,
+            RedBlueSwapped => 0.0722 * c.x + 0.7152 * c.y + 0.2126 * c.z,
+            DotWithWeights => c.dot(Vec3::new(0.2126, 0.7152, 0.0722)),
+            _ => Reference.luminance(c),
+        }
+    }
+
+    fn bsdf(&self, m: &PathMaterial, normal: Vec3, wo: Vec3, wi: Vec3) -> BsdfValue {
+        let zero = BsdfValue {
+            value: Vec3::ZERO,
+            pdf: 0.0,
+        };
+        let below = normal.dot(wo) <= 0.0 || normal.dot(wi) <= 0.0;
+        let p = glossy_probability(m);
+        let key = Parts {
+            mirror_of: mirror,
+            lobe: clamped_lobe,
+            value_k: value_factor,
+            pdf_k: pdf_factor,
+            p,
+        };
+        let with = |parts: Parts| bsdf_with(m, normal, wo, wi, parts);
+        match self.change {
+            DiffuseWithoutPi if !below => {
+                let b = Reference.bsdf(m, normal, wo, wi);
+                BsdfValue {
+                    value: b.value + m.diffuse * (1.0 - FRAC_1_PI),
+                    ..b
+                }
+            }
+            LobeNormalisedLikePdf if !below => with(Parts {
+                value_k: pdf_factor,
+                ..key
+            }),
+            LobeNotClamped if !below => with(Parts {
+                lobe: |c, n| c.powf(n),
+                ..key
+            }),
+            ValueWithCosine if !below => {
+                let b = Reference.bsdf(m, normal, wo, wi);
+                BsdfValue {
+                    value: b.value * normal.dot(wi),
+                    ..b
+                }
+            }
+            PdfNormalisedLikeValue if !below => with(Parts {
+                pdf_k: value_factor,
+                ..key
+            }),
+            PdfByLuminance if !below => {
+                let (d, s) = (
+                    Reference.luminance(m.diffuse),
+                    Reference.luminance(m.glossy),
+                );
+                let p = if s > 0.0 { s / (d + s) } else { 0.0 };
+                with(Parts { p, ..key })
+            }
+            MirrorSignWrong if !below => with(Parts {
+                mirror_of: |n, wo| wo - 2.0 * n.dot(wo) * n,
+                ..key
+            }),
+            NotZeroBelow => with(key),
+            ZeroToTheZero if !below => with(Parts {
+                lobe: |c, n| c.max(0.0).powf(n),
+                ..key
+            }),
+            MirrorByReflect if !below => with(Parts {
+                mirror_of: |n, wo| (-wo).reflect(n),
+                ..key
+            }),
+            InDoublePrecision if !below => {
+                let (n, r) = (f64::from(m.exponent), mirror(normal, wo).as_dvec3());
+                let cos = r.dot(wi.as_dvec3());
+                let lobe = if cos > 0.0 { cos.min(1.0).powf(n) } else { 0.0 };
+                let tau = std::f64::consts::TAU;
+                let p = f64::from(p);
+                BsdfValue {
+                    value: (m.diffuse.as_dvec3() / std::f64::consts::PI
+                        + m.glossy.as_dvec3() * ((n + 2.0) / tau * lobe))
+                        .as_vec3(),
+                    pdf: ((1.0 - p) * f64::from(normal.dot(wi)) / std::f64::consts::PI
+                        + p * (n + 1.0) / tau * lobe) as f32,
+                }
+            }
+            InDoublePrecision
+            | MirrorByReflect
+            | DiffuseWithoutPi
+            | LobeNormalisedLikePdf
+            | LobeNotClamped
+            | ValueWithCosine
+            | PdfNormalisedLikeValue
+            | PdfByLuminance
+            | MirrorSignWrong
+            | ZeroToTheZero => zero,
+            _ => Reference.bsdf(m, normal, wo, wi),
+        }
+    }
+
+    fn sample_bsdf(
+        &self,
+        m: &PathMaterial,
+        normal: Vec3,
+        wo: Vec3,
+        rng: &mut Rng,
+    ) -> Option<BsdfSample> {
+        let glossy = |u: Vec3, m: &PathMaterial| {
+            about(
+                mirror(normal, wo),
+                u.x.powf(1.0 / (m.exponent + 1.0)),
+                TAU * u.y,
+            )
+        };
+        let diffuse = |u: Vec3| about(normal, (1.0 - u.x).max(0.0).sqrt(), TAU * u.y);
+        match self.change {
+            PdfOfChosenLobe | ValueOfChosenLobe => {
+                let choice = rng.next_f32();
+                let u = rng.next_vec2();
+                let u = Vec3::new(u.x, u.y, 0.0);
+                let is_glossy = choice < glossy_probability(m);
+                let wi = if is_glossy { glossy(u, m) } else { diffuse(u) };
+                if normal.dot(wi) <= 0.0 || normal.dot(wo) <= 0.0 {
+                    return None;
+                }
+                let b = Reference.bsdf(m, normal, wo, wi);
+                let lobe = clamped_lobe(mirror(normal, wo).dot(wi), m.exponent);
+                let (lobe_value, lobe_pdf) = if is_glossy {
+                    (
+                        m.glossy * value_factor(m.exponent) * lobe,
+                        pdf_factor(m.exponent) * lobe,
+                    )
+                } else {
+                    (m.diffuse * FRAC_1_PI, normal.dot(wi) * FRAC_1_PI)
+                };
+                Some(if self.change == PdfOfChosenLobe {
+                    BsdfSample {
+                        direction: wi,
+                        value: b.value,
+                        pdf: lobe_pdf,
+                    }
+                } else {
+                    BsdfSample {
+                        direction: wi,
+                        value: lobe_value,
+                        pdf: b.pdf,
+                    }
+                })
+            }
+            UniformForCosine => sample_with(m, normal, wo, rng, |c, u, p, m| {
+                if c < p {
+                    glossy(u, m)
+                } else {
+                    about(normal, u.x, TAU * u.y)
+                }
+            }),
+            ExponentWithoutOne => sample_with(m, normal, wo, rng, |c, u, p, m| {
+                if c < p {
+                    about(
+                        mirror(normal, wo),
+                        u.x.powf(1.0 / m.exponent.max(1e-3)),
+                        TAU * u.y,
+                    )
+                } else {
+                    diffuse(u)
+                }
+            }),
+            LobeAboutNormal => sample_with(m, normal, wo, rng, |c, u, p, m| {
+                if c < p {
+                    about(normal, u.x.powf(1.0 / (m.exponent + 1.0)), TAU * u.y)
+                } else {
+                    diffuse(u)
+                }
+            }),
+            OneNumberForBoth => {
+                let u = rng.next_vec2();
+                let p = glossy_probability(m);
+                let u3 = Vec3::new(u.x, u.y, 0.0);
+                let wi = if u.x < p { glossy(u3, m) } else { diffuse(u3) };
+                if normal.dot(wi) <= 0.0 || normal.dot(wo) <= 0.0 {
+                    return None;
+                }
+                let b = Reference.bsdf(m, normal, wo, wi);
+                Some(BsdfSample {
+                    direction: wi,
+                    value: b.value,
+                    pdf: b.pdf,
+                })
+            }
+            BelowKept => {
+                let choice = rng.next_f32();
+                let u = rng.next_vec2();
+                let u = Vec3::new(u.x, u.y, 0.0);
+                let wi = if choice < glossy_probability(m) {
+                    glossy(u, m)
+                } else {
+                    diffuse(u)
+                };
+                let b = Reference.bsdf(m, normal, wo, wi);
+                Some(BsdfSample {
+                    direction: wi,
+                    value: b.value,
+                    pdf: b.pdf.max(1e-3),
+                })
+            }
+            FreshGenerator => Reference.sample_bsdf(m, normal, wo, &mut Rng::new(0, 0)),
+            CosineBySqrt => sample_with(m, normal, wo, rng, |c, u, p, m| {
+                if c < p {
+                    glossy(u, m)
+                } else {
+                    about(normal, u.x.sqrt(), TAU * u.y)
+                }
+            }),
+            AzimuthFirst => sample_with(m, normal, wo, rng, |c, u, p, m| {
+                let swapped = Vec3::new(u.y, u.x, 0.0);
+                if c < p {
+                    glossy(swapped, m)
+                } else {
+                    diffuse(swapped)
+                }
+            }),
+            GlossyFromTop => sample_with(m, normal, wo, rng, |c, u, p, m| {
+                if c >= 1.0 - p && p > 0.0 {
+                    glossy(u, m)
+                } else {
+                    diffuse(u)
+                }
+            }),
+            _ => Reference.sample_bsdf(m, normal, wo, rng),
+        }
+    }
+
+    fn sample_emitter(
+        &self,
+        triangle: [Vec3; 3],
+        radiance: Vec3,
+        position: Vec3,
+        rng: &mut Rng,
+    ) -> Option<EmitterSample> {
+        let scaled = |factor: &dyn Fn(&EmitterSample) -> f32, rng: &mut Rng| {
+            Reference
+                .sample_emitter(triangle, radiance, position, rng)
+                .map(|s| EmitterSample {
+                    pdf: s.pdf * factor(&s),
+                    ..s
+                })
+        };
+        let [a, b, c] = triangle;
+        let cross = (b - a).cross(c - a);
+        let area = 0.5 * cross.length();
+        let cos_at = |s: &EmitterSample| -cross.normalize().dot(s.direction);
+        let at_point = |beta: f32, gamma: f32, rng: &mut Rng| -> Option<EmitterSample> {
+            let _ = rng;
+            let point = a * (1.0 - beta - gamma) + b * beta + c * gamma;
+            let to = point - position;
+            let distance = to.length();
+            let direction = to / distance;
+            let pdf = Reference.emitter_pdf(triangle, position, direction, distance);
+            (pdf > 0.0).then_some(EmitterSample {
+                direction,
+                distance,
+                radiance,
+                pdf,
+            })
+        };
+        match self.change {
+            AreaDensity => scaled(&|s| 1.0 / (s.pdf * area), rng),
+            DistanceNotSquared => scaled(&|s| 1.0 / s.distance, rng),
+            NoEmitterCosine => scaled(&|s| cos_at(s), rng),
+            CrossAsArea => scaled(&|_| 0.5, rng),
+            NoSquareRoot => {
+                let u = rng.next_vec2();
+                at_point(u.x * (1.0 - u.y), u.x * u.y, rng)
+            }
+            TwoSided => {
+                let u = rng.next_vec2();
+                let s = u.x.sqrt();
+                let point = a * (1.0 - s) + b * (s * (1.0 - u.y)) + c * (s * u.y);
+                let to = point - position;
+                let distance = to.length();
+                let direction = to / distance;
+                let cos = cross.normalize().dot(direction).abs();
+                (area > 0.0).then_some(EmitterSample {
+                    direction,
+                    distance,
+                    radiance,
+                    pdf: distance * distance / (area * cos),
+                })
+            }
+            FoldedSquare => {
+                let u = rng.next_vec2();
+                let (beta, gamma) = if u.x + u.y > 1.0 {
+                    (1.0 - u.x, 1.0 - u.y)
+                } else {
+                    (u.x, u.y)
+                };
+                at_point(beta, gamma, rng)
+            }
+            _ => Reference.sample_emitter(triangle, radiance, position, rng),
+        }
+    }
+
+    fn emitter_pdf(
+        &self,
+        triangle: [Vec3; 3],
+        position: Vec3,
+        direction: Vec3,
+        distance: f32,
+    ) -> f32 {
+        let solid_angle = |d: f32, area: f32, cos: f32| d * d / (area * cos);
+        match self.change {
+            PdfAreaDensity => emitter_pdf_with(
+                triangle,
+                direction,
+                distance,
+                |x| 0.5 * x,
+                |_, area, _| 1.0 / area,
+            ),
+            PdfDistanceNotSquared => emitter_pdf_with(
+                triangle,
+                direction,
+                distance,
+                |x| 0.5 * x,
+                |d, area, cos| d / (area * cos),
+            ),
+            PdfTwoSided => {
+                let [a, b, c] = triangle;
+                let cross = (b - a).cross(c - a);
+                let double_area = cross.length();
+                let cos = cross.dot(direction).abs() / double_area;
+                if double_area > 0.0 && cos > 0.0 {
+                    solid_angle(distance, 0.5 * double_area, cos)
+                } else {
+                    0.0
+                }
+            }
+            PdfCrossAsArea => emitter_pdf_with(
+                triangle,
+                direction,
+                distance,
+                |x| x,
+                |d, area, cos| d * d / (area * cos),
+            ),
+            PdfInDouble => {
+                let [a, b, c] = triangle.map(Vec3::as_dvec3);
+                let cross = (b - a).cross(c - a);
+                let double_area = cross.length();
+                let cos = -cross.dot(direction.as_dvec3()) / double_area;
+                let d = f64::from(distance);
+                if double_area > 0.0 && cos > 0.0 {
+                    (d * d / (0.5 * double_area * cos)) as f32
+                } else {
+                    0.0
+                }
+            }
+            _ => Reference.emitter_pdf(triangle, position, direction, distance),
+        }
+    }
+
+    fn power_heuristic(&self, pdf: f32, other: f32) -> f32 {
+        match self.change {
+            Balance => {
+                if pdf > 0.0 {
+                    pdf / (pdf + other)
+                } else {
+                    0.0
+                }
+            }
+            NaiveWithoutGuard => pdf * pdf / (pdf * pdf + other * other),
+            OtherStrategysWeight => Reference.power_heuristic(other, pdf),
+            NaiveWithGuard => {
+                if pdf > 0.0 {
+                    pdf * pdf / (pdf * pdf + other * other)
+                } else {
+                    0.0
+                }
+            }
+            _ => Reference.power_heuristic(pdf, other),
+        }
+    }
+
+    fn roulette(&self, t: Vec3, rng: &mut Rng) -> Option<f32> {
+        let with = |largest: f32, rng: &mut Rng| {
+            let u = rng.next_f32();
+            let q = largest.min(1.0);
+            (largest > 0.0 && u < q).then(|| 1.0 / q)
+        };
+        match self.change {
+            NoDivision => Reference.roulette(t, rng).map(|_| 1.0),
+            MeanChannel => with(t.element_sum() / 3.0, rng),
+            ByLuminance => with(Reference.luminance(t), rng),
+            SurviveAbove => {
+                let u = rng.next_f32();
+                let largest = t.max_element();
+                let q = largest.min(1.0);
+                (largest > 0.0 && u >= q).then(|| 1.0 / q)
+            }
+            DividedByComplement => Reference.roulette(t, rng).map(|f| {
+                let q = 1.0 / f;
+                if q < 1.0 { 1.0 / (1.0 - q) } else { 1.0 }
+            }),
+            NeverAdvances => Reference.roulette(t, &mut Rng::new(3, 3)),
+            DrawOnlyWhenNeeded => {
+                if t.max_element() >= 1.0 {
+                    Some(1.0)
+                } else {
+                    with(t.max_element(), rng)
+                }
+            }
+            _ => Reference.roulette(t, rng),
+        }
+    }
+}
+
+grading::corpus_tests!(lab12, lab12_checks);

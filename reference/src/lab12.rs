@@ -1,0 +1,171 @@
+//! Lab 12's answer key — path tracing (docs/lab12.md).
+
+use std::f32::consts::{FRAC_1_PI, TAU};
+
+use contracts::glam::{Vec2, Vec3};
+use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathTracing};
+use contracts::math::Onb;
+use contracts::sampling::Rng;
+
+/// The reference solution of lab 12.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Lab12;
+
+/// The probability of drawing from the glossy lobe: its share of the summed reflectances.
+fn glossy_probability(material: &PathMaterial) -> f32 {
+    let (d, s) = (material.diffuse.element_sum(), material.glossy.element_sum());
+    if s > 0.0 { s / (d + s) } else { 0.0 }
+}
+
+/// `cos^n α` of the glossy lobe about `mirror`, 0 where `wi` is on its far side.
+fn lobe(mirror: Vec3, wi: Vec3, exponent: f32) -> f32 {
+    let cos = mirror.dot(wi);
+    if cos > 0.0 { cos.min(1.0).powf(exponent) } else { 0.0 }
+}
+
+/// The mirror direction of `wo` about `normal`.
+fn mirror(normal: Vec3, wo: Vec3) -> Vec3 {
+    2.0 * normal.dot(wo) * normal - wo
+}
+
+/// A unit direction about the +z axis of `frame` at cosine `cos` and azimuth `phi`.
+fn direction(frame: &Onb, cos: f32, phi: f32) -> Vec3 {
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    frame
+        .to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos))
+        .normalize()
+}
+
+impl PathTracing for Lab12 {
+    fn luminance(&self, colour: Vec3) -> f32 {
+        0.2126 * colour.x + 0.7152 * colour.y + 0.0722 * colour.z
+    }
+
+    fn bsdf(&self, material: &PathMaterial, normal: Vec3, wo: Vec3, wi: Vec3) -> BsdfValue {
+        let (cos_o, cos_i) = (normal.dot(wo), normal.dot(wi));
+        if cos_o <= 0.0 || cos_i <= 0.0 {
+            return BsdfValue {
+                value: Vec3::ZERO,
+                pdf: 0.0,
+            };
+        }
+        let n = material.exponent;
+        let lobe = lobe(mirror(normal, wo), wi, n);
+        let p = glossy_probability(material);
+        BsdfValue {
+            value: material.diffuse * FRAC_1_PI + material.glossy * ((n + 2.0) / TAU * lobe),
+            pdf: (1.0 - p) * cos_i * FRAC_1_PI + p * (n + 1.0) / TAU * lobe,
+        }
+    }
+
+    fn sample_bsdf(
+        &self,
+        material: &PathMaterial,
+        normal: Vec3,
+        wo: Vec3,
+        rng: &mut Rng,
+    ) -> Option<BsdfSample> {
+        let choice = rng.next_f32();
+        let u: Vec2 = rng.next_vec2();
+        let wi = if choice < glossy_probability(material) {
+            // cos α = u^(1/(n+1)) inverts the lobe's distribution of cos α.
+            let cos = u.x.powf(1.0 / (material.exponent + 1.0));
+            direction(&Onb::from_w(mirror(normal, wo)), cos, TAU * u.y)
+        } else {
+            // Malley's method: a uniform point of the disc lifted to the hemisphere.
+            direction(&Onb::from_w(normal), (1.0 - u.x).max(0.0).sqrt(), TAU * u.y)
+        };
+        if normal.dot(wi) <= 0.0 || normal.dot(wo) <= 0.0 {
+            return None;
+        }
+        let BsdfValue { value, pdf } = self.bsdf(material, normal, wo, wi);
+        Some(BsdfSample {
+            direction: wi,
+            value,
+            pdf,
+        })
+    }
+
+    fn sample_emitter(
+        &self,
+        triangle: [Vec3; 3],
+        radiance: Vec3,
+        position: Vec3,
+        rng: &mut Rng,
+    ) -> Option<EmitterSample> {
+        let u = rng.next_vec2();
+        let [a, b, c] = triangle;
+        let s = u.x.sqrt();
+        let point = a * (1.0 - s) + b * (s * (1.0 - u.y)) + c * (s * u.y);
+        let to = point - position;
+        let distance = to.length();
+        let direction = to / distance;
+        let pdf = self.emitter_pdf(triangle, position, direction, distance);
+        (pdf > 0.0 && pdf.is_finite()).then_some(EmitterSample {
+            direction,
+            distance,
+            radiance,
+            pdf,
+        })
+    }
+
+    fn emitter_pdf(
+        &self,
+        triangle: [Vec3; 3],
+        _position: Vec3,
+        direction: Vec3,
+        distance: f32,
+    ) -> f32 {
+        let [a, b, c] = triangle;
+        let cross = (b - a).cross(c - a);
+        let double_area = cross.length();
+        // The cosine at the emitter, between its normal and the way back to the point.
+        let cos = -cross.dot(direction) / double_area;
+        if double_area > 0.0 && cos > 0.0 {
+            distance * distance / (0.5 * double_area * cos)
+        } else {
+            0.0
+        }
+    }
+
+    fn power_heuristic(&self, pdf: f32, other_pdf: f32) -> f32 {
+        if pdf <= 0.0 {
+            return 0.0;
+        }
+        // pdf² / (pdf² + other²) without squaring large densities.
+        let ratio = other_pdf / pdf;
+        1.0 / (1.0 + ratio * ratio)
+    }
+
+    fn roulette(&self, throughput: Vec3, rng: &mut Rng) -> Option<f32> {
+        let u = rng.next_f32();
+        let largest = throughput.max_element();
+        // A NaN throughput ends the path too (`f32::min` would take 1 for NaN).
+        let q = largest.min(1.0);
+        (largest > 0.0 && u < q).then(|| 1.0 / q)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_white_diffuse_surface_reflects_everything() {
+        // ∫ f cos dω over the hemisphere by the estimator f cos / pdf of the key's samples.
+        let m = PathMaterial {
+            diffuse: Vec3::ONE,
+            glossy: Vec3::ZERO,
+            exponent: 0.0,
+        };
+        let n = Vec3::new(0.3, 0.9, -0.2).normalize();
+        let wo = Vec3::new(-0.4, 0.5, 0.7).normalize();
+        let mut rng = Rng::new(1, 2);
+        let mut sum = Vec3::ZERO;
+        for _ in 0..10_000 {
+            let s = Lab12.sample_bsdf(&m, n, wo, &mut rng).unwrap();
+            sum += s.value * s.direction.dot(n) / s.pdf;
+        }
+        assert!((sum / 10_000.0 - Vec3::ONE).abs().max_element() < 1e-4, "{sum}");
+    }
+}
