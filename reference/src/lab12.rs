@@ -3,8 +3,10 @@
 use std::f32::consts::{FRAC_1_PI, TAU};
 
 use contracts::glam::{Vec2, Vec3};
-use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathTracing};
-use contracts::math::Onb;
+use contracts::lab12::{
+    BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
+};
+use contracts::math::{Onb, RAY_EPSILON, Ray};
 use contracts::sampling::Rng;
 
 /// The reference solution of lab 12.
@@ -143,6 +145,80 @@ impl PathTracing for Lab12 {
         // A NaN throughput ends the path too (`f32::min` would take 1 for NaN).
         let q = largest.min(1.0);
         (largest > 0.0 && u < q).then(|| 1.0 / q)
+    }
+
+    fn path_radiance(
+        &self,
+        ray: &Ray,
+        max_depth: u32,
+        trace: &dyn Fn(&Ray) -> PathHit,
+        occluded: &dyn Fn(&Ray) -> bool,
+        sample_light: &dyn Fn(Vec3, &mut Rng) -> Option<EmitterSample>,
+        sample_bsdf: &dyn Fn(&PathVertex, Vec3, &mut Rng) -> Option<BsdfSample>,
+        bsdf: &dyn Fn(&PathVertex, Vec3, Vec3) -> BsdfValue,
+        power_heuristic: &dyn Fn(f32, f32) -> f32,
+        roulette: &dyn Fn(Vec3, &mut Rng) -> Option<f32>,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let mut radiance = Vec3::ZERO;
+        let mut throughput = Vec3::ONE;
+        let mut ray = *ray;
+        // The density with which the BSDF drew the ray; none for the camera's.
+        let mut bsdf_pdf = None;
+        for depth in 0..=max_depth {
+            // The light this ray finds, weighted against the light sampler that could have
+            // found it too (the camera ray's in full).
+            let weight = |light_pdf: f32| bsdf_pdf.map_or(1.0, |p| power_heuristic(p, light_pdf));
+            let vertex = match trace(&ray) {
+                PathHit::Escaped {
+                    radiance: sky,
+                    light_pdf,
+                } => {
+                    if sky != Vec3::ZERO {
+                        radiance += throughput * sky * weight(light_pdf);
+                    }
+                    break;
+                }
+                PathHit::Surface(vertex) => vertex,
+            };
+            if vertex.emitted != Vec3::ZERO {
+                radiance += throughput * vertex.emitted * weight(vertex.light_pdf);
+            }
+            if depth == max_depth {
+                break;
+            }
+            let wo = -ray.direction;
+            // Next-event estimation, weighted against the BSDF's density of the same direction.
+            if let Some(light) = sample_light(vertex.position, rng) {
+                let cos = vertex.normal.dot(light.direction);
+                let f = bsdf(&vertex, wo, light.direction);
+                if cos > 0.0 && f.value != Vec3::ZERO {
+                    let shadow = Ray::new(
+                        vertex.position,
+                        light.direction,
+                        RAY_EPSILON,
+                        light.distance * (1.0 - 1e-4),
+                    );
+                    if !occluded(&shadow) {
+                        radiance += throughput * f.value * light.radiance * cos / light.pdf
+                            * power_heuristic(light.pdf, f.pdf);
+                    }
+                }
+            }
+            let Some(next) = sample_bsdf(&vertex, wo, rng) else {
+                break;
+            };
+            throughput *= next.value * vertex.normal.dot(next.direction) / next.pdf;
+            bsdf_pdf = Some(next.pdf);
+            ray = Ray::unbounded(vertex.position, next.direction, RAY_EPSILON);
+            if depth >= 2 {
+                match roulette(throughput, rng) {
+                    Some(factor) => throughput *= factor,
+                    None => break,
+                }
+            }
+        }
+        radiance
     }
 }
 

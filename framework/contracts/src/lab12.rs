@@ -1,7 +1,12 @@
 //! Lab 12 — path tracing: the BSDF of a diffuse and glossy surface (its value, its density and
 //! a direction drawn from it), next-event estimation from emissive triangles (a point drawn on
 //! a triangle, its density per solid angle), multiple importance sampling with the power
-//! heuristic and Russian roulette by throughput (docs/lab12.md).
+//! heuristic, Russian roulette by throughput, and the path estimator that puts them together
+//! (docs/lab12.md).
+//!
+//! From lab 12 on the integrator (`Pipeline::radiance`) is a path tracer: for each camera ray
+//! it calls [`PathTracing::path_radiance`] with the scene's queries and the lab's other
+//! functions as closures.
 //!
 //! Directions leave the surface: `wo` points back along the path (towards the camera), `wi`
 //! towards where light comes from; both are unit vectors. The `normal` is the shading normal,
@@ -9,6 +14,7 @@
 
 use glam::Vec3;
 
+use crate::math::Ray;
 use crate::sampling::Rng;
 
 /// A surface as the path tracer shades it: a Lambertian base under a glossy lobe about the
@@ -56,6 +62,39 @@ pub struct EmitterSample {
     pub radiance: Vec3,
     /// The density of `direction` per unit solid angle.
     pub pdf: f32,
+}
+
+/// A surface point a path meets.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PathVertex {
+    /// Where the ray met the surface.
+    pub position: Vec3,
+    /// The unit shading normal, on the side the ray came from.
+    pub normal: Vec3,
+    /// The surface.
+    pub material: PathMaterial,
+    /// The radiance the surface emits back along the ray (black unless it is an emitter seen
+    /// from its front).
+    pub emitted: Vec3,
+    /// The density per unit solid angle with which the light sampler draws this point from
+    /// the ray's origin (0 unless it is an emitter seen from its front).
+    pub light_pdf: f32,
+}
+
+/// What a ray of a path finds.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum PathHit {
+    /// A surface.
+    Surface(PathVertex),
+    /// Nothing: the ray left the scene. `radiance` is what arrives along it from the sky
+    /// (black without one), `light_pdf` the density with which the light sampler draws its
+    /// direction.
+    Escaped {
+        /// The sky's radiance along the ray.
+        radiance: Vec3,
+        /// The light sampler's density of the ray's direction.
+        light_pdf: f32,
+    },
 }
 
 /// The lab's contract: what the student's `Student` implements, and the answer key's `Lab12`.
@@ -113,4 +152,26 @@ pub trait PathTracing: Send + Sync {
     /// `q = min(1, max(throughput))` (one `rng.next_f32()`), and then its throughput is divided
     /// by `q`: `Some(1/q)`; `None` when it ends.
     fn roulette(&self, throughput: Vec3, rng: &mut Rng) -> Option<f32>;
+
+    /// **Exercise 12.8** — the radiance arriving along the camera `ray`, by a path of at most
+    /// `max_depth` bounces: at each vertex found by `trace`, the emitted light weighted by the
+    /// power heuristic against the light sampler (in full at the first vertex), next-event
+    /// estimation with a point from `sample_light` whose shadow ray `occluded` lets through,
+    /// weighted against the BSDF's density from `bsdf`, then the next direction from
+    /// `sample_bsdf`, and from the third bounce on `roulette`. The closures are the scene's
+    /// queries and Exercises 12.2–12.7's functions (docs/lab12.md, §12.8).
+    #[allow(clippy::too_many_arguments)]
+    fn path_radiance(
+        &self,
+        ray: &Ray,
+        max_depth: u32,
+        trace: &dyn Fn(&Ray) -> PathHit,
+        occluded: &dyn Fn(&Ray) -> bool,
+        sample_light: &dyn Fn(Vec3, &mut Rng) -> Option<EmitterSample>,
+        sample_bsdf: &dyn Fn(&PathVertex, Vec3, &mut Rng) -> Option<BsdfSample>,
+        bsdf: &dyn Fn(&PathVertex, Vec3, Vec3) -> BsdfValue,
+        power_heuristic: &dyn Fn(f32, f32) -> f32,
+        roulette: &dyn Fn(Vec3, &mut Rng) -> Option<f32>,
+        rng: &mut Rng,
+    ) -> Vec3;
 }

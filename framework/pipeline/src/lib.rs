@@ -12,6 +12,7 @@
 
 pub mod builtin;
 pub mod job;
+pub mod path;
 pub mod photon;
 pub mod radiosity;
 pub mod render;
@@ -25,7 +26,9 @@ use std::sync::Arc;
 use glam::{UVec2, Vec2, Vec3};
 
 use contracts::lab09::{self, Addressing, TextureFilter};
-use contracts::{Waiting, lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11};
+use contracts::{
+    Waiting, lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11, lab12,
+};
 use raylab_core::math::Ray;
 
 use crate::photon::{PhotonMap, PhotonSettings};
@@ -87,19 +90,21 @@ pub struct Pipeline {
     pub fresnel: Arc<dyn lab10::Fresnel>,
     /// Lab 11, ambient occlusion and light probes.
     pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
+    /// Lab 12, the path tracer: its BSDF, light sampling, weights and path loop.
+    pub path_tracing: Arc<dyn lab12::PathTracing>,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
     /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 8 adds caustics
     /// from the photon map; 9 adds diffuse textures; 10 weights reflection and refraction by
     /// the Fresnel reflectance and absorbs light in volumes; 11 adds the light probe of a scene
     /// that has one (the radiance of rays that leave the scene, ambient occlusion on Lambertian
-    /// surfaces).
+    /// surfaces); 12 is a path tracer ([`path`]), lit by emitting triangles and the background.
     pub lab: u32,
     /// What to show.
     pub view: View,
     /// Area lights are sampled with `n × n` stratified samples per shading point (lab 03).
     pub area_light_samples: u32,
-    /// Reflected and refracted rays stop after this many bounces (lab 04).
+    /// Reflected and refracted rays stop after this many bounces (lab 04), and paths (lab 12).
     pub max_depth: u32,
     /// Rays per shading point of ambient occlusion, and their sampler (lab 11).
     pub occlusion_rays: (u32, lab11::HemisphereSampler),
@@ -152,6 +157,7 @@ impl Pipeline {
             dyn lab09::Texturing => texturing,
             dyn lab10::Fresnel => fresnel,
             dyn lab11::AmbientOcclusion => ambient_occlusion,
+            dyn lab12::PathTracing => path_tracing,
         );
         self.parts.0.insert(TypeId::of::<S>(), Arc::new(code));
         self
@@ -186,6 +192,7 @@ impl Pipeline {
             texturing: Arc::new(Waiting::<dyn lab09::Texturing>::new(9)),
             fresnel: Arc::new(Waiting::<dyn lab10::Fresnel>::new(10)),
             ambient_occlusion: Arc::new(Waiting::<dyn lab11::AmbientOcclusion>::new(11)),
+            path_tracing: Arc::new(Waiting::<dyn lab12::PathTracing>::new(12)),
             parts: Parts::default(),
             lab,
             view: View::Shaded,
@@ -252,6 +259,9 @@ impl Pipeline {
 
     /// Radiance arriving along a camera ray (the DTU `RayTracer::compute_pixel` body).
     pub fn radiance(&self, scene: &Scene, ray: &Ray, rng: &mut Rng) -> Vec3 {
+        if self.lab >= 12 && self.view == View::Shaded {
+            return self.path_traced(scene, ray, rng);
+        }
         self.radiance_at(scene, ray, 0, 1.0, rng)
     }
 

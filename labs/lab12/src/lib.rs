@@ -15,7 +15,10 @@
 #![allow(unused_variables)]
 
 use contracts::glam::Vec3;
-use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathTracing};
+use contracts::lab12::{
+    BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
+};
+use contracts::math::Ray;
 use contracts::sampling::Rng;
 
 /// Your code of lab 12. The framework calls it through the `PathTracing` trait.
@@ -107,5 +110,33 @@ impl PathTracing for Student {
     /// the factor that keeps the estimate unbiased; `None` when the path ends.
     fn roulette(&self, throughput: Vec3, rng: &mut Rng) -> Option<f32> {
         todo!("Exercise 12.7: roulette (docs/lab12.md, Exercise 12.7)")
+    }
+
+    /// **Exercise 12.8** — the radiance arriving along the camera `ray` by a path of at most
+    /// `max_depth` bounces (docs/lab12.md, §12.8). Call only the closures (they are the
+    /// scene and Exercises 12.2–12.7), never your own functions above. At each vertex
+    /// `trace` finds:
+    ///
+    /// ```text
+    /// L += β · L_e · w         w = 1 for the camera ray, else power_heuristic(p_bsdf, light_pdf)
+    /// L += β · f · L_l · cos θ / p_l · power_heuristic(p_l, p_f)   if the shadow ray is free
+    /// β *= f · cos θ / p        the next direction from sample_bsdf
+    /// ```
+    ///
+    /// and from the third bounce on `roulette` may end the path or scale `β`.
+    fn path_radiance(
+        &self,
+        ray: &Ray,
+        max_depth: u32,
+        trace: &dyn Fn(&Ray) -> PathHit,
+        occluded: &dyn Fn(&Ray) -> bool,
+        sample_light: &dyn Fn(Vec3, &mut Rng) -> Option<EmitterSample>,
+        sample_bsdf: &dyn Fn(&PathVertex, Vec3, &mut Rng) -> Option<BsdfSample>,
+        bsdf: &dyn Fn(&PathVertex, Vec3, Vec3) -> BsdfValue,
+        power_heuristic: &dyn Fn(f32, f32) -> f32,
+        roulette: &dyn Fn(Vec3, &mut Rng) -> Option<f32>,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        todo!("Exercise 12.8: path_radiance (docs/lab12.md, Exercise 12.8)")
     }
 }

@@ -6,10 +6,12 @@
 
 use std::f32::consts::{FRAC_1_PI, TAU};
 
-use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathTracing};
+use contracts::lab12::{
+    BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
+};
 use grading::corpus::Verdict;
 use raylab_core::glam::Vec3;
-use raylab_core::math::Onb;
+use raylab_core::math::{Onb, RAY_EPSILON, Ray};
 use raylab_core::sampling::Rng;
 use reference::lab12::Lab12 as Reference;
 
@@ -65,6 +67,19 @@ enum Change {
     DividedByComplement,
     NeverAdvances,
     DrawOnlyWhenNeeded,
+    EmissionAlwaysInFull,
+    NeeWithoutWeight,
+    WeightArgumentsSwapped,
+    NeeWithoutCosine,
+    ThroughputWithoutPdf,
+    RouletteFactorIgnored,
+    ShadowRayToTheLight,
+    CameraVertexDark,
+    OneBounceShort,
+    BounceWithoutOffset,
+    SkyIgnored,
+    RouletteFromTheStart,
+    NoRoulette,
 }
 
 use Change::*;
@@ -206,6 +221,55 @@ pub fn variants() -> Vec<Variant> {
         v("divided by 1 − q", r("12.7"), DividedByComplement),
         v("the same number every call", r("12.7"), NeverAdvances),
         v("no number drawn when q = 1", ok, DrawOnlyWhenNeeded),
+        v(
+            "emission found by a bounce counted in full: light counted twice",
+            r("12.8"),
+            EmissionAlwaysInFull,
+        ),
+        v(
+            "next-event estimation without its weight",
+            r("12.8"),
+            NeeWithoutWeight,
+        ),
+        v(
+            "the emission's weight power_heuristic(light_pdf, bsdf pdf)",
+            r("12.8"),
+            WeightArgumentsSwapped,
+        ),
+        v(
+            "next-event estimation without cos θ",
+            r("12.8"),
+            NeeWithoutCosine,
+        ),
+        v(
+            "the throughput not divided by the pdf",
+            r("12.8"),
+            ThroughputWithoutPdf,
+        ),
+        v(
+            "roulette's factor ignored",
+            r("12.8"),
+            RouletteFactorIgnored,
+        ),
+        v(
+            "the shadow ray up to the light's distance",
+            r("12.8"),
+            ShadowRayToTheLight,
+        ),
+        v(
+            "no emission at the first vertex: lights look black",
+            r("12.8"),
+            CameraVertexDark,
+        ),
+        v("one bounce short of max_depth", r("12.8"), OneBounceShort),
+        v(
+            "bounce rays without the offset",
+            r("12.8"),
+            BounceWithoutOffset,
+        ),
+        v("the sky left out", r("12.8"), SkyIgnored),
+        v("roulette from the first bounce", ok, RouletteFromTheStart),
+        v("no roulette at all", ok, NoRoulette),
     ]
 }
 
@@ -714,6 +778,137 @@ impl PathTracing for Variant {
             _ => Reference.roulette(t, rng),
         }
     }
+
+    fn path_radiance(
+        &self,
+        ray: &Ray,
+        max_depth: u32,
+        trace: &dyn Fn(&Ray) -> PathHit,
+        occluded: &dyn Fn(&Ray) -> bool,
+        sample_light: &dyn Fn(Vec3, &mut Rng) -> Option<EmitterSample>,
+        sample_bsdf: &dyn Fn(&PathVertex, Vec3, &mut Rng) -> Option<BsdfSample>,
+        bsdf: &dyn Fn(&PathVertex, Vec3, Vec3) -> BsdfValue,
+        power_heuristic: &dyn Fn(f32, f32) -> f32,
+        roulette: &dyn Fn(Vec3, &mut Rng) -> Option<f32>,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        path_loop(
+            self.change,
+            ray,
+            max_depth,
+            trace,
+            occluded,
+            sample_light,
+            sample_bsdf,
+            bsdf,
+            power_heuristic,
+            roulette,
+            rng,
+        )
+    }
+}
+
+/// The key's path loop with one thing changed by `change`.
+#[allow(clippy::too_many_arguments)]
+fn path_loop(
+    change: Change,
+    ray: &Ray,
+    max_depth: u32,
+    trace: &dyn Fn(&Ray) -> PathHit,
+    occluded: &dyn Fn(&Ray) -> bool,
+    sample_light: &dyn Fn(Vec3, &mut Rng) -> Option<EmitterSample>,
+    sample_bsdf: &dyn Fn(&PathVertex, Vec3, &mut Rng) -> Option<BsdfSample>,
+    bsdf: &dyn Fn(&PathVertex, Vec3, Vec3) -> BsdfValue,
+    power_heuristic: &dyn Fn(f32, f32) -> f32,
+    roulette: &dyn Fn(Vec3, &mut Rng) -> Option<f32>,
+    rng: &mut Rng,
+) -> Vec3 {
+    let mut radiance = Vec3::ZERO;
+    let mut throughput = Vec3::ONE;
+    let mut ray = *ray;
+    let mut bsdf_pdf: Option<f32> = None;
+    let last = if change == OneBounceShort {
+        max_depth.saturating_sub(1)
+    } else {
+        max_depth
+    };
+    for depth in 0..=last {
+        let weight = |light_pdf: f32| match (change, bsdf_pdf) {
+            (_, None) => 1.0,
+            (EmissionAlwaysInFull, Some(_)) => 1.0,
+            (WeightArgumentsSwapped, Some(p)) => power_heuristic(light_pdf, p),
+            (_, Some(p)) => power_heuristic(p, light_pdf),
+        };
+        let vertex = match trace(&ray) {
+            PathHit::Escaped {
+                radiance: sky,
+                light_pdf,
+            } => {
+                if change != SkyIgnored {
+                    radiance += throughput * sky * weight(light_pdf);
+                }
+                break;
+            }
+            PathHit::Surface(vertex) => vertex,
+        };
+        if !(change == CameraVertexDark && depth == 0) {
+            radiance += throughput * vertex.emitted * weight(vertex.light_pdf);
+        }
+        if depth == last {
+            break;
+        }
+        let wo = -ray.direction;
+        if let Some(light) = sample_light(vertex.position, rng) {
+            let cos = vertex.normal.dot(light.direction);
+            let f = bsdf(&vertex, wo, light.direction);
+            if cos > 0.0 {
+                let tmax = if change == ShadowRayToTheLight {
+                    light.distance
+                } else {
+                    light.distance * (1.0 - 1e-4)
+                };
+                let shadow = Ray::new(vertex.position, light.direction, RAY_EPSILON, tmax);
+                if !occluded(&shadow) {
+                    let w = if change == NeeWithoutWeight {
+                        1.0
+                    } else {
+                        power_heuristic(light.pdf, f.pdf)
+                    };
+                    let c = if change == NeeWithoutCosine { 1.0 } else { cos };
+                    radiance += throughput * f.value * light.radiance * c / light.pdf * w;
+                }
+            }
+        }
+        let Some(next) = sample_bsdf(&vertex, wo, rng) else {
+            break;
+        };
+        let pdf = if change == ThroughputWithoutPdf {
+            1.0
+        } else {
+            next.pdf
+        };
+        throughput *= next.value * vertex.normal.dot(next.direction) / pdf;
+        bsdf_pdf = Some(next.pdf);
+        let tmin = if change == BounceWithoutOffset {
+            0.0
+        } else {
+            RAY_EPSILON
+        };
+        ray = Ray::unbounded(vertex.position, next.direction, tmin);
+        let play = match change {
+            NoRoulette => false,
+            RouletteFromTheStart => true,
+            _ => depth >= 2,
+        };
+        if play {
+            match roulette(throughput, rng) {
+                Some(factor) if change != RouletteFactorIgnored => throughput *= factor,
+                Some(_) => {}
+                None => break,
+            }
+        }
+    }
+    radiance
 }
 
 grading::corpus_tests!(lab12, lab12_checks);

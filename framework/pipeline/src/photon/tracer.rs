@@ -288,10 +288,10 @@ pub fn trace_caustic_photons(
 }
 
 /// `pipeline` with the caustic photon map of `scene` traced with its own
-/// [`photons`](Pipeline::photons) settings, when it is at lab 8 or later (unchanged before);
-/// an error names a bad setting.
+/// [`photons`](Pipeline::photons) settings, when it is at labs 8 to 11 (unchanged before, and
+/// from lab 12 on, whose path tracer finds caustics by its paths); an error names a bad setting.
 pub fn with_caustics(pipeline: &Pipeline, scene: &Scene) -> Result<Pipeline, raylab_core::Error> {
-    if pipeline.lab < 8 {
+    if !(8..12).contains(&pipeline.lab) {
         return Ok(pipeline.clone());
     }
     pipeline.photons.validate()?;

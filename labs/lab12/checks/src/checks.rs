@@ -16,9 +16,17 @@ use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathT
 use contracts::math::Onb;
 use contracts::sampling::Rng;
 use grading::chi2::{SphereGrid, chi_square_two_sample};
-use grading::stats::{family_z_limit, sidak};
+use grading::stats::{
+    NoiseTolerance, RenderStatistics, compare_noisy, family_z_limit, sidak, z_score_map,
+};
 use grading::strategies::unit_vector;
-use grading::{Exercise, GoldenFile, LabContext, compare_f32, compare_vec3, for_all};
+use grading::{
+    Exercise, GoldenFile, LabContext, compare_f32, compare_vec3, for_all, mark_non_finite,
+};
+use pipeline::render::render;
+use pipeline::{PartSlot, Pipeline, View};
+use raylab_core::film::{ToneMap, write_png};
+use raylab_core::render::RenderSettings;
 
 /// This lab.
 pub const LAB: course::LabId = course::LabId::of(12);
@@ -69,7 +77,8 @@ pub fn exercises() -> Vec<Exercise<dyn PathTracing>> {
             exercise_12_4,
             exercise_12_5,
             exercise_12_6,
-            exercise_12_7
+            exercise_12_7,
+            exercise_12_8
         ],
     )
 }
@@ -1098,4 +1107,440 @@ fn exercise_12_7(s: &Arc<dyn PathTracing>, _ctx: &LabContext) -> Result<(), Stri
 /// Exercise 12.1's golden inputs, exposed for the generator.
 pub fn luminance_inputs() -> Vec<Vec3> {
     grading::strategies::samples(colour(), 64, 12)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exercise 12.8: the path estimator
+
+/// A world made of closures for the path loop: every ray meets, at distance one, a surface
+/// facing it that emits `emitted` and reflects diffusely with albedo `albedo` (a furnace), or,
+/// with `sky`, leaves a scene of one bounce into a uniform sky. Its BSDF sampler is the uniform
+/// hemisphere and its light sampler the uniform sphere: neither is the lab's, and a correct path
+/// loop is right for any.
+#[derive(Clone, Copy, Debug)]
+pub struct Furnace {
+    /// Diffuse albedo of every surface.
+    pub albedo: f32,
+    /// Emitted radiance of every surface.
+    pub emitted: f32,
+    /// Whether the light sampler draws anything (else it returns `None`).
+    pub lights: bool,
+    /// `Some(L)`: the camera ray meets one surface and every later ray a sky of radiance `L`.
+    pub sky: Option<f32>,
+    /// The path's bounces.
+    pub max_depth: u32,
+}
+
+impl Furnace {
+    /// The expected radiance: `E (1 + ρ + … + ρ^D)` in the furnace, `E + ρ L` under the sky.
+    pub fn expected(&self) -> f64 {
+        let (rho, e) = (f64::from(self.albedo), f64::from(self.emitted));
+        match self.sky {
+            Some(l) if self.max_depth == 0 => e + 0.0 * f64::from(l),
+            Some(l) => e + rho * f64::from(l),
+            None => {
+                e * (0..=self.max_depth)
+                    .map(|k| rho.powi(k as i32))
+                    .sum::<f64>()
+            }
+        }
+    }
+}
+
+/// A uniform direction of the hemisphere about `n` from `rng`.
+fn uniform_hemisphere(n: Vec3, rng: &mut Rng) -> Vec3 {
+    let u = rng.next_vec2();
+    let cos = u.x;
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * u.y;
+    Onb::from_w(n)
+        .to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos))
+        .normalize()
+}
+
+/// What the path loop asked of a [`Furnace`]: problems with the rays it traced.
+#[derive(Default)]
+struct Asked {
+    problems: Vec<String>,
+}
+
+/// One estimate of `s.path_radiance` in `world` along a ray from the origin along `direction`.
+fn furnace_estimate(
+    s: &dyn PathTracing,
+    world: &Furnace,
+    direction: Vec3,
+    rng: &mut Rng,
+    asked: &std::cell::RefCell<Asked>,
+) -> Vec3 {
+    use contracts::lab12::{PathHit, PathVertex};
+    use contracts::math::Ray;
+    let camera = Ray::unbounded(Vec3::ZERO, direction, 0.0);
+    let material = PathMaterial {
+        diffuse: Vec3::splat(world.albedo),
+        glossy: Vec3::ZERO,
+        exponent: 0.0,
+    };
+    let traced = std::cell::Cell::new(0u32);
+    let vertex_at = |r: &Ray| PathVertex {
+        position: r.origin + r.direction,
+        normal: -r.direction,
+        material,
+        emitted: Vec3::splat(world.emitted),
+        light_pdf: if world.lights {
+            1.0 / (4.0 * std::f32::consts::PI)
+        } else {
+            0.0
+        },
+    };
+    let trace = |r: &Ray| {
+        let n = traced.get();
+        traced.set(n + 1);
+        let offset = r.tmin > 0.0;
+        if n > 0 && !offset {
+            asked.borrow_mut().problems.push(format!(
+                "a ray after a bounce, {r:?}, has tmin = {}: start rays off a surface at RAY_EPSILON, or they find the surface they leave",
+                r.tmin
+            ));
+        }
+        match world.sky {
+            Some(l) if n > 0 => PathHit::Escaped {
+                radiance: Vec3::splat(l),
+                light_pdf: 0.0,
+            },
+            _ => PathHit::Surface(vertex_at(r)),
+        }
+    };
+    let occluded = |r: &Ray| {
+        let ok = r.tmin > 0.0 && r.tmax < 1.0 && r.tmax >= 0.99;
+        if !ok {
+            asked.borrow_mut().problems.push(format!(
+                "the shadow ray {r:?} to a point of a light at distance 1 should have tmin > 0 and tmax a little short of 1 (not past the light, where the light itself blocks it)"
+            ));
+        }
+        false
+    };
+    let sample_light = |_p: Vec3, rng: &mut Rng| -> Option<EmitterSample> {
+        if !world.lights || world.sky.is_some() {
+            return None;
+        }
+        let u = rng.next_vec2();
+        let z = 1.0 - 2.0 * u.x;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = std::f32::consts::TAU * u.y;
+        Some(EmitterSample {
+            direction: Vec3::new(r * phi.cos(), r * phi.sin(), z),
+            distance: 1.0,
+            radiance: Vec3::splat(world.emitted),
+            pdf: 1.0 / (4.0 * std::f32::consts::PI),
+        })
+    };
+    let lambert = world.albedo / std::f32::consts::PI;
+    let uniform = 1.0 / std::f32::consts::TAU;
+    let bsdf = |v: &PathVertex, wo: Vec3, wi: Vec3| {
+        if v.normal.dot(wi) > 0.0 && v.normal.dot(wo) > 0.0 {
+            BsdfValue {
+                value: Vec3::splat(lambert),
+                pdf: uniform,
+            }
+        } else {
+            BsdfValue {
+                value: Vec3::ZERO,
+                pdf: 0.0,
+            }
+        }
+    };
+    let sample_bsdf = |v: &PathVertex, _wo: Vec3, rng: &mut Rng| {
+        Some(BsdfSample {
+            direction: uniform_hemisphere(v.normal, rng),
+            value: Vec3::splat(lambert),
+            pdf: uniform,
+        })
+    };
+    // The power heuristic and roulette as the docs state them.
+    let power_heuristic = |a: f32, b: f32| {
+        if a > 0.0 {
+            let r = b / a;
+            1.0 / (1.0 + r * r)
+        } else {
+            0.0
+        }
+    };
+    let roulette = |t: Vec3, rng: &mut Rng| {
+        let u = rng.next_f32();
+        let q = t.max_element().min(1.0);
+        (t.max_element() > 0.0 && u < q).then(|| 1.0 / q)
+    };
+    s.path_radiance(
+        &camera,
+        world.max_depth,
+        &trace,
+        &occluded,
+        &sample_light,
+        &sample_bsdf,
+        &bsdf,
+        &power_heuristic,
+        &roulette,
+        rng,
+    )
+}
+
+/// The furnaces of the check: emission at the first vertex alone, direct light by both
+/// strategies, deep paths with roulette, each strategy alone, a black surface, a sky.
+pub const FURNACES: [Furnace; 8] = [
+    Furnace {
+        albedo: 0.5,
+        emitted: 1.0,
+        lights: true,
+        sky: None,
+        max_depth: 0,
+    },
+    Furnace {
+        albedo: 0.5,
+        emitted: 1.0,
+        lights: true,
+        sky: None,
+        max_depth: 1,
+    },
+    Furnace {
+        albedo: 0.8,
+        emitted: 2.0,
+        lights: true,
+        sky: None,
+        max_depth: 3,
+    },
+    Furnace {
+        albedo: 0.8,
+        emitted: 1.0,
+        lights: true,
+        sky: None,
+        max_depth: 40,
+    },
+    Furnace {
+        albedo: 0.8,
+        emitted: 1.0,
+        lights: false,
+        sky: None,
+        max_depth: 6,
+    },
+    Furnace {
+        albedo: 0.0,
+        emitted: 0.7,
+        lights: true,
+        sky: None,
+        max_depth: 5,
+    },
+    Furnace {
+        albedo: 0.6,
+        emitted: 0.0,
+        lights: false,
+        sky: Some(1.5),
+        max_depth: 4,
+    },
+    Furnace {
+        albedo: 0.6,
+        emitted: 0.25,
+        lights: false,
+        sky: Some(2.0),
+        max_depth: 0,
+    },
+];
+
+/// Paths per furnace.
+const FURNACE_PATHS: usize = 6_000;
+
+/// Exercise 12.8: in furnaces scripted by closures the mean of the estimates is
+/// `E (1 + ρ + … + ρ^D)` (every path of length up to `D` counted once, whichever strategy found
+/// it), under a sky `E + ρ L`; rays after a bounce and shadow rays are offset; the generator is
+/// the only randomness; then the Cornell box by the student's loop against the reference's
+/// renders, pixel by pixel.
+fn exercise_12_8(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), String> {
+    let z_limit = family_z_limit(SIGNIFICANCE, FURNACES.len());
+    let directions = grading::strategies::samples(unit_vector(), 16, 81);
+    for (k, world) in FURNACES.iter().enumerate() {
+        let asked = std::cell::RefCell::new(Asked::default());
+        let mut rng = Rng::new(800 + k as u64, 12);
+        let mut values = Vec::with_capacity(FURNACE_PATHS);
+        for i in 0..FURNACE_PATHS {
+            let d = directions[i % directions.len()];
+            let l = furnace_estimate(s.as_ref(), world, d, &mut rng, &asked);
+            if !l.is_finite() {
+                return Err(format!(
+                    "path_radiance in the furnace {world:?} returned {l}: a path's radiance is finite"
+                ));
+            }
+            values.push(f64::from(l.x));
+            if let Some(problem) = asked.borrow().problems.first() {
+                return Err(format!("path_radiance in the furnace {world:?}: {problem}"));
+            }
+        }
+        let (mean, error) = mean_and_error(&values, FURNACE_PATHS);
+        let expected = world.expected();
+        if (mean - expected).abs() > z_limit * error + 1e-4 * expected.max(1.0) {
+            let what = match world.sky {
+                Some(l) => format!(
+                    "a surface of albedo {} emitting {} under a sky of radiance {l}",
+                    world.albedo, world.emitted
+                ),
+                None => format!(
+                    "a furnace whose every surface has albedo {} and emits {}",
+                    world.albedo, world.emitted
+                ),
+            };
+            return Err(format!(
+                "path_radiance in {what}, at most {} bounces{}: the mean of {FURNACE_PATHS} paths is {mean:.4} ± {error:.4}, expected {expected:.4} (E·(1 + ρ + … + ρ^D), each light path counted once: emission found by a bounce weighted by power_heuristic(bsdf pdf, light_pdf), next-event estimation by power_heuristic(light pdf, bsdf pdf), the first vertex's emission in full)",
+                world.max_depth,
+                if world.lights {
+                    ", lights sampled"
+                } else {
+                    ", no light sampling"
+                },
+            ));
+        }
+    }
+    // The generator is the only randomness, and it advances.
+    let world = FURNACES[3];
+    let asked = std::cell::RefCell::new(Asked::default());
+    let mut rng = Rng::new(5, 5);
+    let mut twin = rng.clone();
+    let a = furnace_estimate(s.as_ref(), &world, Vec3::Y, &mut rng, &asked);
+    let b = furnace_estimate(s.as_ref(), &world, Vec3::Y, &mut twin, &asked);
+    let c = furnace_estimate(s.as_ref(), &world, Vec3::Y, &mut rng, &asked);
+    if a != b {
+        return Err(format!(
+            "path_radiance returned {a} and then {b} from generators in the same state: draw every random number from `rng`, passed on to the closures"
+        ));
+    }
+    if a == c {
+        return Err(format!(
+            "path_radiance returned {a} twice in a row in a furnace of depth {}: pass `rng` to the closures that draw, so that it advances",
+            world.max_depth
+        ));
+    }
+    check_cornell(s, ctx)
+}
+
+/// The pixels and samples of each render of the Cornell box check.
+pub const CORNELL_SETTINGS: RenderSettings = RenderSettings {
+    width: 32,
+    height: 32,
+    samples_per_pixel: 8,
+    pixel_subdivisions: 1,
+    seed: 0,
+    progress: false,
+};
+/// The bounces of the Cornell box check.
+pub const CORNELL_DEPTH: u32 = 4;
+/// Seeds of the reference's renders, whose mean and variance `raylab golden` stores.
+pub const REFERENCE_SEEDS: std::ops::Range<u64> = 1000..1064;
+/// Seeds of the student's renders (disjoint from [`REFERENCE_SEEDS`]).
+pub const STUDENT_SEEDS: std::ops::Range<u64> = 5000..5004;
+/// Snapshot of the reference's mean render of the Cornell box.
+pub const SNAPSHOT_CORNELL_MEAN: &str = "cornell-mean";
+/// Snapshot of the per-pixel variance of one render.
+pub const SNAPSHOT_CORNELL_VARIANCE: &str = "cornell-variance";
+/// The tolerance of the Cornell box check: Šidák over the pixels, a few outliers allowed.
+pub const CORNELL_TOLERANCE: NoiseTolerance = NoiseTolerance {
+    family_alpha: 1e-3,
+    abs: 1e-4,
+    rel: 1e-3,
+    max_outlier_fraction: 0.005,
+};
+
+/// The pipeline of the Cornell box check: `code` for the path loop, the base for the rest.
+pub fn cornell_pipeline(code: &Arc<dyn PathTracing>, base: &Pipeline) -> Result<Pipeline, String> {
+    let base_code = base
+        .part::<dyn PathTracing>()
+        .ok_or("the base pipeline holds no code of lab 12")?;
+    let slot: Arc<dyn PathTracing> = PartSlot::shared("path_radiance", code, &base_code);
+    let mut pipeline = base.clone().with_part::<dyn PathTracing>(slot);
+    pipeline.lab = 12;
+    pipeline.view = View::Shaded;
+    pipeline.max_depth = CORNELL_DEPTH;
+    Ok(pipeline)
+}
+
+/// Per-pixel mean and variance of renders of the Cornell box with the given seeds.
+pub fn cornell_statistics(
+    pipeline: &Pipeline,
+    seeds: std::ops::Range<u64>,
+) -> Result<RenderStatistics, raylab_core::Error> {
+    let scene = raylab_core::scene::builtin_scene("cornell")?;
+    let films = seeds
+        .map(|seed| {
+            render(
+                &scene,
+                pipeline,
+                &RenderSettings {
+                    seed,
+                    ..CORNELL_SETTINGS
+                },
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(RenderStatistics::of(&films))
+}
+
+/// The Cornell box lit by its ceiling, path traced by the student's loop with the reference's
+/// parts, against the mean and variance of the reference's renders by a per-pixel Z-test.
+fn check_cornell(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), String> {
+    let read = |name: &str| {
+        raylab_core::film::read_exr(&ctx.snapshot_path(&format!("{name}.exr"))).map_err(|e| {
+            format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
+        })
+    };
+    let reference = RenderStatistics {
+        renders: (REFERENCE_SEEDS.end - REFERENCE_SEEDS.start) as u32,
+        mean: read(SNAPSHOT_CORNELL_MEAN)?,
+        variance: read(SNAPSHOT_CORNELL_VARIANCE)?,
+    };
+    let pipeline = cornell_pipeline(s, &ctx.base)?;
+    let student = cornell_statistics(&pipeline, STUDENT_SEEDS).map_err(|e| e.to_string())?;
+    let tol = CORNELL_TOLERANCE;
+    let report = compare_noisy(&student, &reference, &tol);
+    if report.passes(&tol) {
+        return Ok(());
+    }
+    let images = write_noise_images(ctx, &student, &reference, &tol)
+        .map(|paths| {
+            paths
+                .iter()
+                .map(|p| format!("\n    {}", p.display()))
+                .collect::<String>()
+        })
+        .unwrap_or_else(|e| format!(" (could not write images: {e})"));
+    let (z, x, y) = report.worst;
+    Err(format!(
+        "the Cornell box path traced with your loop ({}×{} pixels, {} samples, {CORNELL_DEPTH} bounces, mean of {} renders) differs from the reference beyond its noise: {} of {} pixels are more than {:.1} standard errors from the reference mean (at most {:.1}% may be), {} NaN/infinite; the worst is pixel ({x}, {y}) at {z:.1} standard errors: {} against {}. Overall the image is {:.3}× as bright as the reference.\n  images:{images}",
+        CORNELL_SETTINGS.width,
+        CORNELL_SETTINGS.height,
+        CORNELL_SETTINGS.samples_per_pixel,
+        student.renders,
+        report.outliers,
+        report.pixels,
+        report.z_threshold,
+        100.0 * tol.max_outlier_fraction,
+        report.non_finite,
+        student.mean.get(x, y),
+        reference.mean.get(x, y),
+        report.brightness,
+    ))
+}
+
+/// Writes the student's mean render, the reference mean and the map of `|z|`.
+fn write_noise_images(
+    ctx: &LabContext,
+    student: &RenderStatistics,
+    reference: &RenderStatistics,
+    tol: &NoiseTolerance,
+) -> Result<Vec<std::path::PathBuf>, raylab_core::Error> {
+    let tonemap = ToneMap::Clamp { exposure: 1.0 };
+    let path = |what: &str| ctx.failure_dir.join(format!("cornell-{what}.png"));
+    write_png(&mark_non_finite(&student.mean), &path("student"), tonemap)?;
+    write_png(&reference.mean, &path("reference"), tonemap)?;
+    write_png(
+        &z_score_map(student, reference, tol),
+        &path("zscore"),
+        tonemap,
+    )?;
+    Ok(vec![path("student"), path("reference"), path("zscore")])
 }

@@ -70,5 +70,19 @@ pub fn generate_golden(
         let inputs = grading::strategies::samples((checks::density(), checks::density()), 64, 62);
         GoldenFile::record("12.6", &inputs, |&(a, b)| reference.power_heuristic(a, b)).save(path)
     })?;
+    let pipeline =
+        checks::cornell_pipeline(reference, &ctx.base).map_err(|reason| Error::Invalid {
+            what: "the reference pipeline".into(),
+            reason,
+        })?;
+    let stats = checks::cornell_statistics(&pipeline, checks::REFERENCE_SEEDS)?;
+    for (name, film) in [
+        (checks::SNAPSHOT_CORNELL_MEAN, &stats.mean),
+        (checks::SNAPSHOT_CORNELL_VARIANCE, &stats.variance),
+    ] {
+        let path = ctx.snapshot_path(&format!("{name}.exr"));
+        raylab_core::film::write_exr(film, &path)?;
+        written.push(path);
+    }
     Ok(written)
 }

@@ -1,5 +1,7 @@
-//! Lab 12's figures: the BSDF seen from above at four roughnesses, the directions Exercise
-//! 12.3 draws against the density Exercise 12.2 gives (as Mitsuba's χ² test shows a sampler).
+//! Lab 12's figures: the Cornell box path traced (phoe_ray's Figure 19), the same at four path
+//! depths (direct light against global illumination), and the BSDF seen from above at four
+//! roughnesses, the directions Exercise 12.3 draws against the density Exercise 12.2 gives (as
+//! Mitsuba's χ² test shows a sampler).
 
 use glam::Vec3;
 use raylab_core::Error;
@@ -9,7 +11,8 @@ use raylab_core::render::PANICKED_COLOUR;
 use contracts::lab12::{PathMaterial, PathTracing};
 use contracts::math::Onb;
 use contracts::sampling::Rng;
-use figures::{Figure, Panel, ReportContext};
+use figures::{Figure, Panel, ReportContext, settings, timed};
+use raylab_core::scene::builtin_scene;
 
 /// The roughnesses of the figure's columns.
 const ROUGHNESS: [f32; 4] = [1.0, 0.5, 0.25, 0.1];
@@ -21,6 +24,73 @@ fn exponent(roughness: f32) -> f32 {
 
 /// The figures of lab 12.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let mut figures = cornell(ctx)?;
+    figures.extend(lobes(ctx)?);
+    Ok(figures)
+}
+
+/// The path depths of the depth figure.
+const DEPTHS: [u32; 4] = [0, 1, 2, 10];
+
+/// The Cornell box lit by its ceiling, path traced; then at four path depths.
+fn cornell(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let scene = builtin_scene("cornell")?;
+    let (w, h) = ctx.size(320, 320);
+    let spp = if ctx.quick { 16 } else { 256 };
+    let (film, seconds) = ctx.render_timed(&scene, &ctx.pipeline, &settings(w, h, spp))?;
+    let main = "cornell-path-traced.png";
+    ctx.save_labelled(
+        film,
+        timed(
+            &format!("{spp} spp, {} bounces", ctx.pipeline.max_depth),
+            seconds,
+        ),
+        main,
+        ToneMap::default(),
+    )?;
+    let (w, h) = ctx.size(160, 160);
+    let spp = if ctx.quick { 8 } else { 128 };
+    let mut panels = Vec::new();
+    let mut total = 0.0;
+    for depth in DEPTHS {
+        let mut pipeline = ctx.pipeline.clone();
+        pipeline.max_depth = depth;
+        let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, spp))?;
+        total += seconds;
+        let what = match depth {
+            0 => "depth 0: emitters".to_string(),
+            1 => "depth 1: direct light".to_string(),
+            d => format!("depth {d}"),
+        };
+        panels.push(Panel::new(film, timed(&what, seconds)));
+    }
+    let depths = "cornell-depths.png";
+    ctx.save_panels(&[panels], depths, ToneMap::default())?;
+    Ok(vec![
+        Figure {
+            file: main.into(),
+            caption: "The Cornell box lit by its ceiling alone (Ke = (17, 12, 4)), path traced with next-event estimation and multiple importance sampling (Exercise 12.8 with 12.2–12.7): soft shadows, and the walls' colours bled onto the blocks' sides, which the light does not reach (phoe_ray's Figure 19)"
+                .into(),
+            parameters: format!(
+                "{}×{} pixels, {} samples per pixel, at most {} bounces, roulette from the third",
+                ctx.size(320, 320).0,
+                ctx.size(320, 320).1,
+                if ctx.quick { 16 } else { 256 },
+                ctx.pipeline.max_depth
+            ),
+            seconds: Some(seconds),
+        },
+        Figure {
+            file: depths.into(),
+            caption: "The same box with paths of at most 0, 1, 2 and 10 bounces: the emitter alone, direct light (the ceiling black but for its lamp), then each bounce adding indirect light".into(),
+            parameters: format!("{w}×{h} pixels, {spp} samples per pixel each"),
+            seconds: Some(total),
+        },
+    ])
+}
+
+/// The BSDF's lobes at four roughnesses: drawn against their density.
+fn lobes(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let code = ctx
         .pipeline
         .part::<dyn PathTracing>()

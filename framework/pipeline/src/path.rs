@@ -1,0 +1,170 @@
+//! Lab 12's framework: the path tracer's side of
+//! [`PathTracing::path_radiance`](contracts::lab12::PathTracing::path_radiance) — the scene's
+//! queries, the light sampler and the lab's other functions, handed to the path loop as
+//! closures.
+//!
+//! Light comes from the scene's emitting triangles (its [`AreaLight`]: next-event estimation
+//! chooses a triangle with probability proportional to its area, then a point on it through
+//! Exercise 12.4) and from the background of rays that leave the scene; point and directional
+//! lights, which no path can hit, take no part.
+
+use glam::Vec3;
+
+use contracts::lab12::{EmitterSample, PathHit, PathMaterial, PathVertex};
+use raylab_core::math::Ray;
+use raylab_core::sampling::Rng;
+use raylab_core::scene::{AreaLight, HitSurface, IllumModel, Light, Material, Scene};
+
+use crate::Pipeline;
+
+/// The glossy exponent of a mirror (`illum 3`): a lobe a tenth of a degree wide.
+pub const MIRROR_EXPONENT: f32 = 1e5;
+
+/// The path tracer's material for `material`, whose diffuse colour at the hit is `diffuse`
+/// (textured from lab 09 on): the diffuse colour under a glossy lobe of `Ks` with the Phong
+/// exponent `Ns` (`illum 2`, and the dielectrics, whose refraction the path tracer leaves
+/// out), a mirror a lobe of `Ks` (white if black) without a diffuse part, a Lambertian surface
+/// no lobe.
+pub fn path_material(material: &Material, diffuse: Vec3) -> PathMaterial {
+    match material.illum {
+        IllumModel::Lambertian => PathMaterial {
+            diffuse,
+            glossy: Vec3::ZERO,
+            exponent: 0.0,
+        },
+        IllumModel::Mirror => PathMaterial {
+            diffuse: Vec3::ZERO,
+            glossy: if material.specular == Vec3::ZERO {
+                Vec3::ONE
+            } else {
+                material.specular
+            },
+            exponent: MIRROR_EXPONENT,
+        },
+        _ => PathMaterial {
+            diffuse,
+            glossy: material.specular,
+            exponent: material.shininess,
+        },
+    }
+}
+
+/// The scene's emitting triangles, if it has any.
+fn emitters(scene: &Scene) -> Option<&AreaLight> {
+    scene.lights.iter().find_map(|l| match l {
+        Light::Area(area) if !area.faces.is_empty() => Some(area),
+        _ => None,
+    })
+}
+
+/// The probability with which the light sampler chooses face number `i` of `area`.
+fn face_probability(area: &AreaLight, i: usize) -> f32 {
+    area.cdf[i] - if i == 0 { 0.0 } else { area.cdf[i - 1] }
+}
+
+impl Pipeline {
+    /// The radiance along a camera ray by the path tracer of lab 12 (Exercise 12.8 with the
+    /// lab's other functions as its closures); NaN along a ray that is not traceable.
+    pub(crate) fn path_traced(&self, scene: &Scene, ray: &Ray, rng: &mut Rng) -> Vec3 {
+        if !ray.is_traceable() {
+            return Vec3::NAN;
+        }
+        let ray = Ray {
+            direction: ray.direction.normalize(),
+            ..*ray
+        };
+        let code = self.path_tracing.as_ref();
+        let lights = emitters(scene);
+        let trace = |r: &Ray| self.path_hit(scene, lights, r);
+        let occluded = |r: &Ray| self.trace_to_any(scene, r);
+        let sample_light = |position: Vec3, rng: &mut Rng| -> Option<EmitterSample> {
+            let area = lights?;
+            let u = rng.next_f32();
+            let i = area
+                .cdf
+                .partition_point(|&c| c <= u)
+                .min(area.faces.len() - 1);
+            let face = area.faces[i] as usize;
+            let radiance = scene.material(scene.mesh.face_materials[face]).emission;
+            let sample = code.sample_emitter(scene.mesh.triangle(face), radiance, position, rng)?;
+            Some(EmitterSample {
+                pdf: sample.pdf * face_probability(area, i),
+                ..sample
+            })
+        };
+        let sample_bsdf = |v: &PathVertex, wo: Vec3, rng: &mut Rng| {
+            code.sample_bsdf(&v.material, v.normal, wo, rng)
+        };
+        let bsdf = |v: &PathVertex, wo: Vec3, wi: Vec3| code.bsdf(&v.material, v.normal, wo, wi);
+        let power_heuristic = |a: f32, b: f32| code.power_heuristic(a, b);
+        let roulette = |t: Vec3, rng: &mut Rng| code.roulette(t, rng);
+        code.path_radiance(
+            &ray,
+            self.max_depth,
+            &trace,
+            &occluded,
+            &sample_light,
+            &sample_bsdf,
+            &bsdf,
+            &power_heuristic,
+            &roulette,
+            rng,
+        )
+    }
+
+    /// What `ray` finds, as the path loop sees it: the surface with its material, its
+    /// emitted radiance and the light sampler's density of it from the ray's origin; or the
+    /// background.
+    fn path_hit(&self, scene: &Scene, lights: Option<&AreaLight>, ray: &Ray) -> PathHit {
+        let Some(mut hit) = self.trace_to_closest(scene, ray) else {
+            let radiance = match &scene.environment {
+                Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
+                _ => scene.background,
+            };
+            return PathHit::Escaped {
+                radiance,
+                light_pdf: 0.0,
+            };
+        };
+        let material = scene.material(hit.material);
+        let diffuse = self.diffuse_colour(scene, &mut hit, material);
+        let back = -ray.direction;
+        let facing = hit.geometric_normal.dot(back) >= 0.0;
+        let normal = if facing {
+            hit.shading_normal
+        } else {
+            -hit.shading_normal
+        };
+        // An emitter emits on the side its normal faces: a triangle's (v1 − v0) × (v2 − v0).
+        let front = match hit.surface {
+            HitSurface::Triangle { face, .. } => {
+                let [a, b, c] = scene.mesh.triangle(face as usize);
+                (b - a).cross(c - a).dot(back) > 0.0
+            }
+            _ => facing,
+        };
+        let (mut emitted, mut light_pdf) = (Vec3::ZERO, 0.0);
+        if material.is_emissive() && front {
+            emitted = material.emission;
+            if let (Some(area), HitSurface::Triangle { face, .. }) = (lights, hit.surface)
+                && let Some(i) = area.faces.iter().position(|&f| f == face)
+            {
+                let to = hit.position - ray.origin;
+                light_pdf = face_probability(area, i)
+                    * self.path_tracing.emitter_pdf(
+                        scene.mesh.triangle(face as usize),
+                        ray.origin,
+                        to.normalize(),
+                        to.length(),
+                    );
+            }
+        }
+        PathHit::Surface(PathVertex {
+            position: hit.position,
+            normal,
+            material: path_material(material, diffuse),
+            emitted,
+            light_pdf,
+        })
+    }
+}
