@@ -20,12 +20,29 @@ use crate::Pipeline;
 /// The glossy exponent of a mirror (`illum 3`): a lobe a tenth of a degree wide.
 pub const MIRROR_EXPONENT: f32 = 1e5;
 
+/// The glossy exponent of roughness `r`: `2/r² − 2`, the Phong exponent whose lobe matches a
+/// Beckmann microfacet distribution of that roughness (Walter et al. 2007).
+pub fn roughness_exponent(r: f32) -> f32 {
+    2.0 / (r * r) - 2.0
+}
+
 /// The path tracer's material for `material`, whose diffuse colour at the hit is `diffuse`
 /// (textured from lab 09 on): the diffuse colour under a glossy lobe of `Ks` with the Phong
 /// exponent `Ns` (`illum 2`, and the dielectrics, whose refraction the path tracer leaves
 /// out), a mirror a lobe of `Ks` (white if black) without a diffuse part, a Lambertian surface
-/// no lobe.
+/// no lobe. A material's roughness (`Pr`) sets the lobe's exponent instead.
 pub fn path_material(material: &Material, diffuse: Vec3) -> PathMaterial {
+    let mut path = path_lobe(material, diffuse);
+    if let Some(r) = material.roughness
+        && path.glossy != Vec3::ZERO
+    {
+        path.exponent = roughness_exponent(r);
+    }
+    path
+}
+
+/// [`path_material`] by the material's `illum` alone.
+fn path_lobe(material: &Material, diffuse: Vec3) -> PathMaterial {
     match material.illum {
         IllumModel::Lambertian => PathMaterial {
             diffuse,
@@ -166,5 +183,37 @@ impl Pipeline {
             emitted,
             light_pdf,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn materials_map_to_the_path_tracers_lobes() {
+        let mut phong = Material::lambertian("phong", Vec3::splat(0.5));
+        phong.illum = IllumModel::Phong;
+        phong.specular = Vec3::splat(0.3);
+        phong.shininess = 40.0;
+        let m = path_material(&phong, phong.diffuse);
+        assert_eq!((m.glossy, m.exponent), (Vec3::splat(0.3), 40.0));
+        // Roughness overrides Ns: 1 is the widest lobe, 0.5 the exponent 6.
+        phong.roughness = Some(1.0);
+        assert_eq!(path_material(&phong, phong.diffuse).exponent, 0.0);
+        phong.roughness = Some(0.5);
+        assert_eq!(path_material(&phong, phong.diffuse).exponent, 6.0);
+        // A Lambertian surface has no lobe to roughen; a mirror no diffuse part.
+        let mut matte = Material::lambertian("matte", Vec3::splat(0.7));
+        matte.roughness = Some(0.3);
+        let m = path_material(&matte, matte.diffuse);
+        assert_eq!((m.glossy, m.exponent), (Vec3::ZERO, 0.0));
+        let mut mirror = Material::lambertian("mirror", Vec3::splat(0.7));
+        mirror.illum = IllumModel::Mirror;
+        let m = path_material(&mirror, mirror.diffuse);
+        assert_eq!(
+            (m.diffuse, m.glossy, m.exponent),
+            (Vec3::ZERO, Vec3::ONE, MIRROR_EXPONENT)
+        );
     }
 }

@@ -129,6 +129,7 @@ struct MaterialToml {
     ambient: Option<[f32; 3]>,
     emission: Option<[f32; 3]>,
     shininess: Option<f32>,
+    roughness: Option<f32>,
     ior: Option<f32>,
     transmission: Option<[f32; 3]>,
     texture: Option<PathBuf>,
@@ -486,6 +487,14 @@ impl Builder<'_> {
             }
             material.shininess = s;
         }
+        if let Some(r) = m.roughness {
+            if !(r > 0.0 && r <= 1.0) {
+                return Err(self.fail(format!(
+                    "{what}: roughness is {r}; expected a number in (0, 1]"
+                )));
+            }
+            material.roughness = Some(r);
+        }
         if let Some(ior) = m.ior {
             if !(ior.is_finite() && ior > 0.0) {
                 return Err(self.fail(format!("{what}: ior is {ior}; expected a positive number")));
@@ -774,6 +783,13 @@ material = "glass"
         assert!(message.contains("diffuse"), "{message}");
         let message = scene_file_error(&format!("{CAMERA}[materials.m]\nior = 0\n"));
         assert!(message.contains("ior"), "{message}");
+        for bad in ["0", "1.5", "-0.5", "nan"] {
+            let message = scene_file_error(&format!("{CAMERA}[materials.m]\nroughness = {bad}\n"));
+            assert!(
+                message.contains("materials.m: roughness") && message.contains("(0, 1]"),
+                "{message}"
+            );
+        }
         let message = scene_file_error(&format!("{CAMERA}[materials.m]\ndiffuse = [1, 0]\n"));
         assert!(message.contains("line 8"), "{message}");
         let message = scene_file_error(&format!(

@@ -533,6 +533,23 @@ fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<MtlEntry>), Error> 
                 }
                 out.push_str(&format!("{keyword} {}\n", v[0]));
             }
+            "Pr" => {
+                let v = parse_numbers(&args, keyword, "value").map_err(fail)?;
+                match v.as_slice() {
+                    [r] if *r > 0.0 && *r <= 1.0 => out.push_str(&format!("Pr {r}\n")),
+                    [r] => {
+                        return Err(fail(format!(
+                            "Pr (roughness) is {r}; expected a number in (0, 1]"
+                        )));
+                    }
+                    _ => {
+                        return Err(fail(format!(
+                            "Pr has {} numbers; expected 1 (Pr roughness)",
+                            v.len()
+                        )));
+                    }
+                }
+            }
             "illum" => {
                 let model = match args.as_slice() {
                     [value] => value.parse::<u8>().ok().and_then(IllumModel::from_illum),
@@ -771,6 +788,10 @@ fn convert_material(
             .or_else(|| unknown_rgb(m, "Ke"))
             .unwrap_or(Vec3::ZERO),
         shininess: m.shininess.unwrap_or(0.0),
+        roughness: m
+            .unknown_param
+            .get("Pr")
+            .and_then(|r| r.trim().parse().ok()),
         ior: m.optical_density.unwrap_or(1.0),
         transmission: unknown_rgb(m, "Tf").unwrap_or(Vec3::ONE),
         diffuse_texture,
@@ -949,6 +970,11 @@ mod tests {
         assert!(reason.contains("expected 3"), "{reason}");
         let (_, _, reason, _) = parse_error(&obj, Some("newmtl a\nTf nan 1 1\n"));
         assert!(reason.contains("non-finite"), "{reason}");
+        for bad in ["0", "1.5", "-0.1", "nan"] {
+            let (_, line, reason, _) = parse_error(&obj, Some(&format!("newmtl a\nPr {bad}\n")));
+            assert_eq!(line, 2);
+            assert!(reason.contains("Pr") && reason.contains(bad), "{reason}");
+        }
         let (_, _, reason, _) = parse_error(&obj, Some("newmtl a\nNs 1 2\n"));
         assert!(reason.contains("expected 1"), "{reason}");
         let (_, _, reason, _) = parse_error(&obj, Some("newmtl a\nNi 0\n"));
@@ -1017,6 +1043,7 @@ Ks 0.2 0.3 0.4
 Ka 0.1 0.1 0.1
 Ke 0 0 0
 Ns 50
+Pr 0.25
 Ni 1.3
 d 1
 Tf 0.9 0.8 0.7
@@ -1054,12 +1081,14 @@ map_Ks ignored.png
         assert_eq!(shiny.specular, Vec3::new(0.2, 0.3, 0.4));
         assert_eq!(shiny.ambient, Vec3::splat(0.1));
         assert_eq!(shiny.shininess, 50.0);
+        assert_eq!(shiny.roughness, Some(0.25));
         assert_eq!(shiny.ior, 1.3);
         assert_eq!(shiny.transmission, Vec3::new(0.9, 0.8, 0.7));
         assert!(!shiny.is_emissive());
         let red = &data.materials[0];
         assert_eq!(red.illum, IllumModel::Lambertian);
         assert_eq!((red.ior, red.transmission), (1.0, Vec3::ONE));
+        assert_eq!(red.roughness, None);
         assert!(red.diffuse_texture.is_none());
     }
 

@@ -85,6 +85,9 @@ pub struct Material {
     pub emission: Vec3,
     /// Phong exponent `s` (`Ns`).
     pub shininess: f32,
+    /// Roughness `r ∈ (0, 1]` (`Pr`): lab 12's glossy lobe has the exponent `2/r² − 2`; `None`
+    /// takes the Phong exponent.
+    pub roughness: Option<f32>,
     /// Index of refraction (`Ni`).
     pub ior: f32,
     /// Absorption/transmission filter of a volume (`Tf`).
@@ -104,6 +107,7 @@ impl Material {
             ambient: Vec3::ZERO,
             emission: Vec3::ZERO,
             shininess: 0.0,
+            roughness: None,
             ior: 1.0,
             transmission: Vec3::ONE,
             diffuse_texture: None,
