@@ -40,7 +40,7 @@ pub enum ViewChoice {
 /// Options of `raylab render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene: a built-in name (default, cornell, cornell-spheres), a scene file (.toml), or an
+    /// Scene: a built-in name (default, cornell, cornell-ceiling, cornell-spheres), a scene file (.toml), or an
     /// OBJ file, which is framed by a camera looking at its bounds from the front and lit by a
     /// point light at the eye.
     #[arg(long, short, default_value = "default")]

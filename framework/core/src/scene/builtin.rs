@@ -9,7 +9,7 @@ use super::file::parse_scene_with;
 use crate::Error;
 
 /// Names of the built-in scenes, for [`builtin_scene`].
-pub const BUILTIN_SCENES: &[&str] = &["default", "cornell", "cornell-spheres"];
+pub const BUILTIN_SCENES: &[&str] = &["default", "cornell", "cornell-ceiling", "cornell-spheres"];
 
 /// Directory the embedded files pretend to live in (it appears in error messages).
 const BUILTIN_DIR: &str = "<builtin>";
@@ -18,6 +18,10 @@ const BUILTIN_DIR: &str = "<builtin>";
 const FILES: &[(&str, &str)] = &[
     ("default.toml", include_str!("../../scenes/default.toml")),
     ("cornell.toml", include_str!("../../scenes/cornell.toml")),
+    (
+        "cornell-ceiling.toml",
+        include_str!("../../scenes/cornell-ceiling.toml"),
+    ),
     (
         "cornell-spheres.toml",
         include_str!("../../scenes/cornell-spheres.toml"),
@@ -115,7 +119,7 @@ mod tests {
                 Err(e @ Error::Invalid { .. }) => {
                     let message = e.to_string();
                     assert!(
-                        message.contains("default, cornell, cornell-spheres"),
+                        message.contains("default, cornell, cornell-ceiling, cornell-spheres"),
                         "{message}"
                     );
                 }
