@@ -108,6 +108,7 @@ impl PathTracing for Lab12 {
             distance,
             radiance,
             pdf,
+            delta: false,
         })
     }
 
@@ -200,8 +201,14 @@ impl PathTracing for Lab12 {
                         light.distance * (1.0 - 1e-4),
                     );
                     if !occluded(&shadow) {
-                        radiance += throughput * f.value * light.radiance * cos / light.pdf
-                            * power_heuristic(light.pdf, f.pdf);
+                        // Only next-event estimation finds a delta light: weight one.
+                        let weight = if light.delta {
+                            1.0
+                        } else {
+                            power_heuristic(light.pdf, f.pdf)
+                        };
+                        radiance +=
+                            throughput * f.value * light.radiance * cos / light.pdf * weight;
                     }
                 }
             }

@@ -51,17 +51,22 @@ pub struct BsdfSample {
     pub pdf: f32,
 }
 
-/// A point drawn on an emitter, seen from the shaded point.
+/// A point drawn on a light, seen from the shaded point.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EmitterSample {
-    /// Unit direction from the shaded point to the point on the emitter.
+    /// Unit direction from the shaded point to the point on the light.
     pub direction: Vec3,
-    /// The distance to it.
+    /// The distance to it (infinite for a directional light).
     pub distance: f32,
-    /// The radiance the emitter sends back along `direction`.
+    /// The radiance the emitter sends back along `direction`; for a delta light the
+    /// irradiance it delivers to a surface facing it (`I/d²` of a point light).
     pub radiance: Vec3,
-    /// The density of `direction` per unit solid angle.
+    /// The density of `direction` per unit solid angle; for a delta light the probability
+    /// with which it was chosen.
     pub pdf: f32,
+    /// A point or directional light, which no direction drawn from a BSDF can hit: only
+    /// next-event estimation finds its light, so its sample has weight one.
+    pub delta: bool,
 }
 
 /// A surface point a path meets.
@@ -158,7 +163,8 @@ pub trait PathTracing: Send + Sync {
     /// power heuristic against the light sampler (in full at the first vertex), next-event
     /// estimation with a point from `sample_light` whose shadow ray `occluded` lets through,
     /// weighted against the BSDF's density from `bsdf`, then the next direction from
-    /// `sample_bsdf`, and from the third bounce on `roulette`. The closures are the scene's
+    /// `sample_bsdf`, and from the third bounce on `roulette`. A delta light's sample has
+    /// weight one (no BSDF sample can find it). The closures are the scene's
     /// queries and Exercises 12.2–12.7's functions (docs/lab12.md, §12.8).
     #[allow(clippy::too_many_arguments)]
     fn path_radiance(

@@ -98,7 +98,7 @@ pub struct Pipeline {
     /// from the photon map; 9 adds diffuse textures; 10 weights reflection and refraction by
     /// the Fresnel reflectance and absorbs light in volumes; 11 adds the light probe of a scene
     /// that has one (the radiance of rays that leave the scene, ambient occlusion on Lambertian
-    /// surfaces); 12 is a path tracer ([`path`]), lit by emitting triangles and the background.
+    /// surfaces); 12 is a path tracer ([`path`]).
     pub lab: u32,
     /// What to show.
     pub view: View,

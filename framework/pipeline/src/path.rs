@@ -3,10 +3,11 @@
 //! queries, the light sampler and the lab's other functions, handed to the path loop as
 //! closures.
 //!
-//! Light comes from the scene's emitting triangles (its [`AreaLight`]: next-event estimation
-//! chooses a triangle with probability proportional to its area, then a point on it through
-//! Exercise 12.4) and from the background of rays that leave the scene; point and directional
-//! lights, which no path can hit, take no part.
+//! Light comes from the scene's lights and from the background of rays that leave the scene.
+//! Next-event estimation chooses one of the lights with equal probability: of the emitting
+//! triangles (the scene's [`AreaLight`]) one with probability proportional to its area, then
+//! a point on it through Exercise 12.4; a point or directional light is a delta light, which
+//! only next-event estimation finds (`EmitterSample::delta`).
 
 use glam::Vec3;
 
@@ -66,6 +67,15 @@ fn path_lobe(material: &Material, diffuse: Vec3) -> PathMaterial {
     }
 }
 
+/// The lights next-event estimation chooses from, each with probability `1/len`.
+fn lights(scene: &Scene) -> Vec<&Light> {
+    scene
+        .lights
+        .iter()
+        .filter(|l| !matches!(l, Light::Area(area) if area.faces.is_empty()))
+        .collect()
+}
+
 /// The scene's emitting triangles, if it has any.
 fn emitters(scene: &Scene) -> Option<&AreaLight> {
     scene.lights.iter().find_map(|l| match l {
@@ -74,7 +84,8 @@ fn emitters(scene: &Scene) -> Option<&AreaLight> {
     })
 }
 
-/// The probability with which the light sampler chooses face number `i` of `area`.
+/// The probability with which the light sampler chooses face number `i` of `area`, once it
+/// has chosen the emitting triangles.
 fn face_probability(area: &AreaLight, i: usize) -> f32 {
     area.cdf[i] - if i == 0 { 0.0 } else { area.cdf[i - 1] }
 }
@@ -91,23 +102,47 @@ impl Pipeline {
             ..*ray
         };
         let code = self.path_tracing.as_ref();
-        let lights = emitters(scene);
-        let trace = |r: &Ray| self.path_hit(scene, lights, r);
+        let lights = lights(scene);
+        let choice = 1.0 / lights.len().max(1) as f32;
+        let trace = |r: &Ray| self.path_hit(scene, emitters(scene), choice, r);
         let occluded = |r: &Ray| self.trace_to_any(scene, r);
         let sample_light = |position: Vec3, rng: &mut Rng| -> Option<EmitterSample> {
-            let area = lights?;
-            let u = rng.next_f32();
-            let i = area
-                .cdf
-                .partition_point(|&c| c <= u)
-                .min(area.faces.len() - 1);
-            let face = area.faces[i] as usize;
-            let radiance = scene.material(scene.mesh.face_materials[face]).emission;
-            let sample = code.sample_emitter(scene.mesh.triangle(face), radiance, position, rng)?;
-            Some(EmitterSample {
-                pdf: sample.pdf * face_probability(area, i),
-                ..sample
-            })
+            if lights.is_empty() {
+                return None;
+            }
+            let u = rng.next_f32() * lights.len() as f32;
+            let (k, u) = ((u as usize).min(lights.len() - 1), u.fract());
+            match lights[k] {
+                Light::Area(area) => {
+                    let (i, _) = area.pick_face(u);
+                    let face = area.faces[i] as usize;
+                    let radiance = scene.material(scene.mesh.face_materials[face]).emission;
+                    let sample =
+                        code.sample_emitter(scene.mesh.triangle(face), radiance, position, rng)?;
+                    Some(EmitterSample {
+                        pdf: sample.pdf * face_probability(area, i) * choice,
+                        ..sample
+                    })
+                }
+                Light::Point(point) => {
+                    let to = point.position - position;
+                    let distance = to.length();
+                    Some(EmitterSample {
+                        direction: to / distance,
+                        distance,
+                        radiance: point.intensity / (distance * distance),
+                        pdf: choice,
+                        delta: true,
+                    })
+                }
+                Light::Directional(sun) => Some(EmitterSample {
+                    direction: -sun.direction.normalize(),
+                    distance: f32::INFINITY,
+                    radiance: sun.emission,
+                    pdf: choice,
+                    delta: true,
+                }),
+            }
         };
         let sample_bsdf = |v: &PathVertex, wo: Vec3, rng: &mut Rng| {
             code.sample_bsdf(&v.material, v.normal, wo, rng)
@@ -132,7 +167,15 @@ impl Pipeline {
     /// What `ray` finds, as the path loop sees it: the surface with its material, its
     /// emitted radiance and the light sampler's density of it from the ray's origin; or the
     /// background.
-    fn path_hit(&self, scene: &Scene, lights: Option<&AreaLight>, ray: &Ray) -> PathHit {
+    /// `choice` is the probability with which the light sampler chooses the emitting
+    /// triangles.
+    fn path_hit(
+        &self,
+        scene: &Scene,
+        lights: Option<&AreaLight>,
+        choice: f32,
+        ray: &Ray,
+    ) -> PathHit {
         let Some(mut hit) = self.trace_to_closest(scene, ray) else {
             let radiance = match &scene.environment {
                 Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
@@ -167,7 +210,8 @@ impl Pipeline {
                 && let Some(i) = area.faces.iter().position(|&f| f == face)
             {
                 let to = hit.position - ray.origin;
-                light_pdf = face_probability(area, i)
+                light_pdf = choice
+                    * face_probability(area, i)
                     * self.path_tracing.emitter_pdf(
                         scene.mesh.triangle(face as usize),
                         ray.origin,

@@ -120,6 +120,7 @@ impl PathTracing for Student {
     /// ```text
     /// L += β · L_e · w         w = 1 for the camera ray, else power_heuristic(p_bsdf, light_pdf)
     /// L += β · f · L_l · cos θ / p_l · power_heuristic(p_l, p_f)   if the shadow ray is free
+    ///                                                   (weight 1 for a delta light)
     /// β *= f · cos θ / p        the next direction from sample_bsdf
     /// ```
     ///

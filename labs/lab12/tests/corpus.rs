@@ -80,6 +80,7 @@ enum Change {
     SkyIgnored,
     RouletteFromTheStart,
     NoRoulette,
+    DeltaWeighted,
 }
 
 use Change::*;
@@ -268,6 +269,11 @@ pub fn variants() -> Vec<Variant> {
             BounceWithoutOffset,
         ),
         v("the sky left out", r("12.8"), SkyIgnored),
+        v(
+            "a delta light's sample weighted by the power heuristic",
+            r("12.8"),
+            DeltaWeighted,
+        ),
         v("roulette from the first bounce", ok, RouletteFromTheStart),
         v("no roulette at all", ok, NoRoulette),
     ]
@@ -629,6 +635,7 @@ impl PathTracing for Variant {
                 distance,
                 radiance,
                 pdf,
+                delta: false,
             })
         };
         match self.change {
@@ -653,6 +660,7 @@ impl PathTracing for Variant {
                     distance,
                     radiance,
                     pdf: distance * distance / (area * cos),
+                    delta: false,
                 })
             }
             FoldedSquare => {
@@ -869,11 +877,12 @@ fn path_loop(
                 };
                 let shadow = Ray::new(vertex.position, light.direction, RAY_EPSILON, tmax);
                 if !occluded(&shadow) {
-                    let w = if change == NeeWithoutWeight {
-                        1.0
-                    } else {
-                        power_heuristic(light.pdf, f.pdf)
-                    };
+                    let w =
+                        if change == NeeWithoutWeight || (light.delta && change != DeltaWeighted) {
+                            1.0
+                        } else {
+                            power_heuristic(light.pdf, f.pdf)
+                        };
                     let c = if change == NeeWithoutCosine { 1.0 } else { cos };
                     radiance += throughput * f.value * light.radiance * c / light.pdf * w;
                 }

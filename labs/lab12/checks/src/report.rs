@@ -34,7 +34,7 @@ const DEPTHS: [u32; 4] = [0, 1, 2, 10];
 
 /// The Cornell box lit by its ceiling, path traced; then at four path depths.
 fn cornell(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
-    let scene = builtin_scene("cornell")?;
+    let scene = builtin_scene("cornell-ceiling")?;
     let (w, h) = ctx.size(320, 320);
     let spp = if ctx.quick { 16 } else { 256 };
     let (film, seconds) = ctx.render_timed(&scene, &ctx.pipeline, &settings(w, h, spp))?;
