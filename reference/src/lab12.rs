@@ -5,6 +5,7 @@ use std::f32::consts::{FRAC_1_PI, TAU};
 use contracts::glam::{Vec2, Vec3};
 use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
+    PixelStatistics,
 };
 use contracts::math::{Onb, RAY_EPSILON, Ray};
 use contracts::sampling::Rng;
@@ -226,6 +227,34 @@ impl PathTracing for Lab12 {
             }
         }
         radiance
+    }
+
+    fn accumulate(&self, stats: &PixelStatistics, radiance: Vec3) -> PixelStatistics {
+        let count = stats.count + 1;
+        let delta = radiance - stats.mean;
+        let mean = stats.mean + delta / count as f32;
+        PixelStatistics {
+            count,
+            mean,
+            m2: stats.m2 + delta * (radiance - mean),
+        }
+    }
+
+    fn relative_error(&self, stats: &PixelStatistics) -> f32 {
+        if stats.count < 2 {
+            return f32::INFINITY;
+        }
+        let n = stats.count as f32;
+        let standard_error = (stats.m2 / (n - 1.0) / n).max(Vec3::ZERO).powf(0.5);
+        (0..3)
+            .map(|c| {
+                if stats.mean[c] == 0.0 {
+                    0.0
+                } else {
+                    standard_error[c] / stats.mean[c].abs()
+                }
+            })
+            .fold(0.0, f32::max)
     }
 }
 

@@ -102,6 +102,18 @@ pub enum PathHit {
     },
 }
 
+/// A pixel's running statistics (Welford's): how many estimates it has, their mean, and the
+/// sum of their squared deviations from the mean.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PixelStatistics {
+    /// The number of estimates `n`.
+    pub count: u32,
+    /// Their mean, per channel.
+    pub mean: Vec3,
+    /// `Σ (xᵢ − mean)²`, per channel.
+    pub m2: Vec3,
+}
+
 /// The lab's contract: what the student's `Student` implements, and the answer key's `Lab12`.
 pub type Contract = dyn PathTracing;
 
@@ -180,4 +192,13 @@ pub trait PathTracing: Send + Sync {
         roulette: &dyn Fn(Vec3, &mut Rng) -> Option<f32>,
         rng: &mut Rng,
     ) -> Vec3;
+
+    /// **Exercise 12.9** — `stats` with one more estimate `radiance`, by Welford's update:
+    /// `n += 1`, `mean += (x − mean)/n`, `m2 += (x − mean_old)(x − mean_new)` per channel.
+    fn accumulate(&self, stats: &PixelStatistics, radiance: Vec3) -> PixelStatistics;
+
+    /// **Exercise 12.10** — the relative standard error of the pixel's mean: the largest over
+    /// the channels of `√(s²/n) / mean`, `s² = m2/(n − 1)`; a channel whose mean is 0 counts 0;
+    /// infinite with fewer than two estimates.
+    fn relative_error(&self, stats: &PixelStatistics) -> f32;
 }

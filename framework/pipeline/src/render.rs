@@ -82,3 +82,98 @@ pub fn render_pixel(
     }
     sum / spp as f32
 }
+
+/// Samples per pixel of each pass of a [`render_progressive`] (jittered within the pixel).
+pub const PASS_SAMPLES: u32 = 4;
+
+/// The outcome of a progressive render.
+pub struct ProgressiveRender {
+    /// The last pass's partial render, its film replaced by the mean of every pass.
+    pub rendered: PartialRender,
+    /// Per pixel, the variance of that mean (`m2 / (n (n − 1))` per channel).
+    pub variance: Film,
+    /// The passes rendered.
+    pub passes: u32,
+    /// The largest relative error of a pixel's mean when it stopped.
+    pub worst_error: f32,
+}
+
+/// Renders `scene` through `pipeline` in passes of [`PASS_SAMPLES`] samples per pixel, up to
+/// `settings.samples_per_pixel` in all, each pixel's pass means accumulated through lab 12's
+/// `accumulate` (Exercise 12.9); stops early when every pixel's `relative_error` (Exercise
+/// 12.10) is below `target`. `after_pass(passes, mean)` is called after each pass. Pass `p`
+/// draws its numbers from the seed `settings.seed + p`, so the image does not depend on the
+/// number of threads. A panic of the lab's two functions is an error naming the exercise.
+pub fn render_progressive(
+    scene: &Scene,
+    pipeline: &Pipeline,
+    settings: &RenderSettings,
+    target: Option<f32>,
+    mut after_pass: impl FnMut(u32, &Film) -> Result<(), Error>,
+) -> Result<ProgressiveRender, Error> {
+    use contracts::lab12::PixelStatistics;
+    let code = pipeline.path_tracing.as_ref();
+    let passes = settings.samples_per_pixel.div_ceil(PASS_SAMPLES).max(1);
+    let mut stats = vec![PixelStatistics::default(); (settings.width * settings.height) as usize];
+    let mut last = None;
+    let mut worst_error = f32::INFINITY;
+    let mut done = 0;
+    for pass in 0..passes {
+        let pass_settings = RenderSettings {
+            samples_per_pixel: PASS_SAMPLES,
+            seed: settings.seed.wrapping_add(u64::from(pass)),
+            ..*settings
+        };
+        let rendered = render_partial(scene, pipeline, &pass_settings)?;
+        let film = &rendered.film;
+        stats = raylab_core::catch_quietly("Exercise 12.9", || {
+            stats
+                .iter()
+                .zip(&film.pixels)
+                .map(|(s, &x)| code.accumulate(s, x))
+                .collect()
+        })
+        .map_err(Error::Panic)?;
+        done = pass + 1;
+        let mean = Film {
+            pixels: stats.iter().map(|s| s.mean).collect(),
+            ..film.clone()
+        };
+        after_pass(done, &mean)?;
+        last = Some(rendered);
+        if let Some(target) = target {
+            worst_error = raylab_core::catch_quietly("Exercise 12.10", || {
+                stats
+                    .iter()
+                    .map(|s| code.relative_error(s))
+                    .fold(0.0, f32::max)
+            })
+            .map_err(Error::Panic)?;
+            if worst_error < target {
+                break;
+            }
+        }
+    }
+    let mut rendered = last.expect("at least one pass");
+    rendered.film.pixels = stats.iter().map(|s| s.mean).collect();
+    let variance = Film {
+        pixels: stats
+            .iter()
+            .map(|s| {
+                let n = s.count as f32;
+                if s.count > 1 {
+                    s.m2 / (n * (n - 1.0))
+                } else {
+                    Vec3::splat(f32::INFINITY)
+                }
+            })
+            .collect(),
+        ..rendered.film.clone()
+    };
+    Ok(ProgressiveRender {
+        rendered,
+        variance,
+        passes: done,
+        worst_error,
+    })
+}

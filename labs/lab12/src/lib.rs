@@ -17,6 +17,7 @@
 use contracts::glam::Vec3;
 use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
+    PixelStatistics,
 };
 use contracts::math::Ray;
 use contracts::sampling::Rng;
@@ -139,5 +140,27 @@ impl PathTracing for Student {
         rng: &mut Rng,
     ) -> Vec3 {
         todo!("Exercise 12.8: path_radiance (docs/lab12.md, Exercise 12.8)")
+    }
+
+    /// **Exercise 12.9** — `stats` with one more estimate `radiance` (docs/lab12.md, §12.9), by
+    /// Welford's update, per channel:
+    ///
+    /// ```text
+    /// n' = n + 1,   mean' = mean + (x − mean)/n',   m2' = m2 + (x − mean)(x − mean')
+    /// ```
+    fn accumulate(&self, stats: &PixelStatistics, radiance: Vec3) -> PixelStatistics {
+        todo!("Exercise 12.9: accumulate (docs/lab12.md, Exercise 12.9)")
+    }
+
+    /// **Exercise 12.10** — the relative standard error of the pixel's mean
+    /// (docs/lab12.md, §12.10): the largest over the channels of
+    ///
+    /// ```text
+    /// √(s²/n) / mean,   s² = m2/(n − 1)
+    /// ```
+    ///
+    /// a channel of mean 0 counting 0; `f32::INFINITY` with fewer than two estimates.
+    fn relative_error(&self, stats: &PixelStatistics) -> f32 {
+        todo!("Exercise 12.10: relative_error (docs/lab12.md, Exercise 12.10)")
     }
 }

@@ -8,6 +8,7 @@ use std::f32::consts::{FRAC_1_PI, TAU};
 
 use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
+    PixelStatistics,
 };
 use grading::corpus::Verdict;
 use raylab_core::glam::Vec3;
@@ -81,6 +82,16 @@ enum Change {
     RouletteFromTheStart,
     NoRoulette,
     DeltaWeighted,
+    SumOfSquares,
+    OldMeanTwice,
+    MeanOverOldCount,
+    WelfordInDouble,
+    PopulationVariance,
+    WithoutRootN,
+    ByLuminanceOfMean,
+    ZeroBelowTwo,
+    NaNWhenBlack,
+    VarianceFromSquares,
 }
 
 use Change::*;
@@ -273,6 +284,32 @@ pub fn variants() -> Vec<Variant> {
             "a delta light's sample weighted by the power heuristic",
             r("12.8"),
             DeltaWeighted,
+        ),
+        v(
+            "a sum and a sum of squares: m2 = Σx² − n·mean²",
+            r("12.9"),
+            SumOfSquares,
+        ),
+        v("m2 += (x − mean_old)²", r("12.9"), OldMeanTwice),
+        v(
+            "mean += (x − mean)/n with the old n",
+            r("12.9"),
+            MeanOverOldCount,
+        ),
+        v("Welford's update in double precision", ok, WelfordInDouble),
+        v("s² = m2/n", r("12.10"), PopulationVariance),
+        v("√(s²)/mean without √n", r("12.10"), WithoutRootN),
+        v(
+            "the luminance's error from the channels' errors",
+            r("12.10"),
+            ByLuminanceOfMean,
+        ),
+        v("0 with fewer than two estimates", r("12.10"), ZeroBelowTwo),
+        v("0/0 = NaN for a black pixel", r("12.10"), NaNWhenBlack),
+        v(
+            "the relative error in double precision",
+            ok,
+            VarianceFromSquares,
         ),
         v("roulette from the first bounce", ok, RouletteFromTheStart),
         v("no roulette at all", ok, NoRoulette),
@@ -813,6 +850,90 @@ impl PathTracing for Variant {
             roulette,
             rng,
         )
+    }
+
+    fn accumulate(&self, st: &PixelStatistics, x: Vec3) -> PixelStatistics {
+        let count = st.count + 1;
+        let n = count as f32;
+        match self.change {
+            SumOfSquares => {
+                // Kept as Σx and Σx² in disguise: mean and the raw second moment.
+                let sum = st.mean * st.count as f32 + x;
+                let squares = st.m2 + st.mean * st.mean * st.count as f32 + x * x;
+                let mean = sum / n;
+                PixelStatistics {
+                    count,
+                    mean,
+                    m2: squares - mean * mean * n,
+                }
+            }
+            OldMeanTwice => PixelStatistics {
+                count,
+                mean: st.mean + (x - st.mean) / n,
+                m2: st.m2 + (x - st.mean) * (x - st.mean),
+            },
+            MeanOverOldCount => {
+                let mean = st.mean + (x - st.mean) / (st.count.max(1) as f32);
+                PixelStatistics {
+                    count,
+                    mean,
+                    m2: st.m2 + (x - st.mean) * (x - mean),
+                }
+            }
+            WelfordInDouble => {
+                let (m, x2) = (st.mean.as_dvec3(), x.as_dvec3());
+                let delta = x2 - m;
+                let mean = m + delta / f64::from(count);
+                PixelStatistics {
+                    count,
+                    mean: mean.as_vec3(),
+                    m2: (st.m2.as_dvec3() + delta * (x2 - mean)).as_vec3(),
+                }
+            }
+            _ => Reference.accumulate(st, x),
+        }
+    }
+
+    fn relative_error(&self, st: &PixelStatistics) -> f32 {
+        let n = st.count as f32;
+        let per_channel = |se: Vec3| {
+            (0..3)
+                .map(|c| {
+                    if st.mean[c] == 0.0 {
+                        0.0
+                    } else {
+                        se[c] / st.mean[c]
+                    }
+                })
+                .fold(0.0, f32::max)
+        };
+        match self.change {
+            PopulationVariance if st.count >= 2 => per_channel((st.m2 / n / n).powf(0.5)),
+            WithoutRootN if st.count >= 2 => per_channel((st.m2 / (n - 1.0)).powf(0.5)),
+            ByLuminanceOfMean if st.count >= 2 => {
+                let se = (st.m2 / (n - 1.0) / n).powf(0.5);
+                let y = Reference.luminance(st.mean);
+                if y == 0.0 {
+                    0.0
+                } else {
+                    Reference.luminance(se) / y
+                }
+            }
+            ZeroBelowTwo if st.count < 2 => 0.0,
+            NaNWhenBlack if st.count >= 2 => {
+                let se = (st.m2 / (n - 1.0) / n).powf(0.5);
+                (se / st.mean).max_element()
+            }
+            VarianceFromSquares if st.count >= 2 => {
+                let n = f64::from(st.count);
+                let se = (st.m2.as_dvec3() / (n - 1.0) / n).powf(0.5);
+                let m = st.mean.as_dvec3();
+                (0..3)
+                    .map(|c| if m[c] == 0.0 { 0.0 } else { se[c] / m[c] })
+                    .fold(0.0, f64::max) as f32
+            }
+            _ => Reference.relative_error(st),
+        }
     }
 }
 

@@ -88,6 +88,11 @@ pub struct RenderArgs {
     /// … within this radius, in scene units (lab 8 on).
     #[arg(long, default_value_t = PhotonSettings::DEFAULT.max_radius)]
     pub photon_radius: f32,
+    /// Lab 12 on, where --spp of 8 or more renders progressively (passes of 4 samples, the
+    /// image rewritten every 8 passes, the variance of each pixel's mean written beside it as
+    /// NAME-variance.exr): stop once every pixel's relative error is below this (0.05 for 5 %).
+    #[arg(long)]
+    pub target_error: Option<f32>,
 }
 
 impl Default for RenderArgs {
@@ -108,6 +113,7 @@ impl Default for RenderArgs {
             photons: PhotonSettings::DEFAULT.emitted,
             photon_k: PhotonSettings::DEFAULT.k,
             photon_radius: PhotonSettings::DEFAULT.max_radius,
+            target_error: None,
         }
     }
 }
@@ -183,6 +189,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             seed: args.seed,
         },
         whose: format!("{:?}", args.pipeline),
+        target_error: args.target_error,
     };
     job.validate()?;
     job.output = prepare_output(&args.output)?;

@@ -70,6 +70,10 @@ pub fn generate_golden(
         let inputs = grading::strategies::samples((checks::density(), checks::density()), 64, 62);
         GoldenFile::record("12.6", &inputs, |&(a, b)| reference.power_heuristic(a, b)).save(path)
     })?;
+    save(checks::GOLDEN_RELATIVE_ERROR, &|path| {
+        let inputs = checks::relative_error_inputs();
+        GoldenFile::record("12.10", &inputs[2..], |st| reference.relative_error(st)).save(path)
+    })?;
     let pipeline =
         checks::cornell_pipeline(reference, &ctx.base).map_err(|reason| Error::Invalid {
             what: "the reference pipeline".into(),
