@@ -11,6 +11,7 @@ use raylab_core::render::PANICKED_COLOUR;
 use contracts::lab12::{PathMaterial, PathTracing};
 use contracts::math::Onb;
 use contracts::sampling::Rng;
+use figures::plot::{Guide, LogLogPlot, RED, Series};
 use figures::{Figure, Panel, ReportContext, settings, timed};
 use raylab_core::scene::builtin_scene;
 
@@ -25,6 +26,7 @@ fn exponent(roughness: f32) -> f32 {
 /// The figures of lab 12.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut figures = cornell(ctx)?;
+    figures.extend(convergence(ctx)?);
     figures.extend(lobes(ctx)?);
     Ok(figures)
 }
@@ -85,6 +87,101 @@ fn cornell(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             caption: "The same box with paths of at most 0, 1, 2 and 10 bounces: the emitter alone, direct light (the ceiling black but for its lamp), then each bounce adding indirect light".into(),
             parameters: format!("{w}×{h} pixels, {spp} samples per pixel each"),
             seconds: Some(total),
+        },
+    ])
+}
+
+/// Samples per pixel of the convergence figure.
+const CONVERGENCE_SPP: [u32; 7] = [1, 4, 16, 64, 256, 1024, 4096];
+
+/// The error of the box against a render of four times the largest count, from 1 to 4096
+/// samples per pixel, on log–log axes: a Monte Carlo estimate's error falls as 1/√N.
+fn convergence(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
+    let scene = builtin_scene("cornell-ceiling")?;
+    let (w, h) = if ctx.quick { (16, 16) } else { (32, 32) };
+    let counts: Vec<u32> = CONVERGENCE_SPP
+        .iter()
+        .copied()
+        .filter(|&n| !ctx.quick || n <= 64)
+        .collect();
+    let most = *counts.last().expect("counts");
+    let reference_spp = 4 * most;
+    let (reference, mut seconds) = ctx.render_timed(
+        &scene,
+        &ctx.pipeline,
+        &raylab_core::render::RenderSettings {
+            seed: 999,
+            ..settings(w, h, reference_spp)
+        },
+    )?;
+    let mut points = Vec::new();
+    let mut panels = Vec::new();
+    for &n in &counts {
+        let (film, s) = ctx.render_timed(&scene, &ctx.pipeline, &settings(w, h, n))?;
+        seconds += s;
+        let squares: f64 = film
+            .pixels
+            .iter()
+            .zip(&reference.pixels)
+            .map(|(a, b)| f64::from((*a - *b).length_squared()) / 3.0)
+            .sum();
+        let rmse = (squares / film.pixels.len() as f64).sqrt();
+        if rmse.is_finite() && rmse > 0.0 {
+            points.push((f64::from(n), rmse));
+        }
+    }
+    // The images themselves, larger: phoe_ray's Figure 18.
+    let (pw, ph) = ctx.size(160, 160);
+    for n in [1, 16, 256] {
+        let (film, s) = ctx.render_timed(&scene, &ctx.pipeline, &settings(pw, ph, n))?;
+        seconds += s;
+        panels.push(Panel::new(film, timed(&format!("{n} spp"), s)));
+    }
+    let images = "cornell-spp.png";
+    ctx.save_panels(&[panels], images, ToneMap::default())?;
+    let plot = LogLogPlot {
+        x_decades: (0, (f64::from(most)).log10().ceil() as i32),
+        x_label: "samples per pixel",
+        y_label: "RMS error",
+        series: vec![Series {
+            name: "path tracer (12.2-12.8)",
+            points: &points,
+            colour: RED,
+            markers: true,
+        }],
+        // Through the last point, where the error is an average over many paths per pixel; at a
+        // few samples rare bright paths (fireflies) dominate it.
+        guides: points
+            .last()
+            .map(|&through| Guide {
+                slope: -0.5,
+                through,
+                name: "slope -1/2 (1/sqrt N)",
+            })
+            .into_iter()
+            .collect(),
+    };
+    let plot_file = "cornell-convergence.png";
+    ctx.save_plot(&plot, plot_file)?;
+    let table: Vec<String> = points
+        .iter()
+        .map(|(n, e)| format!("{n} spp: {e:.4}"))
+        .collect();
+    Ok(vec![
+        Figure {
+            file: images.into(),
+            caption: "The box at 1, 16 and 256 samples per pixel: the noise of a Monte Carlo estimate, a quarter as much at sixteen times the samples (phoe_ray's Figure 18)".into(),
+            parameters: format!("{pw}×{ph} pixels, 10 bounces"),
+            seconds: None,
+        },
+        Figure {
+            file: plot_file.into(),
+            caption: format!(
+                "The RMS error against the reference falls as 1/√N, the slope −½ of every unbiased Monte Carlo estimate once there are enough samples per pixel that rare bright paths (fireflies) no longer dominate it (the last point includes the reference's own noise, a quarter of the variance; 1 spp traces pixel centres): {}",
+                table.join(", ")
+            ),
+            parameters: format!("{w}×{h} pixels; the reference {reference_spp} spp"),
+            seconds: Some(seconds),
         },
     ])
 }
