@@ -3,6 +3,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::LabContext;
+use crate::stats::{NoiseTolerance, RenderStatistics, compare_noisy, z_score_map};
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap, luminance, read_exr, write_png};
 
@@ -164,6 +165,91 @@ impl LabContext {
             100.0 * tol.max_outlier_fraction,
             report.non_finite,
             report.max_error
+        ))
+    }
+}
+
+impl LabContext {
+    /// Writes the statistics of the reference's renders as the Monte Carlo snapshot `name`
+    /// (`NAME-mean.exr`, `NAME-variance.exr`; `raylab golden`), and says which files.
+    pub fn save_noisy_snapshot(
+        &self,
+        name: &str,
+        reference: &RenderStatistics,
+    ) -> Result<Vec<PathBuf>, Error> {
+        let mut written = Vec::new();
+        for (what, film) in [("mean", &reference.mean), ("variance", &reference.variance)] {
+            let path = self.snapshot_path(&format!("{name}-{what}.exr"));
+            raylab_core::film::write_exr(film, &path)?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+
+    /// The reference statistics of the Monte Carlo snapshot `name` over `renders` renders, as
+    /// `raylab golden` stores them: `NAME-mean.exr` and `NAME-variance.exr` (one render's).
+    pub fn noisy_reference(&self, name: &str, renders: u32) -> Result<RenderStatistics, String> {
+        let read = |what: &str| {
+            read_exr(&self.snapshot_path(&format!("{name}-{what}.exr"))).map_err(|e| {
+                format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
+            })
+        };
+        Ok(RenderStatistics {
+            renders,
+            mean: read("mean")?,
+            variance: read("variance")?,
+        })
+    }
+
+    /// The per-pixel Z-test of `student`'s renders against the noisy snapshot `name` of
+    /// `reference_renders` renders (`NAME-mean.exr`, `NAME-variance.exr`) under `tol`. On
+    /// failure it writes `NAME-student.png`, `-reference.png` and `-zscore.png`
+    /// ([`z_score_map`]) and says how they differ; `what` names the render ("the soft
+    /// shadows of …").
+    pub fn check_noisy_snapshot(
+        &self,
+        name: &str,
+        student: &RenderStatistics,
+        reference_renders: u32,
+        tol: &NoiseTolerance,
+        what: &str,
+    ) -> Result<(), String> {
+        let reference = &self.noisy_reference(name, reference_renders)?;
+        let report = compare_noisy(student, reference, tol);
+        if report.passes(tol) {
+            return Ok(());
+        }
+        let tonemap = ToneMap::Clamp { exposure: 1.0 };
+        let path = |suffix: &str| self.failure_dir.join(format!("{name}-{suffix}.png"));
+        let written = write_png(&mark_non_finite(&student.mean), &path("student"), tonemap)
+            .and_then(|()| write_png(&reference.mean, &path("reference"), tonemap))
+            .and_then(|()| {
+                write_png(
+                    &z_score_map(student, reference, tol),
+                    &path("zscore"),
+                    tonemap,
+                )
+            });
+        let images = match written {
+            Ok(()) => ["student", "reference", "zscore"]
+                .iter()
+                .map(|s| format!("\n    {}", path(s).display()))
+                .collect::<String>(),
+            Err(e) => format!(" (could not write images: {e})"),
+        };
+        let (z, x, y) = report.worst;
+        Err(format!(
+            "{what}: the mean of {} renders differs from the reference beyond its noise: {} of {} pixels are more than {:.1} standard errors from the reference mean (at most {:.1}% may be), {} NaN/infinite; the worst is pixel ({x}, {y}) at {z:.1} standard errors: {} against {} (standard deviation of one render {}). Overall the image is {:.3}× as bright as the reference.\n  images:{images}",
+            student.renders,
+            report.outliers,
+            report.pixels,
+            report.z_threshold,
+            100.0 * tol.max_outlier_fraction,
+            report.non_finite,
+            student.mean.get(x, y),
+            reference.mean.get(x, y),
+            reference.variance.get(x, y).max(Vec3::ZERO).powf(0.5),
+            report.brightness,
         ))
     }
 }

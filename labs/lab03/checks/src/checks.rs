@@ -25,18 +25,18 @@ use contracts::lab02::LightSample;
 use contracts::lab03::Shadows;
 use grading::radiometry::irradiance_polygon;
 use grading::stats::{
-    NoiseTolerance, RenderStatistics, chi_square_p_value, chi_square_uniform, compare_noisy,
-    normal_two_sided_quantile, sidak, z_score_map,
+    NoiseTolerance, RenderStatistics, chi_square_p_value, chi_square_uniform,
+    normal_two_sided_quantile, sidak,
 };
 use grading::strategies::triangle_strategy;
 use grading::strategies::{point, scale, unit_vector};
 use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, StrataNames, cell_of, check_one_per_cell,
-    compare_f32, compare_vec3, for_all, mark_non_finite,
+    compare_f32, compare_vec3, for_all,
 };
 use pipeline::render::render;
 use pipeline::{PartSlot, Pipeline, View};
-use raylab_core::film::{Film, ToneMap, write_png};
+use raylab_core::film::Film;
 use raylab_core::math::Ray;
 use raylab_core::render::RenderSettings;
 use raylab_core::sampling::Rng;
@@ -50,10 +50,10 @@ use raylab_core::scene::{Hit, HitSurface};
 pub const GOLDEN_AREA_SAMPLE: &str = "area_light_sample.json";
 /// Snapshot of the Cornell box lit by its point light only: hard shadows (deterministic).
 pub const SNAPSHOT_POINT: &str = "cornell-point";
-/// Per-pixel mean of the reference renders of the Cornell box lit by its area light only.
-pub const SNAPSHOT_AREA_MEAN: &str = "cornell-area-mean";
-/// Per-pixel variance (one render) of the same reference renders.
-pub const SNAPSHOT_AREA_VARIANCE: &str = "cornell-area-variance";
+/// The Monte Carlo snapshot of the Cornell box lit by its area light only: the per-pixel mean
+/// and variance (one render's) of the reference's renders, `cornell-area-mean.exr` and
+/// `cornell-area-variance.exr` (`LabContext::check_noisy_snapshot`).
+pub const SNAPSHOT_AREA: &str = "cornell-area";
 /// Size and sampling of lab 03's snapshots (the seed is that of the hard-shadow snapshot; the
 /// soft-shadow renders use [`REFERENCE_SEEDS`] and [`STUDENT_SEEDS`]).
 pub const SNAPSHOT_SETTINGS: RenderSettings = RenderSettings::snapshot(3);
@@ -1205,20 +1205,6 @@ pub fn area_statistics(
     Ok(RenderStatistics::of(&films))
 }
 
-/// The reference statistics of the soft-shadow snapshot, as `raylab golden` stored them.
-pub fn load_area_reference(ctx: &LabContext) -> Result<RenderStatistics, String> {
-    let read = |name: &str| {
-        raylab_core::film::read_exr(&ctx.snapshot_path(&format!("{name}.exr"))).map_err(|e| {
-            format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
-        })
-    };
-    Ok(RenderStatistics {
-        renders: (REFERENCE_SEEDS.end - REFERENCE_SEEDS.start) as u32,
-        mean: read(SNAPSHOT_AREA_MEAN)?,
-        variance: read(SNAPSHOT_AREA_VARIANCE)?,
-    })
-}
-
 /// The soft-shadow check of a part: the student's renders ([`STUDENT_SEEDS`]) against the
 /// reference's ([`REFERENCE_SEEDS`]) under [`AREA_TOLERANCE`].
 pub fn check_area_snapshot(
@@ -1226,57 +1212,18 @@ pub fn check_area_snapshot(
     s: &Arc<dyn Shadows>,
     ctx: &LabContext,
 ) -> Result<(), String> {
-    let reference = load_area_reference(ctx)?;
     let pipeline = part_pipeline(part, s, &ctx.base, SNAPSHOT_LIGHT_SAMPLES);
     let student = area_statistics(&pipeline, STUDENT_SEEDS).map_err(|e| e.to_string())?;
-    let tol = AREA_TOLERANCE;
-    let report = compare_noisy(&student, &reference, &tol);
-    if report.passes(&tol) {
-        return Ok(());
-    }
-    let images = write_noise_images(ctx, &student, &reference, &tol)
-        .map(|paths| {
-            paths
-                .iter()
-                .map(|p| format!("\n    {}", p.display()))
-                .collect::<String>()
-        })
-        .unwrap_or_else(|e| format!(" (could not write images: {e})"));
-    let (z, x, y) = report.worst;
-    Err(format!(
-        "the soft shadows of the Cornell box (lit by its area light only, {n}×{n} light samples, mean of {} renders) differ from the reference beyond its noise: {} of {} pixels are more than {:.1} standard errors from the reference mean (at most {:.1}% may be), {} NaN/infinite; the worst is pixel ({x}, {y}) at {z:.1} standard errors: {} against {} (standard deviation of one render {}). Overall the image is {:.3}× as bright as the reference.\n  images:{images}",
-        student.renders,
-        report.outliers,
-        report.pixels,
-        report.z_threshold,
-        100.0 * tol.max_outlier_fraction,
-        report.non_finite,
-        student.mean.get(x, y),
-        reference.mean.get(x, y),
-        reference.variance.get(x, y).max(Vec3::ZERO).powf(0.5),
-        report.brightness,
-        n = SNAPSHOT_LIGHT_SAMPLES,
-    ))
-}
-
-/// Writes the student's mean render, the reference mean and the map of `|z|`
-/// ([`z_score_map`]).
-fn write_noise_images(
-    ctx: &LabContext,
-    student: &RenderStatistics,
-    reference: &RenderStatistics,
-    tol: &NoiseTolerance,
-) -> Result<Vec<std::path::PathBuf>, raylab_core::Error> {
-    let name = "cornell-area";
-    let tonemap = ToneMap::Clamp { exposure: 1.0 };
-    let student_png = ctx.failure_dir.join(format!("{name}-student.png"));
-    let reference_png = ctx.failure_dir.join(format!("{name}-reference.png"));
-    let zmap_png = ctx.failure_dir.join(format!("{name}-zscore.png"));
-    write_png(&mark_non_finite(&student.mean), &student_png, tonemap)?;
-    write_png(&reference.mean, &reference_png, tonemap)?;
-    let heat = z_score_map(student, reference, tol);
-    write_png(&heat, &zmap_png, tonemap)?;
-    Ok(vec![student_png, reference_png, zmap_png])
+    ctx.check_noisy_snapshot(
+        SNAPSHOT_AREA,
+        &student,
+        (REFERENCE_SEEDS.end - REFERENCE_SEEDS.start) as u32,
+        &AREA_TOLERANCE,
+        &format!(
+            "the soft shadows of the Cornell box (lit by its area light only, {n}×{n} light samples)",
+            n = SNAPSHOT_LIGHT_SAMPLES
+        ),
+    )
 }
 
 #[cfg(test)]

@@ -37,13 +37,6 @@ pub fn generate_golden(
     written.push(path);
 
     let stats = area_statistics(&pipeline, REFERENCE_SEEDS)?;
-    for (name, film) in [
-        (SNAPSHOT_AREA_MEAN, &stats.mean),
-        (SNAPSHOT_AREA_VARIANCE, &stats.variance),
-    ] {
-        let path = ctx.snapshot_path(&format!("{name}.exr"));
-        raylab_core::film::write_exr(film, &path)?;
-        written.push(path);
-    }
+    written.extend(ctx.save_noisy_snapshot(SNAPSHOT_AREA, &stats)?);
     Ok(written)
 }

@@ -16,16 +16,11 @@ use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathT
 use contracts::math::Onb;
 use contracts::sampling::Rng;
 use grading::chi2::{SphereGrid, chi_square_two_sample};
-use grading::stats::{
-    NoiseTolerance, RenderStatistics, compare_noisy, family_z_limit, sidak, z_score_map,
-};
+use grading::stats::{NoiseTolerance, RenderStatistics, family_z_limit, sidak};
 use grading::strategies::unit_vector;
-use grading::{
-    Exercise, GoldenFile, LabContext, compare_f32, compare_vec3, for_all, mark_non_finite,
-};
+use grading::{Exercise, GoldenFile, LabContext, compare_f32, compare_vec3, for_all};
 use pipeline::render::render;
 use pipeline::{PartSlot, Pipeline, View};
-use raylab_core::film::{ToneMap, write_png};
 use raylab_core::render::RenderSettings;
 
 /// This lab.
@@ -1488,10 +1483,9 @@ pub const CORNELL_DEPTH: u32 = 4;
 pub const REFERENCE_SEEDS: std::ops::Range<u64> = 1000..1064;
 /// Seeds of the student's renders (disjoint from [`REFERENCE_SEEDS`]).
 pub const STUDENT_SEEDS: std::ops::Range<u64> = 5000..5004;
-/// Snapshot of the reference's mean render of the Cornell box.
-pub const SNAPSHOT_CORNELL_MEAN: &str = "cornell-mean";
-/// Snapshot of the per-pixel variance of one render.
-pub const SNAPSHOT_CORNELL_VARIANCE: &str = "cornell-variance";
+/// The Monte Carlo snapshot of the Cornell box: the per-pixel mean and variance (one
+/// render's) of the reference's renders, `cornell-mean.exr` and `cornell-variance.exr`.
+pub const SNAPSHOT_CORNELL: &str = "cornell";
 /// The tolerance of the Cornell box check: Šidák over the pixels, a few outliers allowed.
 pub const CORNELL_TOLERANCE: NoiseTolerance = NoiseTolerance {
     family_alpha: 1e-3,
@@ -1537,66 +1531,18 @@ pub fn cornell_statistics(
 /// The Cornell box lit by its ceiling, path traced by the student's loop with the reference's
 /// parts, against the mean and variance of the reference's renders by a per-pixel Z-test.
 fn check_cornell(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), String> {
-    let read = |name: &str| {
-        raylab_core::film::read_exr(&ctx.snapshot_path(&format!("{name}.exr"))).map_err(|e| {
-            format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
-        })
-    };
-    let reference = RenderStatistics {
-        renders: (REFERENCE_SEEDS.end - REFERENCE_SEEDS.start) as u32,
-        mean: read(SNAPSHOT_CORNELL_MEAN)?,
-        variance: read(SNAPSHOT_CORNELL_VARIANCE)?,
-    };
     let pipeline = cornell_pipeline(s, &ctx.base)?;
     let student = cornell_statistics(&pipeline, STUDENT_SEEDS).map_err(|e| e.to_string())?;
-    let tol = CORNELL_TOLERANCE;
-    let report = compare_noisy(&student, &reference, &tol);
-    if report.passes(&tol) {
-        return Ok(());
-    }
-    let images = write_noise_images(ctx, &student, &reference, &tol)
-        .map(|paths| {
-            paths
-                .iter()
-                .map(|p| format!("\n    {}", p.display()))
-                .collect::<String>()
-        })
-        .unwrap_or_else(|e| format!(" (could not write images: {e})"));
-    let (z, x, y) = report.worst;
-    Err(format!(
-        "the Cornell box path traced with your loop ({}×{} pixels, {} samples, {CORNELL_DEPTH} bounces, mean of {} renders) differs from the reference beyond its noise: {} of {} pixels are more than {:.1} standard errors from the reference mean (at most {:.1}% may be), {} NaN/infinite; the worst is pixel ({x}, {y}) at {z:.1} standard errors: {} against {}. Overall the image is {:.3}× as bright as the reference.\n  images:{images}",
-        CORNELL_SETTINGS.width,
-        CORNELL_SETTINGS.height,
-        CORNELL_SETTINGS.samples_per_pixel,
-        student.renders,
-        report.outliers,
-        report.pixels,
-        report.z_threshold,
-        100.0 * tol.max_outlier_fraction,
-        report.non_finite,
-        student.mean.get(x, y),
-        reference.mean.get(x, y),
-        report.brightness,
-    ))
-}
-
-/// Writes the student's mean render, the reference mean and the map of `|z|`.
-fn write_noise_images(
-    ctx: &LabContext,
-    student: &RenderStatistics,
-    reference: &RenderStatistics,
-    tol: &NoiseTolerance,
-) -> Result<Vec<std::path::PathBuf>, raylab_core::Error> {
-    let tonemap = ToneMap::Clamp { exposure: 1.0 };
-    let path = |what: &str| ctx.failure_dir.join(format!("cornell-{what}.png"));
-    write_png(&mark_non_finite(&student.mean), &path("student"), tonemap)?;
-    write_png(&reference.mean, &path("reference"), tonemap)?;
-    write_png(
-        &z_score_map(student, reference, tol),
-        &path("zscore"),
-        tonemap,
-    )?;
-    Ok(vec![path("student"), path("reference"), path("zscore")])
+    ctx.check_noisy_snapshot(
+        SNAPSHOT_CORNELL,
+        &student,
+        (REFERENCE_SEEDS.end - REFERENCE_SEEDS.start) as u32,
+        &CORNELL_TOLERANCE,
+        &format!(
+            "the Cornell box path traced with your loop ({}×{} pixels, {} samples, {CORNELL_DEPTH} bounces)",
+            CORNELL_SETTINGS.width, CORNELL_SETTINGS.height, CORNELL_SETTINGS.samples_per_pixel
+        ),
+    )
 }
 
 // ---------------------------------------------------------------------------------------------

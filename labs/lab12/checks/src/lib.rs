@@ -80,13 +80,6 @@ pub fn generate_golden(
             reason,
         })?;
     let stats = checks::cornell_statistics(&pipeline, checks::REFERENCE_SEEDS)?;
-    for (name, film) in [
-        (checks::SNAPSHOT_CORNELL_MEAN, &stats.mean),
-        (checks::SNAPSHOT_CORNELL_VARIANCE, &stats.variance),
-    ] {
-        let path = ctx.snapshot_path(&format!("{name}.exr"));
-        raylab_core::film::write_exr(film, &path)?;
-        written.push(path);
-    }
+    written.extend(ctx.save_noisy_snapshot(checks::SNAPSHOT_CORNELL, &stats)?);
     Ok(written)
 }
