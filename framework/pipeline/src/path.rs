@@ -67,13 +67,12 @@ fn path_lobe(material: &Material, diffuse: Vec3) -> PathMaterial {
     }
 }
 
-/// The lights next-event estimation chooses from, each with probability `1/len`.
-fn lights(scene: &Scene) -> Vec<&Light> {
+/// The lights next-event estimation chooses from, each with the same probability.
+fn lights(scene: &Scene) -> impl Iterator<Item = &Light> {
     scene
         .lights
         .iter()
         .filter(|l| !matches!(l, Light::Area(area) if area.faces.is_empty()))
-        .collect()
 }
 
 /// The scene's emitting triangles, if it has any.
@@ -102,17 +101,18 @@ impl Pipeline {
             ..*ray
         };
         let code = self.path_tracing.as_ref();
-        let lights = lights(scene);
-        let choice = 1.0 / lights.len().max(1) as f32;
-        let trace = |r: &Ray| self.path_hit(scene, emitters(scene), choice, r);
+        let count = lights(scene).count();
+        let choice = 1.0 / count.max(1) as f32;
+        let emitters = emitters(scene);
+        let trace = |r: &Ray| self.path_hit(scene, emitters, choice, r);
         let occluded = |r: &Ray| self.trace_to_any(scene, r);
         let sample_light = |position: Vec3, rng: &mut Rng| -> Option<EmitterSample> {
-            if lights.is_empty() {
+            if count == 0 {
                 return None;
             }
-            let u = rng.next_f32() * lights.len() as f32;
-            let (k, u) = ((u as usize).min(lights.len() - 1), u.fract());
-            match lights[k] {
+            let u = rng.next_f32() * count as f32;
+            let (k, u) = ((u as usize).min(count - 1), u.fract());
+            match lights(scene).nth(k)? {
                 Light::Area(area) => {
                     let (i, _) = area.pick_face(u);
                     let face = area.faces[i] as usize;
@@ -207,7 +207,7 @@ impl Pipeline {
         if material.is_emissive() && front {
             emitted = material.emission;
             if let (Some(area), HitSurface::Triangle { face, .. }) = (lights, hit.surface)
-                && let Some(i) = area.faces.iter().position(|&f| f == face)
+                && let Ok(i) = area.faces.binary_search(&face)
             {
                 let to = hit.position - ray.origin;
                 light_pdf = choice

@@ -21,7 +21,8 @@ pub struct DirectionalLight {
 /// A light made of the scene's emissive triangles (faces whose material has `Ke > 0`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AreaLight {
-    /// Indices into [`Mesh::faces`](super::Mesh::faces) of the emitting triangles.
+    /// Indices into [`Mesh::faces`](super::Mesh::faces) of the emitting triangles, in
+    /// increasing order (so that a face's place among them is a binary search).
     pub faces: Vec<u32>,
     /// Total area of the faces.
     pub area: f32,
@@ -31,8 +32,12 @@ pub struct AreaLight {
 }
 
 impl AreaLight {
-    /// A light over `faces` with the given areas.
+    /// A light over `faces` (in increasing order) with the given areas.
     pub fn new(faces: Vec<u32>, areas: &[f32]) -> Self {
+        assert!(
+            faces.is_sorted_by(|a, b| a < b),
+            "an area light's faces are listed in increasing order"
+        );
         let area: f32 = areas.iter().sum();
         let mut running = 0.0;
         let mut cdf: Vec<f32> = areas
