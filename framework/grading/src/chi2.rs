@@ -37,8 +37,8 @@ pub fn chi_square_pooled(
     );
     let mut order: Vec<usize> = (0..expected.len()).collect();
     order.sort_by(|&a, &b| expected[a].total_cmp(&expected[b]));
-    let (mut statistic, mut cells, mut pooled_cells) = (0.0, 0u32, 0usize);
-    let (mut pool_obs, mut pool_exp, mut in_pool) = (0.0, 0.0, 0usize);
+    let term = |o: f64, e: f64| (o - e) * (o - e) / e.max(1e-300);
+    let mut pooled = Pooled::new(min_expected);
     for i in order {
         let (o, e) = (observed[i] as f64, expected[i]);
         if e <= 0.0 {
@@ -49,39 +49,80 @@ pub fn chi_square_pooled(
             }
             continue;
         }
-        if e < min_expected {
-            pool_obs += o;
-            pool_exp += e;
-            in_pool += 1;
-            if pool_exp >= min_expected {
-                statistic += (pool_obs - pool_exp) * (pool_obs - pool_exp) / pool_exp;
-                cells += 1;
-                pooled_cells += in_pool - 1;
-                (pool_obs, pool_exp, in_pool) = (0.0, 0.0, 0);
-            }
-        } else {
-            statistic += (o - e) * (o - e) / e;
-            cells += 1;
+        pooled.add(o, e, e, &term);
+    }
+    pooled.finish(&term, |cells| {
+        format!(
+            "only {cells} cell(s) with an expected count of at least {min_expected}: too few samples for a χ² test"
+        )
+    })
+}
+
+/// Cells summed into a χ² statistic by `term(x, y)`: a cell of size below the minimum joins a
+/// pool, which counts as one cell once its size reaches the minimum; what is left of the pool
+/// at the end joins as one cell too.
+struct Pooled {
+    min: f64,
+    statistic: f64,
+    cells: u32,
+    pooled_cells: usize,
+    pool: (f64, f64, f64),
+    in_pool: usize,
+}
+
+impl Pooled {
+    fn new(min: f64) -> Self {
+        Self {
+            min,
+            statistic: 0.0,
+            cells: 0,
+            pooled_cells: 0,
+            pool: (0.0, 0.0, 0.0),
+            in_pool: 0,
         }
     }
-    if in_pool > 0 {
-        // What is left is too small to stand alone: it joins the comparison as one cell.
-        statistic += (pool_obs - pool_exp) * (pool_obs - pool_exp) / pool_exp.max(1e-300);
-        cells += 1;
-        pooled_cells += in_pool - 1;
+
+    /// Adds the cell `(x, y)` of size `size`.
+    fn add(&mut self, x: f64, y: f64, size: f64, term: &impl Fn(f64, f64) -> f64) {
+        if size >= self.min {
+            self.statistic += term(x, y);
+            self.cells += 1;
+            return;
+        }
+        self.pool = (self.pool.0 + x, self.pool.1 + y, self.pool.2 + size);
+        self.in_pool += 1;
+        if self.pool.2 >= self.min {
+            self.flush(term);
+        }
     }
-    if cells < 2 {
-        return Err(format!(
-            "only {cells} cell(s) with an expected count of at least {min_expected}: too few samples for a χ² test"
-        ));
+
+    fn flush(&mut self, term: &impl Fn(f64, f64) -> f64) {
+        self.statistic += term(self.pool.0, self.pool.1);
+        self.cells += 1;
+        self.pooled_cells += self.in_pool - 1;
+        (self.pool, self.in_pool) = ((0.0, 0.0, 0.0), 0);
     }
-    let degrees_of_freedom = cells - 1;
-    Ok(ChiSquareOutcome {
-        statistic,
-        degrees_of_freedom,
-        p_value: chi_square_p_value(statistic, degrees_of_freedom),
-        pooled_cells,
-    })
+
+    /// The outcome; `too_few(cells)` says why when fewer than two cells were compared.
+    fn finish(
+        mut self,
+        term: &impl Fn(f64, f64) -> f64,
+        too_few: impl FnOnce(u32) -> String,
+    ) -> Result<ChiSquareOutcome, String> {
+        if self.in_pool > 0 {
+            self.flush(term);
+        }
+        if self.cells < 2 {
+            return Err(too_few(self.cells));
+        }
+        let degrees_of_freedom = self.cells - 1;
+        Ok(ChiSquareOutcome {
+            statistic: self.statistic,
+            degrees_of_freedom,
+            p_value: chi_square_p_value(self.statistic, degrees_of_freedom),
+            pooled_cells: self.pooled_cells,
+        })
+    }
 }
 
 /// The two-sample χ² test of two histograms over the same cells (Press et al., *Numerical
@@ -104,43 +145,14 @@ pub fn chi_square_two_sample(
         let d = ka * x - kb * y;
         d * d / (x + y)
     };
-    let (mut statistic, mut cells, mut pooled_cells) = (0.0, 0u32, 0usize);
-    let (mut pool_a, mut pool_b, mut in_pool) = (0.0, 0.0, 0usize);
+    let mut pooled = Pooled::new(min_count as f64);
     for (&x, &y) in a.iter().zip(b) {
-        if x + y == 0 {
-            continue;
-        }
-        if x + y < min_count {
-            pool_a += x as f64;
-            pool_b += y as f64;
-            in_pool += 1;
-            if pool_a + pool_b >= min_count as f64 {
-                statistic += term(pool_a, pool_b);
-                cells += 1;
-                pooled_cells += in_pool - 1;
-                (pool_a, pool_b, in_pool) = (0.0, 0.0, 0);
-            }
-        } else {
-            statistic += term(x as f64, y as f64);
-            cells += 1;
+        if x + y > 0 {
+            pooled.add(x as f64, y as f64, (x + y) as f64, &term);
         }
     }
-    if in_pool > 0 {
-        statistic += term(pool_a, pool_b);
-        cells += 1;
-        pooled_cells += in_pool - 1;
-    }
-    if cells < 2 {
-        return Err(format!(
-            "only {cells} cell(s) with samples: too few for a χ² test"
-        ));
-    }
-    let degrees_of_freedom = cells - 1;
-    Ok(ChiSquareOutcome {
-        statistic,
-        degrees_of_freedom,
-        p_value: chi_square_p_value(statistic, degrees_of_freedom),
-        pooled_cells,
+    pooled.finish(&term, |cells| {
+        format!("only {cells} cell(s) with samples: too few for a χ² test")
     })
 }
 
