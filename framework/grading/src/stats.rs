@@ -98,6 +98,16 @@ pub fn normal_two_sided_quantile(p: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// The mean of `n` values, `x` and `n − x.len()` zeros (an estimator that is zero where it
+/// did not fire), and the standard error of that mean from the unbiased variance.
+pub fn mean_and_standard_error(x: &[f64], n: usize) -> (f64, f64) {
+    let count = n as f64;
+    let mean = x.iter().sum::<f64>() / count;
+    let zeros = (n - x.len()) as f64;
+    let squares = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() + zeros * mean * mean;
+    (mean, (squares / (count - 1.0) / count).sqrt())
+}
+
 /// Šidák's per-test level: `m` independent tests at this level all pass with probability
 /// `1 − family_alpha`.
 pub fn sidak(family_alpha: f64, m: usize) -> f64 {

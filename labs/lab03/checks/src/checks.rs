@@ -26,7 +26,7 @@ use contracts::lab03::Shadows;
 use grading::radiometry::irradiance_polygon;
 use grading::stats::{
     NoiseTolerance, RenderStatistics, chi_square_p_value, chi_square_uniform,
-    normal_two_sided_quantile, sidak,
+    mean_and_standard_error, normal_two_sided_quantile, sidak,
 };
 use grading::strategies::triangle_strategy;
 use grading::strategies::{point, scale, unit_vector};
@@ -1106,13 +1106,6 @@ fn irradiance_estimates(pipeline: &Pipeline, scene: &Scene, case: &QuadCase, m: 
         .collect()
 }
 
-fn mean_and_standard_error(x: &[f64]) -> (f64, f64) {
-    let m = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / m;
-    let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (m - 1.0);
-    (mean, (var / m).sqrt())
-}
-
 /// Estimates per level of the irradiance check.
 pub const IRRADIANCE_ESTIMATES: u32 = 1024;
 /// The `n` of the levels of the irradiance check.
@@ -1140,7 +1133,7 @@ pub fn check_irradiance(part: Part, s: &Arc<dyn Shadows>, base: &Pipeline) -> Re
         for n in IRRADIANCE_LEVELS {
             let pipeline = part_pipeline(part, s, base, n);
             let x = irradiance_estimates(&pipeline, &scene, case, IRRADIANCE_ESTIMATES);
-            let (mean, se) = mean_and_standard_error(&x);
+            let (mean, se) = mean_and_standard_error(&x, x.len());
             errors.push((n, mean, se));
             let within = (mean - case.exact).abs() <= z * se + 1e-5 * case.exact;
             if !within {

@@ -16,7 +16,9 @@ use contracts::lab12::{BsdfSample, BsdfValue, EmitterSample, PathMaterial, PathT
 use contracts::math::Onb;
 use contracts::sampling::Rng;
 use grading::chi2::{SphereGrid, chi_square_two_sample};
-use grading::stats::{NoiseTolerance, RenderStatistics, family_z_limit, sidak};
+use grading::stats::{
+    NoiseTolerance, RenderStatistics, family_z_limit, mean_and_standard_error, sidak,
+};
 use grading::strategies::unit_vector;
 use grading::{Exercise, GoldenFile, LabContext, compare_f32, compare_vec3, for_all};
 use pipeline::render::render;
@@ -384,16 +386,6 @@ fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> (f64, f64, f64) {
     (beta, gamma, d.dot(n) / nn.sqrt())
 }
 
-/// The mean and the standard error of the mean of `values` over `n` draws (the rest zero).
-fn mean_and_error(values: &[f64], n: usize) -> (f64, f64) {
-    let n = n as f64;
-    let sum: f64 = values.iter().sum();
-    let sum_sq: f64 = values.iter().map(|v| v * v).sum();
-    let mean = sum / n;
-    let variance = (sum_sq / n - mean * mean).max(0.0) / (n - 1.0);
-    (mean, variance.sqrt())
-}
-
 // ---------------------------------------------------------------------------------------------
 // The exercises
 
@@ -703,7 +695,7 @@ fn exercise_12_3(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), Strin
             let omega = 4.0 * PI / PDF_GRID.len() as f64;
             let first_upper = PDF_GRID.len() / 2 + PDF_GRID.phi_cells as usize;
             for (cell, values) in per_cell.iter().enumerate().skip(first_upper) {
-                let (mean, error) = mean_and_error(values, BSDF_SAMPLES);
+                let (mean, error) = mean_and_standard_error(values, BSDF_SAMPLES);
                 let z = (mean - omega) / error.max(1e-12);
                 if z.abs() > z_limit {
                     let band = (cell / PDF_GRID.phi_cells as usize) as f64;
@@ -805,11 +797,11 @@ fn check_emitter_case(
     }
     for (q, sub) in quarters(t).into_iter().enumerate() {
         let omega = solid_angle(p, sub);
-        let (mean, error) = mean_and_error(&per_quarter[q], EMITTER_SAMPLES);
+        let (mean, error) = mean_and_standard_error(&per_quarter[q], EMITTER_SAMPLES);
         let z = (mean - omega) / error.max(omega * 1e-9);
         if z.abs() > z_limit {
             let total = solid_angle(p, t);
-            let (all, _) = mean_and_error(
+            let (all, _) = mean_and_standard_error(
                 &per_quarter.iter().flatten().copied().collect::<Vec<_>>(),
                 EMITTER_SAMPLES,
             );
@@ -909,7 +901,7 @@ fn exercise_12_5(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), Strin
         }
         for (q, sub) in quarters(t).into_iter().enumerate() {
             let omega = solid_angle(p, sub);
-            let (mean, error) = mean_and_error(&per_quarter[q], EMITTER_SAMPLES);
+            let (mean, error) = mean_and_standard_error(&per_quarter[q], EMITTER_SAMPLES);
             let z = (mean - omega) / error.max(omega * 1e-9);
             if z.abs() > z_limit {
                 return Err(format!(
@@ -1407,7 +1399,7 @@ fn exercise_12_8(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), Strin
                 return Err(format!("path_radiance in the furnace {world:?}: {problem}"));
             }
         }
-        let (residual, error) = mean_and_error(&values, FURNACE_PATHS);
+        let (residual, error) = mean_and_standard_error(&values, FURNACE_PATHS);
         let expected =
             directions.iter().map(|&d| world.expected(d)).sum::<f64>() / directions.len() as f64;
         let mean = expected + residual;
