@@ -24,8 +24,12 @@ const SKIPPED: &[&str] = &[".git", "target", "out"];
 /// Files a build rewrites on its own, left out of the comparison.
 const REGENERATED: &[&str] = &["Cargo.lock"];
 
-/// The largest file taken from a submission, or compared by content (1 MiB).
+/// The largest file taken from a submission (1 MiB).
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
+/// The largest file of a submission compared by content with the handout's (8 MiB: the
+/// handout's own files, such as lab 12's sky, are larger than a student's source file).
+const MAX_COMPARED_BYTES: u64 = 8 << 20;
 
 /// The most entries (files, directories, refused entries) looked at in one lab's `src/`.
 const MAX_LAB_ENTRIES: usize = 256;
@@ -550,7 +554,7 @@ impl Listing {
 /// at the same place: `Some("")` when they differ, `Some(" (…)")` when they may differ, `None`
 /// when they are the same.
 ///
-/// Files are compared by content up to [`MAX_FILE_BYTES`]. Files of different sizes differ;
+/// Files are compared by content up to [`MAX_COMPARED_BYTES`]. Files of different sizes differ;
 /// two files of the same size over the limit are listed as `modified: P (N bytes, not
 /// compared)`, as they may differ.
 fn compare(
@@ -562,10 +566,10 @@ fn compare(
     if their_size != our_size {
         return Ok(Some(String::new()));
     }
-    if their_size > MAX_FILE_BYTES {
+    if their_size > MAX_COMPARED_BYTES {
         return Ok(Some(format!(" ({their_size} bytes, not compared)")));
     }
-    let theirs = match read_regular(submission, MAX_FILE_BYTES) {
+    let theirs = match read_regular(submission, MAX_COMPARED_BYTES) {
         Ok(contents) => contents,
         Err(refusal) => return Ok(Some(format!(" ({})", refusal.note()))),
     };
@@ -1012,10 +1016,12 @@ mod tests {
         let (handout, submission, _tree) = setup("contents");
         handout.write("same.txt", b"same\n");
         handout.write("size.txt", b"abc\n");
-        handout.write("big.bin", &vec![0; (1 << 20) + 1]);
+        handout.write("big.bin", &vec![0; (8 << 20) + 1]);
+        handout.write("probe.exr", &vec![0; (1 << 20) + 1]);
         submission.write("same.txt", b"same\n");
         submission.write("size.txt", b"abd\n");
-        submission.write("big.bin", &vec![1; (1 << 20) + 1]);
+        submission.write("big.bin", &vec![1; (8 << 20) + 1]);
+        submission.write("probe.exr", &vec![0; (1 << 20) + 1]);
         let locked = submission.dir("locked");
         submission.write("locked/secret.txt", b"");
         fs::set_permissions(&locked, fs::Permissions::from_mode(0o000)).unwrap();
@@ -1023,7 +1029,8 @@ mod tests {
         let enforced = fs::read_dir(&locked).is_err();
         let changes = changed_files(&submission.0, &handout.0);
         fs::set_permissions(&locked, fs::Permissions::from_mode(0o755)).unwrap();
-        let mut expected = vec!["modified: big.bin (1048577 bytes, not compared)"];
+        // Over 1 MiB but unchanged: not listed.
+        let mut expected = vec!["modified: big.bin (8388609 bytes, not compared)"];
         expected.push(if enforced {
             "added: locked (a directory that cannot be listed: Permission denied (os error 13))"
         } else {
