@@ -1,11 +1,11 @@
 //! Lab 12's answer key — path tracing (docs/lab12.md).
 
-use std::f32::consts::{FRAC_1_PI, TAU};
+use std::f32::consts::{FRAC_1_PI, PI, TAU};
 
 use contracts::glam::{Vec2, Vec3};
 use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
-    PixelStatistics,
+    PixelStatistics, SkyDistribution, SkySample,
 };
 use contracts::math::{Onb, RAY_EPSILON, Ray};
 use contracts::sampling::Rng;
@@ -29,6 +29,41 @@ fn lobe(mirror: Vec3, wi: Vec3, exponent: f32) -> f32 {
 /// The mirror direction of `wo` about `normal`.
 fn mirror(normal: Vec3, wo: Vec3) -> Vec3 {
     2.0 * normal.dot(wo) * normal - wo
+}
+
+/// The cumulative table of `weights` from 0 to 1, uniform where they weigh nothing.
+fn cumulative(weights: &[f64]) -> Vec<f32> {
+    let total: f64 = weights.iter().sum();
+    let n = weights.len();
+    let mut cdf = Vec::with_capacity(n + 1);
+    cdf.push(0.0);
+    let mut sum = 0.0;
+    for (i, w) in weights.iter().enumerate() {
+        sum += w;
+        cdf.push(if total > 0.0 {
+            (sum / total) as f32
+        } else {
+            (i + 1) as f32 / n as f32
+        });
+    }
+    cdf[n] = 1.0;
+    cdf
+}
+
+/// The cell of the cumulative table `cdf` that `xi` falls in, and where in it (0 to 1).
+fn invert(cdf: &[f32], xi: f32) -> (usize, f32) {
+    let cells = cdf.len() - 1;
+    let i = cdf.partition_point(|&c| c <= xi).saturating_sub(1).min(cells - 1);
+    let width = cdf[i + 1] - cdf[i];
+    let t = if width > 0.0 { (xi - cdf[i]) / width } else { 0.5 };
+    (i, t.clamp(0.0, 1.0))
+}
+
+/// The density over the image's `(u, v)` of the texel `(x, y)`: its probability times the
+/// texel count.
+fn texel_density(sky: &SkyDistribution, x: usize, y: usize) -> f32 {
+    let row = sky.row(y);
+    (sky.marginal[y + 1] - sky.marginal[y]) * (row[x + 1] - row[x]) * (sky.width * sky.height) as f32
 }
 
 /// A unit direction about the +z axis of `frame` at cosine `cos` and azimuth `phi`.
@@ -255,6 +290,55 @@ impl PathTracing for Lab12 {
                 }
             })
             .fold(0.0, f32::max)
+    }
+
+    fn sky_distribution(&self, luminance: &[f32], width: u32, height: u32) -> SkyDistribution {
+        let (w, h) = (width as usize, height as usize);
+        let mut marginal = Vec::with_capacity(h);
+        let mut conditional = Vec::with_capacity(h * (w + 1));
+        for (y, row) in luminance.chunks_exact(w).take(h).enumerate() {
+            let sin = (std::f64::consts::PI * (y as f64 + 0.5) / h as f64).sin();
+            let weights: Vec<f64> = row.iter().map(|&l| f64::from(l) * sin).collect();
+            marginal.push(weights.iter().sum());
+            conditional.extend(cumulative(&weights));
+        }
+        SkyDistribution {
+            width,
+            height,
+            marginal: cumulative(&marginal),
+            conditional,
+        }
+    }
+
+    fn sample_sky(&self, sky: &SkyDistribution, rng: &mut Rng) -> Option<SkySample> {
+        let xi = rng.next_vec2();
+        let (y, ty) = invert(&sky.marginal, xi.x);
+        let (x, tx) = invert(sky.row(y), xi.y);
+        let u = (x as f32 + tx) / sky.width as f32;
+        let theta = PI * (y as f32 + ty) / sky.height as f32;
+        let (sin, cos) = theta.sin_cos();
+        let density = texel_density(sky, x, y);
+        if sin <= 0.0 || density <= 0.0 {
+            return None;
+        }
+        let phi = TAU * (u - 0.5);
+        Some(SkySample {
+            direction: Vec3::new(sin * phi.sin(), cos, -sin * phi.cos()),
+            pdf: density / (2.0 * PI * PI * sin),
+        })
+    }
+
+    fn sky_pdf(&self, sky: &SkyDistribution, direction: Vec3) -> f32 {
+        let d = direction;
+        let sin = (d.x * d.x + d.z * d.z).sqrt();
+        if sin <= 0.0 {
+            return 0.0;
+        }
+        let u = 0.5 + d.x.atan2(-d.z) / TAU;
+        let v = sin.atan2(d.y) / PI;
+        let x = ((u * sky.width as f32) as usize).min(sky.width as usize - 1);
+        let y = ((v * sky.height as f32) as usize).min(sky.height as usize - 1);
+        texel_density(sky, x, y) / (2.0 * PI * PI * sin)
     }
 }
 

@@ -9,14 +9,30 @@ use raylab_core::film::{Film, ToneMap};
 use raylab_core::glam::{UVec2, Vec2, Vec3};
 use raylab_core::math::Ray;
 use raylab_core::render::{NON_FINITE_COLOUR, PANICKED_COLOUR, PartialRender, RenderSettings};
-use raylab_core::scene::builtin_scene;
+use raylab_core::scene::{Scene, builtin_scene, load_scene_file};
+
+/// A built-in scene, or lab 12's sky scene (`"sky"`), with the pipeline of the last lab
+/// prepared for it (the sky's distribution built).
+fn scene_and_pipeline(name: &str) -> (Scene, Pipeline) {
+    let pipeline = reference::pipeline(course::last().number());
+    if name == "sky" {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../labs/lab12/scenes/sky-spheres.toml");
+        let scene = load_scene_file(&path).unwrap();
+        let pipeline = pipeline::path::with_sky(&pipeline, &scene).unwrap();
+        assert!(pipeline.sky.is_some(), "the sky scene's sky is a light");
+        (scene, pipeline)
+    } else {
+        (builtin_scene(name).unwrap(), pipeline)
+    }
+}
 
 fn render_on(threads: usize, scene: &str) -> raylab_core::film::Film {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
-    let scene = builtin_scene(scene).unwrap();
+    let (scene, pipeline) = scene_and_pipeline(scene);
     let settings = RenderSettings {
         width: 96,
         height: 72,
@@ -25,19 +41,13 @@ fn render_on(threads: usize, scene: &str) -> raylab_core::film::Film {
         seed: 42,
         progress: false,
     };
-    pool.install(|| {
-        render(
-            &scene,
-            &reference::pipeline(course::last().number()),
-            &settings,
-        )
-    })
-    .unwrap()
+    pool.install(|| render(&scene, &pipeline, &settings))
+        .unwrap()
 }
 
 #[test]
 fn one_and_two_threads_give_identical_images() {
-    for scene in ["default", "cornell"] {
+    for scene in ["default", "cornell", "sky"] {
         let one = render_on(1, scene);
         let two = render_on(2, scene);
         assert_eq!(one.pixels.len(), 96 * 72);

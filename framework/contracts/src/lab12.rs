@@ -114,6 +114,69 @@ pub struct PixelStatistics {
     pub m2: Vec3,
 }
 
+/// A sky's brightness as a distribution over its latitude–longitude image: a row drawn by its
+/// marginal, then a texel of that row by the row's conditional (docs/lab12.md, "The sky").
+/// Texel `(x, y)` covers `u ∈ [x/w, (x + 1)/w)`, `v ∈ [y/h, (y + 1)/h)`; row 0 is the top
+/// (`θ = 0`, +y).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SkyDistribution {
+    /// Texels per row, `w`.
+    pub width: u32,
+    /// Rows, `h`.
+    pub height: u32,
+    /// The rows' cumulative distribution: `h + 1` values from 0 to 1; row `y` has the
+    /// probability `marginal[y + 1] − marginal[y]`.
+    pub marginal: Vec<f32>,
+    /// Each row's cumulative distribution over its texels, `w + 1` values from 0 to 1 per row,
+    /// row `y`'s from index `y·(w + 1)`.
+    pub conditional: Vec<f32>,
+}
+
+impl SkyDistribution {
+    /// Row `y`'s conditional cumulative distribution (`w + 1` values).
+    pub fn row(&self, y: usize) -> &[f32] {
+        let stride = self.width as usize + 1;
+        &self.conditional[y * stride..(y + 1) * stride]
+    }
+
+    /// Why this is not a distribution over a `width × height` image, if it is not: wrong
+    /// lengths, a table that does not run from 0 to 1, or one that falls.
+    pub fn defect(&self) -> Option<String> {
+        let (w, h) = (self.width as usize, self.height as usize);
+        if w == 0 || h == 0 {
+            return Some(format!("it is {w} × {h} texels"));
+        }
+        if self.marginal.len() != h + 1 || self.conditional.len() != h * (w + 1) {
+            return Some(format!(
+                "it has {} marginal and {} conditional values; a {w} × {h} sky has {} and {}",
+                self.marginal.len(),
+                self.conditional.len(),
+                h + 1,
+                h * (w + 1)
+            ));
+        }
+        let table = |cdf: &[f32], what: String| {
+            let (first, last) = (cdf[0], cdf[cdf.len() - 1]);
+            if first != 0.0 || (last - 1.0).abs().is_nan() || (last - 1.0).abs() > 1e-4 {
+                return Some(format!("{what} runs from {first} to {last}, not from 0 to 1"));
+            }
+            let falls = cdf.windows(2).position(|p| p[1].is_nan() || p[1] < p[0]);
+            falls.map(|i| format!("{what} falls from {} to {} at {}", cdf[i], cdf[i + 1], i + 1))
+        };
+        table(&self.marginal, "the marginal".into())
+            .or_else(|| (0..h).find_map(|y| table(self.row(y), format!("row {y}'s conditional"))))
+    }
+}
+
+/// A direction drawn from the sky.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SkySample {
+    /// The unit direction towards the sky.
+    pub direction: Vec3,
+    /// Its density per unit solid angle.
+    pub pdf: f32,
+}
+
 /// The lab's contract: what the student's `Student` implements, and the answer key's `Lab12`.
 pub type Contract = dyn PathTracing;
 
@@ -201,4 +264,23 @@ pub trait PathTracing: Send + Sync {
     /// the channels of `√(s²/n) / mean`, `s² = m2/(n − 1)`; a channel whose mean is 0 counts 0;
     /// infinite with fewer than two estimates.
     fn relative_error(&self, stats: &PixelStatistics) -> f32;
+
+    /// **Exercise 12.11** — the distribution of a sky's brightness over its `width × height`
+    /// latitude–longitude image, `luminance` row by row from the top: texel `(x, y)` weighs
+    /// `luminance · sin θ_y`, `θ_y = π (y + ½)/h`. The marginal over the rows and each row's
+    /// conditional, as cumulative tables from 0 to 1; a row that weighs nothing uniform, and a
+    /// sky that weighs nothing uniform in both.
+    fn sky_distribution(&self, luminance: &[f32], width: u32, height: u32) -> SkyDistribution;
+
+    /// **Exercise 12.12** — a direction drawn from `sky` (one `rng.next_vec2()`: the row from
+    /// its first number by the marginal, the texel from its second by the row's conditional,
+    /// each at a continuous position within its cell), through lab 11's latitude–longitude
+    /// mapping, with its density per unit solid angle `p(u, v)/(2π² sin θ)`. `None` where
+    /// `sin θ` or the density is 0.
+    fn sample_sky(&self, sky: &SkyDistribution, rng: &mut Rng) -> Option<SkySample>;
+
+    /// **Exercise 12.13** — the density per unit solid angle with which
+    /// [`PathTracing::sample_sky`] draws the unit `direction` (for a ray that left the scene
+    /// along it); 0 where `sin θ` is 0.
+    fn sky_pdf(&self, sky: &SkyDistribution, direction: Vec3) -> f32;
 }

@@ -16,6 +16,7 @@ use raylab_core::scene::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::path::with_sky;
 use crate::photon::{PhotonSettings, with_caustics};
 use crate::render::{PASS_SAMPLES, render_partial, render_progressive};
 
@@ -158,6 +159,12 @@ impl RenderJob {
                     pipeline = traced;
                 }
                 Err(e) => eprintln!("warning: no caustics: {e}"),
+            }
+        }
+        if self.lab >= 12 {
+            match with_sky(&pipeline, &scene) {
+                Ok(prepared) => pipeline = prepared,
+                Err(e) => eprintln!("warning: the sky is found by BSDF samples only: {e}"),
             }
         }
         let exr = self.exr();

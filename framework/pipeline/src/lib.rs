@@ -92,6 +92,12 @@ pub struct Pipeline {
     pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
     /// Lab 12, the path tracer: its BSDF, light sampling, weights and path loop.
     pub path_tracing: Arc<dyn lab12::PathTracing>,
+    /// Lab 12: the distribution of the scene's sky that next-event estimation draws from;
+    /// `None` (the sky found by BSDF samples only) until [`pipeline::path::with_sky`] builds
+    /// it for a scene.
+    pub sky: Option<Arc<lab12::SkyDistribution>>,
+    /// Lab 12: which strategies find the light (both, weighted, unless a figure compares them).
+    pub path_sampling: path::PathSampling,
     /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
     /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
     /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 8 adds caustics
@@ -193,6 +199,8 @@ impl Pipeline {
             fresnel: Arc::new(Waiting::<dyn lab10::Fresnel>::new(10)),
             ambient_occlusion: Arc::new(Waiting::<dyn lab11::AmbientOcclusion>::new(11)),
             path_tracing: Arc::new(Waiting::<dyn lab12::PathTracing>::new(12)),
+            sky: None,
+            path_sampling: path::PathSampling::Mis,
             parts: Parts::default(),
             lab,
             view: View::Shaded,

@@ -7,16 +7,41 @@
 //! Next-event estimation chooses one of the lights with equal probability: of the emitting
 //! triangles (the scene's [`AreaLight`]) one with probability proportional to its area, then
 //! a point on it through Exercise 12.4; a point or directional light is a delta light, which
-//! only next-event estimation finds (`EmitterSample::delta`).
+//! only next-event estimation finds (`EmitterSample::delta`); a latitude–longitude sky, once
+//! [`with_sky`] has built its distribution (Exercise 12.11), a direction drawn from it by
+//! Exercise 12.12.
+
+use std::sync::Arc;
 
 use glam::Vec3;
 
-use contracts::lab12::{EmitterSample, PathHit, PathMaterial, PathVertex};
+use contracts::lab12::{
+    BsdfValue, EmitterSample, PathHit, PathMaterial, PathVertex, SkyDistribution,
+};
+use raylab_core::Error;
 use raylab_core::math::Ray;
 use raylab_core::sampling::Rng;
-use raylab_core::scene::{AreaLight, HitSurface, IllumModel, Light, Material, Scene};
+use raylab_core::scene::{
+    AreaLight, EnvironmentMap, HitSurface, IllumModel, Light, Material, ProbeMapping, Scene,
+};
 
 use crate::Pipeline;
+
+/// Which strategies of the path tracer find the light of the scene's sampled lights (its
+/// emitting triangles and sky; delta lights are found by next-event estimation whatever this
+/// says).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PathSampling {
+    /// Both, weighted by the power heuristic: multiple importance sampling.
+    #[default]
+    Mis,
+    /// Only directions drawn from the BSDF: the light sampler draws nothing.
+    Bsdf,
+    /// Only next-event estimation: its samples weigh 1, and a bounce that finds a light it
+    /// could have drawn weighs 0 (the density of the light sampler there is infinite to the
+    /// power heuristic; the BSDF's density is 0 to it).
+    Light,
+}
 
 /// The glossy exponent of a mirror (`illum 3`): a lobe a tenth of a degree wide.
 pub const MIRROR_EXPONENT: f32 = 1e5;
@@ -89,6 +114,69 @@ fn face_probability(area: &AreaLight, i: usize) -> f32 {
     area.cdf[i] - if i == 0 { 0.0 } else { area.cdf[i - 1] }
 }
 
+/// `pipeline` with the distribution of `scene`'s sky for next-event estimation, built by
+/// Exercise 12.11 from the luminance of each texel (Exercise 12.1), when it is at lab 12 or
+/// later and the scene has a latitude–longitude probe; without one otherwise (an angular probe
+/// is found by BSDF samples only). An error names what is wrong with the distribution.
+pub fn with_sky(pipeline: &Pipeline, scene: &Scene) -> Result<Pipeline, Error> {
+    let probe = scene
+        .environment
+        .as_ref()
+        .filter(|env| env.mapping == ProbeMapping::Latlong && pipeline.lab >= 12);
+    let Some(env) = probe else {
+        return Ok(Pipeline {
+            sky: None,
+            ..pipeline.clone()
+        });
+    };
+    let code = pipeline.path_tracing.as_ref();
+    let (width, height) = (env.texture.width, env.texture.height);
+    let sky = raylab_core::catch_quietly("building the sky's distribution", || {
+        let luminance: Vec<f32> = env
+            .texture
+            .texels
+            .iter()
+            .map(|&texel| {
+                let y = code.luminance(texel * env.scale);
+                if y.is_finite() { y.max(0.0) } else { 0.0 }
+            })
+            .collect();
+        code.sky_distribution(&luminance, width, height)
+    })?;
+    let defect = if (sky.width, sky.height) != (width, height) {
+        Some(format!(
+            "it is {} × {} texels; the probe is {width} × {height}",
+            sky.width, sky.height
+        ))
+    } else {
+        sky.defect()
+    };
+    if let Some(reason) = defect {
+        return Err(Error::Invalid {
+            what: format!(
+                "the distribution of the sky {} (Exercise 12.11)",
+                env.texture.path.display()
+            ),
+            reason,
+        });
+    }
+    Ok(Pipeline {
+        sky: Some(Arc::new(sky)),
+        ..pipeline.clone()
+    })
+}
+
+/// The sky next-event estimation draws from: the scene's probe with its distribution.
+fn sky<'a>(
+    pipeline: &'a Pipeline,
+    scene: &'a Scene,
+) -> Option<(&'a EnvironmentMap, &'a SkyDistribution)> {
+    match (&scene.environment, &pipeline.sky) {
+        (Some(env), Some(sky)) if pipeline.lab >= 11 => Some((env, sky)),
+        _ => None,
+    }
+}
+
 impl Pipeline {
     /// The radiance along a camera ray by the path tracer of lab 12 (Exercise 12.8 with the
     /// lab's other functions as its closures); NaN along a ray that is not traceable.
@@ -101,18 +189,44 @@ impl Pipeline {
             ..*ray
         };
         let code = self.path_tracing.as_ref();
-        let count = lights(scene).count();
+        let strategy = self.path_sampling;
+        let sky = sky(self, scene);
+        let count = lights(scene).count() + usize::from(sky.is_some());
         let choice = 1.0 / count.max(1) as f32;
         let emitters = emitters(scene);
-        let trace = |r: &Ray| self.path_hit(scene, emitters, choice, r);
+        let trace = |r: &Ray| {
+            let mut hit = self.path_hit(scene, emitters, sky, choice, r);
+            let light_pdf = match &mut hit {
+                PathHit::Surface(v) => &mut v.light_pdf,
+                PathHit::Escaped { light_pdf, .. } => light_pdf,
+            };
+            *light_pdf = match strategy {
+                PathSampling::Mis => *light_pdf,
+                PathSampling::Bsdf => 0.0,
+                PathSampling::Light if *light_pdf > 0.0 => f32::INFINITY,
+                PathSampling::Light => 0.0,
+            };
+            hit
+        };
         let occluded = |r: &Ray| self.trace_to_any(scene, r);
         let sample_light = |position: Vec3, rng: &mut Rng| -> Option<EmitterSample> {
-            if count == 0 {
+            if count == 0 || strategy == PathSampling::Bsdf {
                 return None;
             }
             let u = rng.next_f32() * count as f32;
             let (k, u) = ((u as usize).min(count - 1), u.fract());
-            match lights(scene).nth(k)? {
+            let Some(light) = lights(scene).nth(k) else {
+                let (env, sky) = sky?;
+                let sample = code.sample_sky(sky, rng)?;
+                return Some(EmitterSample {
+                    direction: sample.direction,
+                    distance: f32::INFINITY,
+                    radiance: self.environment_radiance(env, sample.direction),
+                    pdf: sample.pdf * choice,
+                    delta: false,
+                });
+            };
+            match light {
                 Light::Area(area) => {
                     let (i, _) = area.pick_face(u);
                     let face = area.faces[i] as usize;
@@ -147,7 +261,13 @@ impl Pipeline {
         let sample_bsdf = |v: &PathVertex, wo: Vec3, rng: &mut Rng| {
             code.sample_bsdf(&v.material, v.normal, wo, rng)
         };
-        let bsdf = |v: &PathVertex, wo: Vec3, wi: Vec3| code.bsdf(&v.material, v.normal, wo, wi);
+        let bsdf = |v: &PathVertex, wo: Vec3, wi: Vec3| {
+            let value = code.bsdf(&v.material, v.normal, wo, wi);
+            match strategy {
+                PathSampling::Light => BsdfValue { pdf: 0.0, ..value },
+                _ => value,
+            }
+        };
         let power_heuristic = |a: f32, b: f32| code.power_heuristic(a, b);
         let roulette = |t: Vec3, rng: &mut Rng| code.roulette(t, rng);
         code.path_radiance(
@@ -168,11 +288,12 @@ impl Pipeline {
     /// emitted radiance and the light sampler's density of it from the ray's origin; or the
     /// background.
     /// `choice` is the probability with which the light sampler chooses the emitting
-    /// triangles.
+    /// triangles, or the sky.
     fn path_hit(
         &self,
         scene: &Scene,
         lights: Option<&AreaLight>,
+        sky: Option<(&EnvironmentMap, &SkyDistribution)>,
         choice: f32,
         ray: &Ray,
     ) -> PathHit {
@@ -181,9 +302,12 @@ impl Pipeline {
                 Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
                 _ => scene.background,
             };
+            let light_pdf = sky.map_or(0.0, |(_, sky)| {
+                choice * self.path_tracing.sky_pdf(sky, ray.direction)
+            });
             return PathHit::Escaped {
                 radiance,
-                light_pdf: 0.0,
+                light_pdf,
             };
         };
         let material = scene.material(hit.material);

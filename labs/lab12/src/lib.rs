@@ -17,7 +17,7 @@
 use contracts::glam::Vec3;
 use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
-    PixelStatistics,
+    PixelStatistics, SkyDistribution, SkySample,
 };
 use contracts::math::Ray;
 use contracts::sampling::Rng;
@@ -162,5 +162,40 @@ impl PathTracing for Student {
     /// a channel of mean 0 counting 0; `f32::INFINITY` with fewer than two estimates.
     fn relative_error(&self, stats: &PixelStatistics) -> f32 {
         todo!("Exercise 12.10: relative_error (docs/lab12.md, Exercise 12.10)")
+    }
+
+    /// **Exercise 12.11** — the distribution of the sky's brightness over its
+    /// `width × height` latitude–longitude image (docs/lab12.md, §12.11). Texel `(x, y)` is
+    /// `luminance[y·width + x]` and weighs
+    ///
+    /// ```text
+    /// luminance · sin θ_y,   θ_y = π (y + ½)/height
+    /// ```
+    ///
+    /// Return the rows' cumulative table (`height + 1` values, 0 to 1) and each row's
+    /// (`width + 1` values per row, 0 to 1); a row, or a sky, that weighs nothing is uniform.
+    fn sky_distribution(&self, luminance: &[f32], width: u32, height: u32) -> SkyDistribution {
+        todo!("Exercise 12.11: sky_distribution (docs/lab12.md, Exercise 12.11)")
+    }
+
+    /// **Exercise 12.12** — a direction drawn from the sky (docs/lab12.md, §12.12): with one
+    /// `rng.next_vec2()`, the row from its first number by the marginal, the texel from its
+    /// second by the row's conditional, each at a continuous position in its cell; then
+    ///
+    /// ```text
+    /// θ = π v,  φ = 2π (u − ½),  d = (sin θ sin φ, cos θ, −sin θ cos φ)
+    /// pdf = p(u, v) / (2π² sin θ),   p(u, v) = P(row) · P(texel | row) · width · height
+    /// ```
+    ///
+    /// `None` where `sin θ` or `p(u, v)` is 0.
+    fn sample_sky(&self, sky: &SkyDistribution, rng: &mut Rng) -> Option<SkySample> {
+        todo!("Exercise 12.12: sample_sky (docs/lab12.md, Exercise 12.12)")
+    }
+
+    /// **Exercise 12.13** — the density per unit solid angle with which `sample_sky` draws
+    /// the unit `direction` (docs/lab12.md, §12.13): its texel's `p(u, v)/(2π² sin θ)`, and
+    /// 0 where `sin θ` is 0.
+    fn sky_pdf(&self, sky: &SkyDistribution, direction: Vec3) -> f32 {
+        todo!("Exercise 12.13: sky_pdf (docs/lab12.md, Exercise 12.13)")
     }
 }

@@ -8,7 +8,7 @@ use std::f32::consts::{FRAC_1_PI, TAU};
 
 use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
-    PixelStatistics,
+    PixelStatistics, SkyDistribution, SkySample,
 };
 use grading::corpus::Verdict;
 use raylab_core::glam::Vec3;
@@ -92,6 +92,33 @@ enum Change {
     ZeroBelowTwo,
     NaNWhenBlack,
     VarianceFromSquares,
+    SkyWithoutSine,
+    SineAtRowTop,
+    SineWithoutPi,
+    RowsByWholeSky,
+    DarkRowNaN,
+    DarkRowZeros,
+    NoLeadingZero,
+    BandSolidAngle,
+    SingleSumLastOne,
+    SamplePdfWithoutSine,
+    SamplePdfSineOfRow,
+    SamplePdfOverFourPi,
+    TexelCentres,
+    OneNumberForRowAndTexel,
+    ConditionalOfTopRow,
+    NextRow,
+    AzimuthMirrored,
+    UAndVSwapped,
+    SkyFreshGenerator,
+    TexelFromFirstNumber,
+    UniformInCosineWithinTexel,
+    PdfInfiniteAtPole,
+    TexelNotClamped,
+    SkyPdfWithoutSine,
+    SkyPdfAzimuthMirrored,
+    SkyPdfThetaByAcos,
+    SkyPdfOfNeighbourRow,
 }
 
 use Change::*;
@@ -313,7 +340,319 @@ pub fn variants() -> Vec<Variant> {
         ),
         v("roulette from the first bounce", ok, RouletteFromTheStart),
         v("no roulette at all", ok, NoRoulette),
+        v("luminance without sin θ", r("12.11"), SkyWithoutSine),
+        v("sin θ at the top of the row", r("12.11"), SineAtRowTop),
+        v("sin((y + ½)/h) without π", r("12.11"), SineWithoutPi),
+        v(
+            "rows divided by the whole sky's total",
+            r("12.11"),
+            RowsByWholeSky,
+        ),
+        v("0/0 for a dark row", r("12.11"), DarkRowNaN),
+        v("a dark row's table all 0", r("12.11"), DarkRowZeros),
+        v("tables without the leading 0", r("12.11"), NoLeadingZero),
+        v(
+            "rows weighed by their exact solid angle",
+            ok,
+            BandSolidAngle,
+        ),
+        v(
+            "sums in single precision, last value set to 1",
+            ok,
+            SingleSumLastOne,
+        ),
+        v(
+            "the density without sin θ",
+            r("12.12"),
+            SamplePdfWithoutSine,
+        ),
+        v("sin θ of the row's centre", r("12.12"), SamplePdfSineOfRow),
+        v(
+            "p(u, v)/(4π) as the density",
+            r("12.12"),
+            SamplePdfOverFourPi,
+        ),
+        v("directions at texel centres only", r("12.12"), TexelCentres),
+        v(
+            "one number for the row and the texel",
+            r("12.12"),
+            OneNumberForRowAndTexel,
+        ),
+        v(
+            "the top row's conditional for every row",
+            r("12.12"),
+            ConditionalOfTopRow,
+        ),
+        v("the row after the one found", r("12.12"), NextRow),
+        v(
+            "φ = 2π(½ − u): the sky mirrored",
+            r("12.12"),
+            AzimuthMirrored,
+        ),
+        v("θ from u and φ from v", r("12.12"), UAndVSwapped),
+        v("a new generator every call", r("12.12"), SkyFreshGenerator),
+        v(
+            "the texel from ξ.x, the row from ξ.y",
+            ok,
+            TexelFromFirstNumber,
+        ),
+        v(
+            "uniform in cos θ within the texel",
+            ok,
+            UniformInCosineWithinTexel,
+        ),
+        v("1/0 at the poles", r("12.13"), PdfInfiniteAtPole),
+        v("⌊u·w⌋ not clamped", r("12.13"), TexelNotClamped),
+        v("the density without sin θ", r("12.13"), SkyPdfWithoutSine),
+        v(
+            "u = ½ − φ/(2π): the sky mirrored",
+            r("12.13"),
+            SkyPdfAzimuthMirrored,
+        ),
+        v("θ by acos(y)", ok, SkyPdfThetaByAcos),
+        v(
+            "the row below the direction's",
+            r("12.13"),
+            SkyPdfOfNeighbourRow,
+        ),
     ]
+}
+
+/// The key's cumulative table, or a variant's.
+fn cumulative(change: Change, weights: &[f64]) -> Vec<f32> {
+    let total: f64 = weights.iter().sum();
+    let n = weights.len();
+    let mut cdf = if change == NoLeadingZero {
+        Vec::new()
+    } else {
+        vec![0.0]
+    };
+    let mut sum = 0.0;
+    for (i, w) in weights.iter().enumerate() {
+        sum += w;
+        cdf.push(match change {
+            DarkRowNaN => (sum / total) as f32,
+            DarkRowZeros if total == 0.0 => 0.0,
+            _ if total > 0.0 => (sum / total) as f32,
+            _ => (i + 1) as f32 / n as f32,
+        });
+    }
+    cdf
+}
+
+/// The key's sky distribution with one change.
+fn sky_distribution_with(
+    change: Change,
+    luminance: &[f32],
+    width: u32,
+    height: u32,
+) -> SkyDistribution {
+    let (w, h) = (width as usize, height as usize);
+    if change == SingleSumLastOne {
+        // Running sums in f32, each table's last value set to exactly 1.
+        let table = |weights: &[f32]| {
+            let total: f32 = weights.iter().sum();
+            let mut sum = 0.0f32;
+            let mut cdf = vec![0.0f32];
+            for (i, &w) in weights.iter().enumerate() {
+                sum += w;
+                cdf.push(if total > 0.0 {
+                    sum / total
+                } else {
+                    (i + 1) as f32 / weights.len() as f32
+                });
+            }
+            *cdf.last_mut().unwrap() = 1.0;
+            cdf
+        };
+        let mut totals = Vec::new();
+        let mut conditional = Vec::new();
+        for (y, row) in luminance.chunks_exact(w).enumerate() {
+            let sin = (std::f32::consts::PI * (y as f32 + 0.5) / h as f32).sin();
+            let weights: Vec<f32> = row.iter().map(|l| l * sin).collect();
+            totals.push(weights.iter().sum::<f32>());
+            conditional.extend(table(&weights));
+        }
+        return SkyDistribution {
+            width,
+            height,
+            marginal: table(&totals),
+            conditional,
+        };
+    }
+    let pi = std::f64::consts::PI;
+    let mut totals = Vec::new();
+    let mut conditional = Vec::new();
+    let whole: f64 = luminance.iter().map(|&l| f64::from(l)).sum();
+    for (y, row) in luminance.chunks_exact(w).enumerate() {
+        let yc = y as f64 + 0.5;
+        let weight = match change {
+            SkyWithoutSine => 1.0,
+            SineAtRowTop => (pi * y as f64 / h as f64).sin(),
+            SineWithoutPi => (yc / h as f64).sin(),
+            BandSolidAngle => {
+                (pi * y as f64 / h as f64).cos() - (pi * (y + 1) as f64 / h as f64).cos()
+            }
+            _ => (pi * yc / h as f64).sin(),
+        };
+        let weights: Vec<f64> = row.iter().map(|&l| f64::from(l) * weight).collect();
+        totals.push(weights.iter().sum());
+        if change == RowsByWholeSky && whole > 0.0 {
+            let mut sum = 0.0;
+            conditional.push(0.0);
+            conditional.extend(weights.iter().map(|w| {
+                sum += w;
+                (sum / whole) as f32
+            }));
+        } else {
+            conditional.extend(cumulative(change, &weights));
+        }
+    }
+    let mut marginal = cumulative(change, &totals);
+    if let Some(last) = marginal.last_mut()
+        && change != DarkRowNaN
+        && change != NoLeadingZero
+    {
+        *last = 1.0;
+    }
+    SkyDistribution {
+        width,
+        height,
+        marginal,
+        conditional,
+    }
+}
+
+/// The cell of `cdf` that `xi` falls in and where in it.
+fn invert(change: Change, cdf: &[f32], xi: f32) -> (usize, f32) {
+    let cells = cdf.len() - 1;
+    let found = cdf.partition_point(|&c| c <= xi);
+    let i = if change == NextRow {
+        found
+    } else {
+        found.saturating_sub(1)
+    }
+    .min(cells - 1);
+    let width = cdf[i + 1] - cdf[i];
+    let t = if width > 0.0 {
+        (xi - cdf[i]) / width
+    } else {
+        0.5
+    };
+    (i, t.clamp(0.0, 1.0))
+}
+
+/// The key's sky sampler with one change.
+fn sample_sky_with(change: Change, sky: &SkyDistribution, rng: &mut Rng) -> Option<SkySample> {
+    use std::f32::consts::PI;
+    let xi = match change {
+        SkyFreshGenerator => Rng::new(5, 5).next_vec2(),
+        OneNumberForRowAndTexel => {
+            let x = rng.next_vec2().x;
+            raylab_core::glam::Vec2::splat(x)
+        }
+        TexelFromFirstNumber => {
+            let v = rng.next_vec2();
+            raylab_core::glam::Vec2::new(v.y, v.x)
+        }
+        _ => rng.next_vec2(),
+    };
+    let (y, ty) = invert(change, &sky.marginal, xi.x);
+    let row = if change == ConditionalOfTopRow {
+        sky.row(0)
+    } else {
+        sky.row(y)
+    };
+    let (x, tx) = invert(change, row, xi.y);
+    let (tx, ty) = if change == TexelCentres {
+        (0.5, 0.5)
+    } else {
+        (tx, ty)
+    };
+    let probability = (sky.marginal[y + 1] - sky.marginal[y]) * (row[x + 1] - row[x]);
+    let (w, h) = (sky.width as f32, sky.height as f32);
+    let (u, v) = ((x as f32 + tx) / w, (y as f32 + ty) / h);
+    let (u, v) = if change == UAndVSwapped {
+        (v, u)
+    } else {
+        (u, v)
+    };
+    let theta = if change == UniformInCosineWithinTexel {
+        // cos θ uniform between the row's bounds.
+        let (c0, c1) = ((PI * y as f32 / h).cos(), (PI * (y + 1) as f32 / h).cos());
+        (c0 + (c1 - c0) * ty).clamp(-1.0, 1.0).acos()
+    } else {
+        PI * v
+    };
+    let (sin, cos) = theta.sin_cos();
+    if sin <= 0.0 || probability <= 0.0 {
+        return None;
+    }
+    let phi = if change == AzimuthMirrored {
+        TAU * (0.5 - u)
+    } else {
+        TAU * (u - 0.5)
+    };
+    let density = probability * w * h;
+    let pdf = match change {
+        SamplePdfWithoutSine => density / (2.0 * PI * PI),
+        SamplePdfSineOfRow => density / (2.0 * PI * PI * (PI * (y as f32 + 0.5) / h).sin()),
+        SamplePdfOverFourPi => density / (4.0 * PI),
+        UniformInCosineWithinTexel => {
+            let omega = TAU / w * ((PI * y as f32 / h).cos() - (PI * (y + 1) as f32 / h).cos());
+            probability / omega
+        }
+        _ => density / (2.0 * PI * PI * sin),
+    };
+    Some(SkySample {
+        direction: Vec3::new(sin * phi.sin(), cos, -sin * phi.cos()),
+        pdf,
+    })
+}
+
+/// The key's sky density with one change.
+fn sky_pdf_with(change: Change, sky: &SkyDistribution, d: Vec3) -> f32 {
+    use std::f32::consts::PI;
+    let sin = (d.x * d.x + d.z * d.z).sqrt();
+    if sin <= 0.0 && change != PdfInfiniteAtPole {
+        return 0.0;
+    }
+    let phi = d.x.atan2(-d.z);
+    let u = if change == SkyPdfAzimuthMirrored {
+        0.5 - phi / TAU
+    } else {
+        0.5 + phi / TAU
+    };
+    let theta = if change == SkyPdfThetaByAcos {
+        d.y.clamp(-1.0, 1.0).acos()
+    } else {
+        sin.atan2(d.y)
+    };
+    let (w, h) = (sky.width as usize, sky.height as usize);
+    let x = (u * w as f32) as usize;
+    let x = if change == TexelNotClamped {
+        x
+    } else {
+        x.min(w - 1)
+    };
+    let y = ((theta / PI * h as f32) as usize).min(h - 1);
+    let y = if change == SkyPdfOfNeighbourRow {
+        (y + 1).min(h - 1)
+    } else {
+        y
+    };
+    let row = sky.row(y);
+    let density = (sky.marginal[y + 1] - sky.marginal[y]) * (row[x + 1] - row[x]) * (w * h) as f32;
+    match change {
+        SkyPdfWithoutSine => density / (2.0 * PI * PI),
+        UniformInCosineWithinTexel => {
+            let hf = h as f32;
+            let omega =
+                TAU / w as f32 * ((PI * y as f32 / hf).cos() - (PI * (y + 1) as f32 / hf).cos());
+            density / (w * h) as f32 / omega
+        }
+        _ => density / (2.0 * PI * PI * sin),
+    }
 }
 
 /// The key's glossy-lobe probability.
@@ -892,6 +1231,18 @@ impl PathTracing for Variant {
             }
             _ => Reference.accumulate(st, x),
         }
+    }
+
+    fn sky_distribution(&self, luminance: &[f32], width: u32, height: u32) -> SkyDistribution {
+        sky_distribution_with(self.change, luminance, width, height)
+    }
+
+    fn sample_sky(&self, sky: &SkyDistribution, rng: &mut Rng) -> Option<SkySample> {
+        sample_sky_with(self.change, sky, rng)
+    }
+
+    fn sky_pdf(&self, sky: &SkyDistribution, direction: Vec3) -> f32 {
+        sky_pdf_with(self.change, sky, direction)
     }
 
     fn relative_error(&self, st: &PixelStatistics) -> f32 {

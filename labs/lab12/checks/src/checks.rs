@@ -22,6 +22,8 @@ use grading::stats::{
 use grading::strategies::unit_vector;
 use grading::{Exercise, GoldenFile, LabContext, compare_f32, compare_vec3, for_all};
 use pipeline::render::render;
+
+use crate::sky::{exercise_12_11, exercise_12_12, exercise_12_13};
 use pipeline::{PartSlot, Pipeline, View};
 use raylab_core::render::RenderSettings;
 
@@ -77,7 +79,10 @@ pub fn exercises() -> Vec<Exercise<dyn PathTracing>> {
             exercise_12_7,
             exercise_12_8,
             exercise_12_9,
-            exercise_12_10
+            exercise_12_10,
+            exercise_12_11,
+            exercise_12_12,
+            exercise_12_13
         ],
     )
 }
@@ -1448,6 +1453,7 @@ fn exercise_12_8(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(), Strin
             world.max_depth
         ));
     }
+    crate::sky::check_sky_furnace(s, ctx)?;
     check_cornell(s, ctx)
 }
 

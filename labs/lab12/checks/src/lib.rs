@@ -4,6 +4,7 @@
 pub mod checks;
 #[cfg(feature = "report")]
 pub mod report;
+pub mod sky;
 
 use std::path::PathBuf;
 use std::sync::Arc;

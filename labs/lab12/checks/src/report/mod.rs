@@ -1,7 +1,9 @@
 //! Lab 12's figures: the Cornell box path traced (phoe_ray's Figure 19), the same at four path
-//! depths (direct light against global illumination), and the BSDF seen from above at four
-//! roughnesses, the directions Exercise 12.3 draws against the density Exercise 12.2 gives (as
-//! Mitsuba's χ² test shows a sampler).
+//! depths (direct light against global illumination), its convergence, and the BSDF seen from
+//! above at four roughnesses, the directions Exercise 12.3 draws against the density Exercise
+//! 12.2 gives (as Mitsuba's χ² test shows a sampler); the sky's figures are in [`sky`].
+
+mod sky;
 
 use glam::Vec3;
 use raylab_core::Error;
@@ -28,6 +30,7 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut figures = cornell(ctx)?;
     figures.extend(convergence(ctx)?);
     figures.extend(lobes(ctx)?);
+    figures.extend(sky::figures(ctx)?);
     Ok(figures)
 }
 
