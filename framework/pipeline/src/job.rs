@@ -51,6 +51,10 @@ pub struct RenderJob {
     pub light_samples: u32,
     /// The caustic photon map (lab 8 on); its seed is the render's.
     pub photons: PhotonSettings,
+    /// Whether the photon radius follows the scene's size ([`PhotonSettings::radius_for`])
+    /// instead of `photons.max_radius` (no `--photon-radius` given).
+    #[serde(default)]
+    pub photon_radius_from_scene: bool,
     /// Whose code renders, in words for the closing line ("Reference", "Student").
     pub whose: String,
     /// Lab 12 on: stop the progressive render once every pixel's relative error is below this.
@@ -144,6 +148,11 @@ impl RenderJob {
         pipeline.view = self.view;
         pipeline.photons = PhotonSettings {
             seed: self.seed,
+            max_radius: if self.photon_radius_from_scene {
+                PhotonSettings::radius_for(&scene)
+            } else {
+                self.photons.max_radius
+            },
             ..self.photons
         };
         let start = Instant::now();
@@ -152,8 +161,9 @@ impl RenderJob {
                 Ok(traced) => {
                     let stored = traced.caustics.as_ref().map_or(0, |m| m.len());
                     eprintln!(
-                        "traced {} photons ({stored} stored in the caustic map) in {:.2} s",
+                        "traced {} photons ({stored} stored in the caustic map, gathered within {:.3}) in {:.2} s",
                         self.photons.emitted,
+                        traced.photons.max_radius,
                         start.elapsed().as_secs_f64()
                     );
                     pipeline = traced;

@@ -51,9 +51,10 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 384)]
     pub height: u32,
-    /// Samples per pixel (1 traces through pixel centres).
-    #[arg(long, default_value_t = 1)]
-    pub spp: u32,
+    /// Samples per pixel (1 traces through pixel centres) [default: 1; 32 from lab 12 on, whose
+    /// path tracer needs many]
+    #[arg(long)]
+    pub spp: Option<u32>,
     /// Pixel subdivision s (lab 7 on): s × s jittered subpixel rays per sample.
     #[arg(long, default_value_t = 1)]
     pub subdivisions: u32,
@@ -85,9 +86,10 @@ pub struct RenderArgs {
     /// The caustic estimate gathers the k nearest photons (lab 8 on) …
     #[arg(long, default_value_t = PhotonSettings::DEFAULT.k)]
     pub photon_k: u32,
-    /// … within this radius, in scene units (lab 8 on).
-    #[arg(long, default_value_t = PhotonSettings::DEFAULT.max_radius)]
-    pub photon_radius: f32,
+    /// … within this radius, in scene units (lab 8 on) [default: 2.6 % of the diagonal of the
+    /// scene's bounds, 2.5 cm in the Cornell box]
+    #[arg(long)]
+    pub photon_radius: Option<f32>,
     /// Lab 12 on, where --spp of 8 or more renders progressively (passes of 4 samples, the
     /// image rewritten every 8 passes, the variance of each pixel's mean written beside it as
     /// NAME-variance.exr): stop once every pixel's relative error is below this (0.05 for 5 %).
@@ -101,7 +103,7 @@ impl Default for RenderArgs {
             scene: "default".into(),
             width: 512,
             height: 384,
-            spp: 1,
+            spp: None,
             subdivisions: 1,
             light_samples: 4,
             seed: 0,
@@ -112,7 +114,7 @@ impl Default for RenderArgs {
             view: ViewChoice::Shaded,
             photons: PhotonSettings::DEFAULT.emitted,
             photon_k: PhotonSettings::DEFAULT.k,
-            photon_radius: PhotonSettings::DEFAULT.max_radius,
+            photon_radius: None,
             target_error: None,
         }
     }
@@ -150,6 +152,9 @@ pub fn prepare_output(output: &Path) -> Result<PathBuf, Error> {
     Ok(absolute)
 }
 
+/// Samples per pixel of a render from lab 12 on when `--spp` is not given.
+pub const PATH_TRACED_SPP: u32 = 32;
+
 /// Runs `raylab render`.
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let lab = args.lab.unwrap_or_else(course::last);
@@ -169,7 +174,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         scene: args.scene.clone(),
         width: args.width,
         height: args.height,
-        spp: args.spp,
+        spp: args.spp.unwrap_or(if lab.number() >= 12 {
+            PATH_TRACED_SPP
+        } else {
+            1
+        }),
         subdivisions: args.subdivisions,
         seed: args.seed,
         output: args.output.clone(),
@@ -185,9 +194,12 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         photons: PhotonSettings {
             emitted: args.photons,
             k: args.photon_k,
-            max_radius: args.photon_radius,
+            max_radius: args
+                .photon_radius
+                .unwrap_or(PhotonSettings::DEFAULT.max_radius),
             seed: args.seed,
         },
+        photon_radius_from_scene: args.photon_radius.is_none(),
         whose: format!("{:?}", args.pipeline),
         target_error: args.target_error,
     };

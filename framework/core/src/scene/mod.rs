@@ -134,6 +134,18 @@ impl Scene {
     pub fn material(&self, id: crate::scene::MaterialId) -> &Material {
         &self.materials[id.0 as usize]
     }
+
+    /// The box around the scene's finite geometry (spheres and triangles; a plane has no
+    /// bounds), `None` without any.
+    pub fn bounds(&self) -> Option<crate::math::Aabb> {
+        let spheres = self.spheres.iter().map(Sphere::bounds);
+        let triangles = (0..self.mesh.faces.len())
+            .map(|f| crate::math::Aabb::from_points(self.mesh.triangle(f)));
+        let bounds = spheres
+            .chain(triangles)
+            .fold(crate::math::Aabb::EMPTY, crate::math::Aabb::union);
+        (!bounds.is_empty()).then_some(bounds)
+    }
 }
 
 fn validate(

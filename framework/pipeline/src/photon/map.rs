@@ -46,6 +46,21 @@ impl PhotonSettings {
         seed: 0,
     };
 
+    /// The default radius as a share of the diagonal of the scene's bounds: the 2.5 cm of
+    /// [`PhotonSettings::DEFAULT`] in the built-in Cornell box (0.963 m across).
+    pub const RADIUS_PER_DIAGONAL: f32 = 0.026;
+
+    /// The default radius for `scene`: [`PhotonSettings::RADIUS_PER_DIAGONAL`] of the diagonal
+    /// of its finite geometry (the default's 2.5 cm without any), so that a scene of metres
+    /// and one of millimetres gather over the same share of themselves.
+    pub fn radius_for(scene: &raylab_core::scene::Scene) -> f32 {
+        scene
+            .bounds()
+            .map(|b| Self::RADIUS_PER_DIAGONAL * b.diagonal().length())
+            .filter(|r| r.is_finite() && *r > 0.0)
+            .unwrap_or(Self::DEFAULT.max_radius)
+    }
+
     /// Checks the settings, naming the offending value.
     pub fn validate(&self) -> Result<(), raylab_core::Error> {
         if self.emitted == 0 || self.emitted > 1 << 26 {
