@@ -31,7 +31,11 @@ pub enum IllumModel {
     Mirror,
     /// `illum 4`: transparent (refracting) dielectric.
     Transparent,
-    /// `illum 5`: glossy, Fresnel-weighted reflection on a diffuse base.
+    /// `illum 5` (in the MTL specification, reflection weighted by Fresnel), the glossy glass of
+    /// the DTU worksheets: a dielectric that reflects and refracts under a Phong highlight of
+    /// `Ks`, `Ns` — below lab 10 with the worksheet's fixed weights (0.1 Phong on the diffuse
+    /// colour, 0.1 mirror, 0.9 refraction), from lab 10 on with the Fresnel reflectance and no
+    /// diffuse part. An opaque glossy surface (the seed renderers' glossy material) is `illum 2`.
     Glossy,
     /// `illum 11`: absorbing volume (Bouguer–Lambert–Beer law) behind a transparent surface.
     AbsorbingVolume,
