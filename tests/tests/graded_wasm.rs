@@ -88,6 +88,10 @@ fn stubs(lab: &str) -> String {
 
 #[test]
 fn lab01_in_webassembly() {
+    if !grading::prerequisite::rust_target_or_skip("lab01_in_webassembly", "wasm32-unknown-unknown")
+    {
+        return;
+    }
     let checks = lab01_checks::checks::exercises();
     let lab = lab01_checks::checks::LAB;
     let ctx = corpus::context(
@@ -157,6 +161,10 @@ fn lab01_in_webassembly() {
 
 #[test]
 fn lab02_in_webassembly() {
+    if !grading::prerequisite::rust_target_or_skip("lab02_in_webassembly", "wasm32-unknown-unknown")
+    {
+        return;
+    }
     let checks = lab02_checks::checks::exercises();
     let lab = lab02_checks::checks::LAB;
     let ctx = corpus::context(

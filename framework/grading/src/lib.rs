@@ -7,6 +7,7 @@ pub mod corpus;
 mod golden;
 pub mod graded;
 pub mod harness;
+pub mod prerequisite;
 mod property;
 pub mod radiometry;
 pub mod scenes;

@@ -18,6 +18,7 @@ use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use grading::prerequisite;
 use raylab_tests::workflow::{
     copy_tree, correct_code, read, root, target_dir, workflow_target_dir,
 };
@@ -337,7 +338,12 @@ const RUN_AS: &str = "65534";
 
 #[test]
 fn hostile_submissions_gain_nothing() {
-    grade_hostile_submissions(None);
+    let test = "hostile_submissions_gain_nothing";
+    if prerequisite::program_or_skip(test, "bwrap", "apt-get install bubblewrap")
+        && prerequisite::rust_target_or_skip(test, "wasm32-unknown-unknown")
+    {
+        grade_hostile_submissions(None);
+    }
 }
 
 /// The same corpus graded as Gradescope grades it, where bubblewrap cannot start: builds
@@ -356,7 +362,12 @@ fn hostile_submissions_gain_nothing_run_as_another_user() {
         );
         return;
     }
-    grade_hostile_submissions(Some(RUN_AS));
+    if prerequisite::rust_target_or_skip(
+        "hostile_submissions_gain_nothing_run_as_another_user",
+        "wasm32-unknown-unknown",
+    ) {
+        grade_hostile_submissions(Some(RUN_AS));
+    }
 }
 
 /// Grades the corpus in one run, in bubblewrap or `--run-as` the user `run_as`, and checks

@@ -746,6 +746,10 @@ mod tests {
     /// sees them, links the key. Needs bubblewrap, as `raylab grade` does.
     #[test]
     fn the_answer_key_is_out_of_sight_of_the_student_build() {
+        let test = "the_answer_key_is_out_of_sight_of_the_student_build";
+        if !grading::prerequisite::program_or_skip(test, "bwrap", "apt-get install bubblewrap") {
+            return;
+        }
         let tree = std::env::temp_dir().join(format!("raylab-hidden-key-{}", std::process::id()));
         let _ = fs::remove_dir_all(&tree);
         let write = |path: &str, text: &str| {
