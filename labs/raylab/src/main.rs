@@ -64,7 +64,30 @@ enum Command {
     NewLab(new_lab::NewLabArgs),
 }
 
+/// The status of a command whose output pipe was closed: killed by SIGPIPE, as a Unix tool is.
+const CLOSED_PIPE_STATUS: i32 = 128 + 13;
+
+/// Ends the command quietly when its standard output is a pipe whose reader has gone
+/// (`raylab status | head -2`), as any Unix tool ends, instead of with a panic: Rust ignores
+/// SIGPIPE, and `println!` panics on the write that fails.
+fn exit_quietly_on_closed_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.starts_with("failed printing to std") && message.contains("Broken pipe") {
+            std::process::exit(CLOSED_PIPE_STATUS);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    exit_quietly_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         None => render::run(&render::RenderArgs::default()),

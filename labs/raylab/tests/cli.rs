@@ -488,3 +488,22 @@ fn hostile_files_are_one_error_line_and_exit_status_1() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_closed_output_pipe_ends_the_command_quietly() {
+    // The reader of the pipe is gone before the command writes (`raylab hint 1.3 | head -0`).
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["hint", "1.3"])
+        .current_dir(scratch("closed-pipe"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("raylab runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(141), "{:?} {stderr}", out.status.signal());
+}
