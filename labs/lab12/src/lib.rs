@@ -5,7 +5,7 @@
 //! ```text
 //! cargo test -p lab12                 # all exercises
 //! cargo test -p lab12 exercise_12_3   # one exercise
-//! raylab report --lab 12 --pipeline student
+//! cargo run --release -p raylab -- report --lab 12 --pipeline student
 //! ```
 //!
 //! `wo` points back along the path, `wi` towards the light; both are unit vectors, and

@@ -131,7 +131,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
             println!("  {id:<5} {mark} {function:<26} {points} pt{detail}");
             if next.is_none() && !matches!(state, State::Passed) {
                 next = Some(format!(
-                    "Exercise {id} (`{function}` in labs/{lab}/src/lib.rs, docs/{lab}.md); check it with `cargo test -p {lab} exercise_{}`; stuck? `raylab hint {id}`",
+                    "Exercise {id} (`{function}` in labs/{lab}/src/lib.rs, docs/{lab}.md); check it with `cargo test -p {lab} exercise_{}`; stuck? `cargo run -p raylab -- hint {id}`",
                     id.replace('.', "_")
                 ));
             }

@@ -21,9 +21,10 @@ pub struct WatchArgs {
     pub once: bool,
 }
 
-/// The workspace's root (where `cargo test -p labNN` runs).
+/// The workspace's root (where `cargo test -p labNN` runs), without `..` in it.
 fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    std::fs::canonicalize(&root).unwrap_or(root)
 }
 
 /// The first lab whose sources still hold a stub (`todo!("Exercise …`), else the last lab.
@@ -124,6 +125,13 @@ pub fn parse_checks(stdout: &str) -> ChecksRun {
     run
 }
 
+/// The lab and exercise numbers of a test name (`exercise_12_3_sample_bsdf` → `(12, 3)`), for
+/// putting the tests in the exercises' order (`None` for another test).
+fn exercise_key(test: &str) -> Option<(u32, u32)> {
+    let mut parts = test.strip_prefix("exercise_")?.split('_');
+    Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?))
+}
+
 /// The exercise number of a test name (`exercise_1_2_camera_basis` → `1.2`).
 fn exercise_of(test: &str) -> String {
     let mut parts = test.trim_start_matches("exercise_").split('_');
@@ -133,8 +141,9 @@ fn exercise_of(test: &str) -> String {
     }
 }
 
-/// Runs the lab's checks once and prints what passes and the next exercise to do.
-fn check_once(root: &Path, lab: LabId) -> Result<(), Error> {
+/// Runs the lab's checks once and prints, in the exercises' order, what passes and the next
+/// exercise to do; says whether every exercise passes.
+fn check_once(root: &Path, lab: LabId) -> Result<bool, Error> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let package = format!("{lab}");
     let output = Command::new(cargo)
@@ -145,7 +154,7 @@ fn check_once(root: &Path, lab: LabId) -> Result<(), Error> {
         .output()
         .map_err(|e| Error::io(Path::new("cargo"), e))?;
     let stdout = String::from_utf8_lossy(&output.stdout);
-    let run = parse_checks(&stdout);
+    let mut run = parse_checks(&stdout);
     if run.tests.is_empty() {
         // It did not build: show cargo's errors.
         let stderr = String::from_utf8_lossy(&output.stderr);
@@ -156,8 +165,17 @@ fn check_once(root: &Path, lab: LabId) -> Result<(), Error> {
         }) {
             println!("{line}");
         }
-        return Ok(());
+        return Ok(false);
     }
+    // libtest lists the tests as they finish, in parallel: put them in the exercises' order.
+    run.tests.sort_by_key(|t| {
+        (
+            exercise_key(&t.name).unwrap_or((u32::MAX, 0)),
+            t.name.clone(),
+        )
+    });
+    run.failures
+        .sort_by_key(|(name, _)| (exercise_key(name).unwrap_or((u32::MAX, 0)), name.clone()));
     let passed = run.tests.iter().filter(|t| t.passed).count();
     println!(
         "{package}: {passed} of {} exercises pass\n",
@@ -173,12 +191,12 @@ fn check_once(root: &Path, lab: LabId) -> Result<(), Error> {
     }
     match run.failures.first() {
         Some((name, message)) => println!(
-            "\nnext: Exercise {id} (`cargo test -p {package} {name}`; stuck? `raylab hint {id}`)\n\n{message}",
+            "\nnext: Exercise {id} (`cargo test -p {package} {name}`; stuck? `cargo run -p raylab -- hint {id}`)\n\n{message}",
             id = exercise_of(name)
         ),
         None => println!("\nevery exercise of {package} passes"),
     }
-    Ok(())
+    Ok(run.failures.is_empty() && passed == run.tests.len())
 }
 
 /// Runs `raylab watch`.
@@ -191,21 +209,33 @@ pub fn run(args: &WatchArgs) -> Result<(), Error> {
         }
         None => default_lab(&root),
     };
-    let sources = root.join(format!("labs/{lab}/src"));
+    let mut lab = lab;
+    let mut sources = root.join(format!("labs/{lab}/src"));
     let mut seen = newest_change(&sources);
     loop {
         // Clear the terminal and go home, as a watcher does, unless this is a single run.
         if !args.once {
             print!("\x1b[2J\x1b[H");
         }
-        check_once(&root, lab)?;
+        let all_pass = check_once(&root, lab)?;
         if args.once {
             return Ok(());
         }
-        println!(
-            "\nwatching {} for changes (Ctrl-C to stop)",
-            sources.display()
-        );
+        // A lab done, the next one: its checks at once, then its sources watched.
+        let labs = crate::labs::labs();
+        let next = labs
+            .iter()
+            .position(|l| *l == lab)
+            .and_then(|i| labs.get(i + 1));
+        if let (true, Some(&next)) = (all_pass, next) {
+            println!("\non to {next}\n");
+            std::thread::sleep(Duration::from_secs(2));
+            lab = next;
+            sources = root.join(format!("labs/{lab}/src"));
+            seen = newest_change(&sources);
+            continue;
+        }
+        println!("\nwatching labs/{lab}/src for changes (Ctrl-C to stop)");
         loop {
             std::thread::sleep(Duration::from_millis(400));
             let now = newest_change(&sources);
@@ -235,5 +265,26 @@ mod tests {
         );
         assert_eq!(run.failures[1].1, "Exercise 1.3 is not implemented yet.");
         assert_eq!(exercise_of(&run.failures[1].0), "1.3");
+    }
+
+    #[test]
+    fn exercises_sort_by_number_not_by_name() {
+        let mut names = [
+            "exercise_1_10_b",
+            "exercise_12_1_a",
+            "exercise_1_2_c",
+            "exercise_2_1_d",
+        ];
+        names.sort_by_key(|n| exercise_key(n));
+        assert_eq!(
+            names,
+            [
+                "exercise_1_2_c",
+                "exercise_1_10_b",
+                "exercise_2_1_d",
+                "exercise_12_1_a"
+            ]
+        );
+        assert_eq!(exercise_key("a_test"), None);
     }
 }
