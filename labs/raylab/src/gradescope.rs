@@ -31,9 +31,9 @@ pub struct GradescopeArgs {
     /// (`cd DIR && zip -qr ../autograder.zip .`) and upload that as the autograder.
     #[arg(long)]
     pub out: PathBuf,
-    /// Grade only this lab (repeatable; default: every lab) — one Gradescope assignment per
-    /// lab has `--lab N`.
-    #[arg(long = "lab")]
+    /// The lab this assignment grades (repeatable, `--lab 1 --lab 2`, for an assignment of
+    /// several): its students see only these labs' tests.
+    #[arg(long = "lab", value_name = "N", required = true)]
     pub labs: Vec<LabId>,
     /// Labs whose solution was released in the students' handout (as for `raylab grade`).
     #[arg(long, value_delimiter = ',')]

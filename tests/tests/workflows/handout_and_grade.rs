@@ -487,6 +487,8 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
     // Gradescope's required fields: a score (or every test's), and for each test a score and
     // a max_score; name, number, status, output and visibility as it documents them.
     let tests = results["tests"].as_array().expect("tests[]");
+    // The seconds the grading took, which Gradescope shows beside the score.
+    assert!(results["execution_time"].is_u64(), "{text}");
     let numbers: Vec<&str> = tests
         .iter()
         .map(|t| t["number"].as_str().unwrap())

@@ -48,17 +48,17 @@ pub struct GradeArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Grade only this lab (repeatable; default: every lab).
-    #[arg(long = "lab")]
+    #[arg(long = "lab", value_name = "N")]
     pub labs: Vec<LabId>,
     /// Labs whose solution was released in the handout the students had (as given to
     /// `raylab handout`), so that those files are not reported as changed. The checks' base is
     /// always the whole answer key.
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<LabId>,
-    /// Cargo's target directory for the builds (default: `DIR/.grading/target`). It may be
-    /// shared with other builds of the same toolchain to save compiling the dependencies (and,
-    /// between gradings of the same framework, the framework) again: the grading tree's other
-    /// crates carry a version of their own (see `TreeOptions::version_tag`).
+    /// Cargo's target directory for the builds (default: `DIR/.grading/target`). Share one
+    /// between gradings to compile the dependencies once, and the framework once per version of
+    /// the course: gradings of different courses or versions in one directory do not mix up
+    /// their programs.
     #[arg(long)]
     pub target_dir: Option<PathBuf>,
     /// Seconds an exercise may run before it is stopped and fails (an infinite loop).

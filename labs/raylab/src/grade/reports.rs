@@ -419,6 +419,8 @@ fn gradescope(grade: &StudentGrade) -> serde_json::Value {
     serde_json::json!({
         "score": grade.score(),
         "max_score": grade.max_score(),
+        // Gradescope's optional field: the seconds the grading took (builds and runs).
+        "execution_time": (grade.timings.build + grade.timings.run + grade.timings.timed_out).round() as u64,
         "output": output,
         "tests": tests,
     })
