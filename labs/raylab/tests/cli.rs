@@ -505,5 +505,10 @@ fn a_closed_output_pipe_ends_the_command_quietly() {
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(out.status.code(), Some(141), "{:?} {stderr}", out.status.signal());
+    assert_eq!(
+        out.status.code(),
+        Some(141),
+        "{:?} {stderr}",
+        out.status.signal()
+    );
 }
