@@ -47,6 +47,14 @@ impl Redactions {
             t.replace(path, instead)
         })
     }
+
+    /// [`Redactions::apply`] to HTML: the stand-ins escaped, so that a browser shows
+    /// `<grading>` rather than taking it for a tag and dropping it.
+    pub fn apply_html(&self, html: &str) -> String {
+        self.0.iter().fold(html.to_string(), |t, (path, instead)| {
+            t.replace(path, &instead.replace('<', "&lt;").replace('>', "&gt;"))
+        })
+    }
 }
 
 /// Writes `report.md`, `report.html` and `results.json` of `grade` into `dir`, with the paths of
@@ -58,7 +66,10 @@ pub fn write_student(
 ) -> Result<(), Error> {
     fs::create_dir_all(dir).map_err(io(dir))?;
     write(&dir.join("report.md"), &redactions.apply(&markdown(grade)))?;
-    write(&dir.join("report.html"), &redactions.apply(&html(grade)))?;
+    write(
+        &dir.join("report.html"),
+        &redactions.apply_html(&html(grade)),
+    )?;
     let results = serde_json::to_string_pretty(&gradescope(grade)).unwrap_or_default();
     write(&dir.join("results.json"), &redactions.apply(&results))
 }
@@ -776,6 +787,16 @@ mod tests {
         assert_eq!(
             r.apply("at /srv/course/grades/x and /srv/course/labs"),
             "at <grades>/x and <course>/labs"
+        );
+    }
+
+    #[test]
+    fn redactions_in_html_are_text_not_tags() {
+        let mut r = Redactions::default();
+        r.add(Path::new("/srv/grading"), "<grading>");
+        assert_eq!(
+            r.apply_html("<pre>/srv/grading/runs/x.png</pre>"),
+            "<pre>&lt;grading&gt;/runs/x.png</pre>"
         );
     }
 
