@@ -108,6 +108,9 @@ const HANDOUT_SOURCES: &[&str] = &[
     "reference",
 ];
 
+/// The docs a handout leaves out: how grading works and what it costs are the instructors'.
+const INSTRUCTOR_DOCS: &[&str] = &["docs/instructors.md", "docs/performance.md"];
+
 /// The files of [`HANDOUT_SOURCES`] that differ from the last commit of the git work tree at
 /// `root` (changed, staged, deleted or untracked and not ignored); `None` when `root` is not a
 /// git work tree or git cannot be run.
@@ -180,6 +183,9 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
         }
     }
     copy_dir(&root.join("docs"), &out.join("docs"))?;
+    for doc in INSTRUCTOR_DOCS {
+        fs::remove_file(out.join(doc)).map_err(io(&out.join(doc)))?;
+    }
     let mut manifest = replace_once(
         &read(&root.join("Cargo.toml"))?,
         "    \"tests\",\n",

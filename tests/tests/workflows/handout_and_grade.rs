@@ -80,6 +80,11 @@ fn handout_then_grade_four_submissions() {
         handout.to_str().unwrap(),
     ]);
     assert!(ok, "{out}");
+    // Student-facing docs only: how grading works is the instructors'.
+    for doc in ["docs/instructors.md", "docs/performance.md"] {
+        assert!(!handout.join(doc).exists(), "the handout holds {doc}");
+    }
+    assert!(handout.join("docs/lab01.md").is_file());
     phase("handout written");
     // The handout's target directory (also the grading's) starts with the dependencies this
     // run has compiled: what is checked is the workflow, not a second build of crates.io.
