@@ -387,6 +387,174 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "radiosity: the θ loop stops one ring short (0..steps − 1: the ring at the horizon left out)",
+            verdict: Verdict::Reject("5.7"),
+            radiosity: Some(|l, n| theta_rule(l, n, n.saturating_sub(1), 0.5)),
+            ..NONE
+        },
+        Variant {
+            name: "radiosity: θ at the cells' left ends, θ_i = i·Δθ (the half step forgotten)",
+            verdict: Verdict::Reject("5.7"),
+            radiosity: Some(|l, n| theta_rule(l, n, n, 0.0)),
+            ..NONE
+        },
+        Variant {
+            name: "radiosity: φ over half a turn, [0, π) in 2·steps cells, doubled (as if every L were symmetric in φ)",
+            verdict: Verdict::Reject("5.7"),
+            radiosity: Some(|l, n| {
+                let (dt, dp) = (0.5 * PI / n as f64, 2.0 * PI / (4 * n) as f64);
+                let mut sum = 0.0;
+                for i in 0..n {
+                    let t = (i as f64 + 0.5) * dt;
+                    for j in 0..2 * n {
+                        sum += 2.0 * l(t, (j as f64 + 0.5) * dp) * t.cos() * t.sin() * dt * dp;
+                    }
+                }
+                sum
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: the light taken as two-sided, cos θ_l = |n_l·ω|",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| {
+                let rule = AreaRule {
+                    cos_l: |nl, w| nl.dot(w).abs(),
+                    ..AREA
+                };
+                area_sampled(rule, l, rx, n, rng)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: the receiver's cosine not clamped (light below the horizon subtracts)",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| {
+                let rule = AreaRule {
+                    cos_r: |n, w| n.dot(w),
+                    ..AREA
+                };
+                area_sampled(rule, l, rx, n, rng)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: the area as |edge_u|·|edge_v| (a rectangle's)",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| {
+                let rule = AreaRule {
+                    area: |l| l.edge_u.length() * l.edge_v.length(),
+                    ..AREA
+                };
+                area_sampled(rule, l, rx, n, rng)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: the light's normal as û × v̂ of the unit edges (unit only when they are perpendicular)",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| {
+                let rule = AreaRule {
+                    normal: |l| l.edge_u.normalize().cross(l.edge_v.normalize()),
+                    ..AREA
+                };
+                area_sampled(rule, l, rx, n, rng)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: the receiver's cosine taken from world up (ω.y), not its normal",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| {
+                let rule = AreaRule {
+                    cos_r: |_, w| w.y.max(0.0),
+                    ..AREA
+                };
+                area_sampled(rule, l, rx, n, rng)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "area sampling: one number for both coordinates, light.point(u.x, u.x)",
+            verdict: Verdict::Reject("5.8"),
+            area: Some(|l, rx, n, rng| average(n, rng, |s, _| area_term(l, rx, s, s, true, true))),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: its own hit test, (s, t) by projecting onto the edges (right only for perpendicular edges)",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| cosine_sampled(l, rx, n, rng, unit_frame, rectangle_hit)),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: the tangent frame not normalised (t = n × x̂, b = n × t)",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| {
+                cosine_sampled(
+                    l,
+                    rx,
+                    n,
+                    rng,
+                    |n| {
+                        let a = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+                        let t = n.cross(a);
+                        (t, n.cross(t))
+                    },
+                    |l, p, w| l.radiance_along(p, w),
+                )
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: Frisvad's frame without its special case at n = −z (a = 1/(1 + n_z))",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| {
+                cosine_sampled(
+                    l,
+                    rx,
+                    n,
+                    rng,
+                    |n| {
+                        let a = 1.0 / (1.0 + n.z);
+                        let b = -n.x * n.y * a;
+                        (
+                            DVec3::new(1.0 - n.x * n.x * a, b, -n.x),
+                            DVec3::new(b, 1.0 - n.y * n.y * a, -n.y),
+                        )
+                    },
+                    |l, p, w| l.radiance_along(p, w),
+                )
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: directions about world up (y), not the receiver's normal",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| {
+                let up = Receiver {
+                    normal: DVec3::Y,
+                    ..*rx
+                };
+                cosine_sampled(l, &up, n, rng, unit_frame, |l, p, w| l.radiance_along(p, w))
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "cosine sampling: one number for radius and angle (r = √u₁, φ = 2πu₁)",
+            verdict: Verdict::Reject("5.9"),
+            cosine: Some(|l, rx, n, rng| {
+                average(n, rng, |a, _| {
+                    let (r, phi) = (a.sqrt(), 2.0 * PI * a);
+                    let w = around(
+                        rx.normal,
+                        DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - a).sqrt()),
+                    );
+                    PI * l.radiance_along(rx.position, w)
+                })
+            }),
+            ..NONE
+        },
         // ---- Correct alternatives
         Variant {
             name: "photons: through the frequency, f = c/λ and q = h·f (the hand-in's route)",
@@ -409,6 +577,25 @@ pub fn variants() -> Vec<Variant> {
                     for j in 0..k {
                         sum += l(mu.acos(), (j as f64 + 0.5) * dphi) * mu * dmu * dphi;
                     }
+                }
+                sum
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "radiosity: Simpson's rule in θ (each interval's ends and middle), the midpoint rule in φ",
+            verdict: Verdict::Accept,
+            radiosity: Some(|l, n| {
+                let (m, k) = (n as usize, 4 * n as usize);
+                let (dt, dp) = (0.5 * PI / m as f64, 2.0 * PI / k as f64);
+                let ring = |t: f64| {
+                    let around: f64 = (0..k).map(|j| l(t, (j as f64 + 0.5) * dp)).sum();
+                    around * dp * t.cos() * t.sin()
+                };
+                let mut sum = 0.0;
+                for i in 0..m {
+                    let a = i as f64 * dt;
+                    sum += dt / 6.0 * (ring(a) + 4.0 * ring(a + 0.5 * dt) + ring(a + dt));
                 }
                 sum
             }),
@@ -455,6 +642,101 @@ pub fn variants() -> Vec<Variant> {
             ..NONE
         },
     ]
+}
+
+/// The pieces of an area-sampling estimator a mistake changes: the light's normal and area,
+/// and the receiver's and the light's cosine from the unit direction `w` to the light point.
+#[derive(Clone, Copy)]
+struct AreaRule {
+    normal: fn(&RectangleLight) -> DVec3,
+    area: fn(&RectangleLight) -> f64,
+    cos_r: fn(DVec3, DVec3) -> f64,
+    cos_l: fn(DVec3, DVec3) -> f64,
+}
+
+/// The correct rule.
+const AREA: AreaRule = AreaRule {
+    normal: RectangleLight::normal,
+    area: RectangleLight::area_m2,
+    cos_r: |n, w| n.dot(w).max(0.0),
+    cos_l: |nl, w| (-nl.dot(w)).max(0.0),
+};
+
+/// Uniform area sampling by `rule`.
+fn area_sampled(
+    rule: AreaRule,
+    light: &RectangleLight,
+    rx: &Receiver,
+    n: u32,
+    rng: &mut Rng,
+) -> f64 {
+    let (nl, area) = ((rule.normal)(light), (rule.area)(light));
+    average(n, rng, |s, t| {
+        let d = light.point(s, t) - rx.position;
+        let r2 = d.length_squared();
+        let w = d / r2.sqrt();
+        light.radiance_w_per_m2_sr * (rule.cos_r)(rx.normal, w) * (rule.cos_l)(nl, w) / r2 * area
+    })
+}
+
+/// A normalised tangent frame about the unit `n`.
+fn unit_frame(n: DVec3) -> (DVec3, DVec3) {
+    let a = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+    let t = n.cross(a).normalize();
+    (t, n.cross(t))
+}
+
+/// Malley's method in the frame `frame(n)`, each direction looked up by `lookup`.
+fn cosine_sampled(
+    light: &RectangleLight,
+    rx: &Receiver,
+    n: u32,
+    rng: &mut Rng,
+    frame: fn(DVec3) -> (DVec3, DVec3),
+    lookup: fn(&RectangleLight, DVec3, DVec3) -> f64,
+) -> f64 {
+    let (t, b) = frame(rx.normal);
+    average(n, rng, |a, c| {
+        let (r, phi) = (a.sqrt(), 2.0 * PI * c);
+        let w = r * phi.cos() * t + r * phi.sin() * b + (1.0 - a).max(0.0).sqrt() * rx.normal;
+        PI * lookup(light, rx.position, w)
+    })
+}
+
+/// The radiance along `w` by a hit test that finds the parallelogram coordinates by projecting
+/// onto each edge, `s = d·u/|u|²` — the coordinates only when the edges are perpendicular.
+fn rectangle_hit(l: &RectangleLight, origin: DVec3, w: DVec3) -> f64 {
+    let n = l.normal();
+    let facing = w.dot(n);
+    if facing >= 0.0 {
+        return 0.0;
+    }
+    let t = (l.corner - origin).dot(n) / facing;
+    if t <= 0.0 {
+        return 0.0;
+    }
+    let d = origin + t * w - l.corner;
+    let s = d.dot(l.edge_u) / l.edge_u.length_squared();
+    let r = d.dot(l.edge_v) / l.edge_v.length_squared();
+    if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&r) {
+        l.radiance_w_per_m2_sr
+    } else {
+        0.0
+    }
+}
+
+/// The rule of `n` θ intervals and `4n` φ intervals summed over the first `cells` θ cells,
+/// `θ_i = (i + offset)·Δθ`.
+fn theta_rule(l: &dyn Fn(f64, f64) -> f64, n: u32, cells: u32, offset: f64) -> f64 {
+    let (dt, dp) = (0.5 * PI / n as f64, 2.0 * PI / (4 * n) as f64);
+    let mut sum = 0.0;
+    for i in 0..cells {
+        let t = (i as f64 + offset) * dt;
+        for j in 0..4 * n {
+            sum += l(t, (j as f64 + 0.5) * dp) * t.cos() * t.sin() * dt * dp;
+        }
+    }
+    sum
 }
 
 /// The midpoint rule over θ ∈ [0, θ_max] (`n` steps) and φ ∈ [0, 2π) (`4n`) of
