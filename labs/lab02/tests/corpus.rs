@@ -158,6 +158,44 @@ pub fn variants() -> Vec<Variant> {
             ..NONE
         },
         Variant {
+            name: "plane: no test of ω·n = 0 (a parallel ray's t = ±∞ passes tmax = ∞)",
+            verdict: Verdict::Reject("2.1"),
+            plane: Some(|ray, plane| {
+                let t = -(ray.origin.dot(plane.normal) + plane.d) / ray.direction.dot(plane.normal);
+                ray.accepts(t).then_some(SurfaceHit {
+                    distance: t,
+                    normal: plane.normal,
+                })
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "plane: t = ±∞ refused but not NaN (a ray in the plane hits at t = NaN)",
+            verdict: Verdict::Reject("2.1"),
+            plane: Some(|ray, plane| {
+                let t = -(ray.origin.dot(plane.normal) + plane.d) / ray.direction.dot(plane.normal);
+                if t.is_infinite() || t < ray.tmin || t > ray.tmax {
+                    return None;
+                }
+                Some(SurfaceHit {
+                    distance: t,
+                    normal: plane.normal,
+                })
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "plane: |ω·n| < 1e-4 taken as parallel (grazing rays miss)",
+            verdict: Verdict::Reject("2.1"),
+            plane: Some(|ray, plane| {
+                if ray.direction.dot(plane.normal).abs() < 1e-4 {
+                    return None;
+                }
+                Reference.intersect_plane(ray, plane)
+            }),
+            ..NONE
+        },
+        Variant {
             name: "triangle: accepts β + γ > 1 (a parallelogram)",
             verdict: Verdict::Reject("2.2"),
             triangle: Some(|r, a, b, c| triangle_with(r, a, b, c, false, true)),

@@ -340,6 +340,135 @@ fn check_part_snapshot(part: Part, s: &Arc<dyn Lab02>, ctx: &LabContext) -> Resu
 // ---------------------------------------------------------------------------------------------
 // The exercises
 
+/// A plane and a direction exactly parallel to it in floating point, with an origin: the
+/// normal `(a, b, 0)` and the direction `(−b, a, 0)` or `(0, 0, ±1)`, their axes permuted, so
+/// that every order of summing `ω·n` gives exactly zero; the origin off the plane, or (one
+/// time in three) in it: the plane's own point, or the world origin on a plane through it.
+pub fn parallel_strategy() -> impl Strategy<Value = (Plane, Vec3, Vec3)> {
+    (
+        0.0f32..std::f32::consts::TAU,
+        0usize..3,
+        0u8..4,
+        point(3.0),
+        point(8.0),
+        0u8..3,
+    )
+        .prop_map(|(phi, axis, which, p, o, place)| {
+            let rotate = |v: Vec3| match axis {
+                0 => v,
+                1 => Vec3::new(v.z, v.x, v.y),
+                _ => Vec3::new(v.y, v.z, v.x),
+            };
+            let through = if place == 2 && which % 2 == 0 {
+                Vec3::ZERO
+            } else {
+                p
+            };
+            let plane = Plane::new(
+                through,
+                rotate(Vec3::new(phi.cos(), phi.sin(), 0.0)),
+                MaterialId(0),
+            );
+            let n = plane.normal;
+            // In the rotated frame the normal's third component is exactly zero.
+            let (a, b) = match axis {
+                0 => (n.x, n.y),
+                1 => (n.y, n.z),
+                _ => (n.z, n.x),
+            };
+            let d = match which {
+                0 => rotate(Vec3::new(-b, a, 0.0)),
+                1 => rotate(Vec3::new(b, -a, 0.0)),
+                2 => rotate(Vec3::Z),
+                _ => rotate(Vec3::NEG_Z),
+            };
+            let origin = if place == 2 { through } else { o };
+            (plane, origin, d)
+        })
+}
+
+/// A plane and a grazing ray that hits it: `|ω·n|` log-uniform from 10⁻⁵ to 0.05, the hit
+/// 0.5 to 5 units ahead, from either side.
+pub fn grazing_strategy() -> impl Strategy<Value = (Plane, Vec3, Vec3)> {
+    (
+        plane_strategy(),
+        point(3.0),
+        0.0f32..std::f32::consts::TAU,
+        -5.0f32..(0.05f32).log10(),
+        any::<bool>(),
+        0.5f32..5.0,
+    )
+        .prop_map(|(plane, q, alpha, log_cos, above, t)| {
+            let target = q - (q.dot(plane.normal) + plane.d) * plane.normal;
+            let cos = 10f32.powf(log_cos) * if above { -1.0 } else { 1.0 };
+            let sin = (1.0 - cos * cos).sqrt();
+            let d = (sin * (alpha.cos() * plane.tangent + alpha.sin() * plane.bitangent)
+                + cos * plane.normal)
+                .normalize();
+            (plane, target - t * d, d)
+        })
+}
+
+/// A grazing ray hits the plane where double precision says, within what single precision
+/// allows.
+fn check_grazing(s: &dyn Lab02, plane: &Plane, o: Vec3, d: Vec3) -> Result<(), String> {
+    let n = plane.normal.as_dvec3();
+    let (od, dd) = (o.as_dvec3(), d.as_dvec3());
+    let cos = dd.dot(n);
+    let t = -(od.dot(n) + f64::from(plane.d)) / cos;
+    if t.is_nan() || t <= 0.1 {
+        return Ok(());
+    }
+    let eps = f64::from(f32::EPSILON);
+    let tol = 1e-3 * (1.0 + t)
+        + 4.0 * eps * (od.length() + f64::from(plane.d.abs())) / cos.abs()
+        + 4.0 * eps * t / cos.abs();
+    let r = Ray::new(o, d, 0.0, f32::INFINITY);
+    let call = format!(
+        "intersect_plane(ray from {o} along {d} over [0, inf], plane n = {}, d = {}) (a grazing ray, ω·n = {cos:.3e})",
+        plane.normal, plane.d
+    );
+    match s.intersect_plane(&r, plane) {
+        None => Err(format!(
+            "{call} returned no hit; expected a hit at t = {t}: only ω·n = 0 exactly is parallel — an epsilon on ω·n drops the rays that graze the plane, such as the ground near the horizon"
+        )),
+        Some(hit) if (f64::from(hit.distance) - t).abs() > tol => Err(format!(
+            "{call} returned a hit at t = {}; expected t = {t} (to {tol:.1e}, the rounding of a grazing ray allowed for)",
+            hit.distance
+        )),
+        Some(hit) => compare_vec3(
+            &format!("the normal of {call}"),
+            hit.normal,
+            plane.normal,
+            2e-3,
+            0.0,
+        ),
+    }
+}
+
+/// A ray exactly parallel to `plane` misses it over `[0, ∞)`, and over `[0, 10⁵]`.
+fn check_parallel(s: &dyn Lab02, plane: &Plane, o: Vec3, d: Vec3) -> Result<(), String> {
+    let side = o.dot(plane.normal) + plane.d;
+    let place = if side == 0.0 {
+        "in the plane"
+    } else {
+        "off the plane"
+    };
+    for tmax in [f32::INFINITY, 1e5] {
+        let r = Ray::new(o, d, 0.0, tmax);
+        if let Some(hit) = s.intersect_plane(&r, plane) {
+            return Err(format!(
+                "intersect_plane(ray from {o} along {d} over [0, {tmax}], plane n = {}, d = {}) returned a hit at t = {}; the ray is parallel to the plane (ω·n = {}) and starts {place}, so it never hits it: return None when ω·n is zero, before dividing (−(o·n + d)/0 is ±∞, or NaN in the plane, and t = ∞ passes t ≤ tmax when tmax = ∞)",
+                plane.normal,
+                plane.d,
+                hit.distance,
+                d.dot(plane.normal)
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
     // A ray aimed at a point of the plane hits it there, unless that point is outside [tmin, tmax].
     let strategy = (plane_strategy(), point(3.0), point(8.0)).prop_filter_map(
@@ -393,6 +522,17 @@ fn exercise_2_1(s: &Arc<dyn Lab02>, ctx: &LabContext) -> Result<(), String> {
             s.intersect_plane(&r, &plane),
             None,
         )
+    })?;
+    // Exactly parallel (ω·n = 0 in floating point) over [0, ∞): from off the plane `t` would
+    // be ±∞ and from in it NaN, and `t = ∞` passes `t ≤ tmax = ∞`.
+    for_all(200, parallel_strategy(), |(plane, o, d)| {
+        check_parallel(s.as_ref(), &plane, o, d)
+    })?;
+    // Grazing rays, |ω·n| from 10⁻⁵ to 0.05: still hits (an epsilon on ω·n loses the far
+    // ground at the horizon). The answer is worked out in double precision from the inputs as
+    // given, and allowed the error that rounding ω·n and o·n + d in single precision causes.
+    for_all(300, grazing_strategy(), |(plane, o, d)| {
+        check_grazing(s.as_ref(), &plane, o, d)
     })?;
     // The same configurations at every scale, and from far away.
     for_all(
