@@ -364,7 +364,51 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "nearest: address applied to u only (v used as it is)",
+            verdict: Verdict::Reject("9.5"),
+            nearest: Some(|tex, uv, address| {
+                let (w, h) = (tex.width, tex.height);
+                let (u, v) = (address(uv.x), uv.y);
+                let i = ((u * w as f32).floor().max(0.0) as u32).min(w - 1);
+                let j = (((1.0 - v) * h as f32).floor().max(0.0) as u32).min(h - 1);
+                tex.texel(i, j)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "nearest: the column not clamped (u = 1 reads one past the last column)",
+            verdict: Verdict::Reject("9.5"),
+            nearest: Some(|tex, uv, address| {
+                let (w, h) = (tex.width, tex.height);
+                let (u, v) = (address(uv.x), address(uv.y));
+                let i = (u * w as f32).floor().max(0.0) as u32;
+                let j = (((1.0 - v) * h as f32).floor().max(0.0) as u32).min(h - 1);
+                tex.texel(i, j)
+            }),
+            ..NONE
+        },
         // ---- Exercise 9.6 mistakes
+        Variant {
+            name: "bilinear: s and t swapped (s blends the rows, t the columns)",
+            verdict: Verdict::Reject("9.6"),
+            bilinear: Some(|tex, uv, address| {
+                let (w, h) = (tex.width, tex.height);
+                let x = uv.x * w as f32 - 0.5;
+                let y = uv.y * h as f32 - 0.5;
+                let (x0, y0) = (x.floor(), y.floor());
+                let (s, t) = (x - x0, y - y0);
+                let (i0, i1) = (addressed(x0, w, address), addressed(x0 + 1.0, w, address));
+                let (j0, j1) = (
+                    h - 1 - addressed(y0, h, address),
+                    h - 1 - addressed(y0 + 1.0, h, address),
+                );
+                let bottom = tex.texel(i0, j0).lerp(tex.texel(i1, j0), t);
+                let top = tex.texel(i0, j1).lerp(tex.texel(i1, j1), t);
+                bottom.lerp(top, s)
+            }),
+            ..NONE
+        },
         Variant {
             name: "bilinear: the nearest texel instead",
             verdict: Verdict::Reject("9.6"),

@@ -17,14 +17,16 @@
 //! - 9.4 `address`: in `[0, 1]` and the identity on `[0, 1)`; repeat periodic with period 1,
 //!   mirror symmetric about every integer and periodic with period 2, clamp constant outside,
 //!   for coordinates from −10³ to 10³ and next to integers;
-//! - 9.5 `sample_nearest`: the texel whose centre is closest to the addressed point (found by
-//!   searching every texel), for every addressing mode and for an arbitrary corresponder (so
-//!   the lookup must go through `address`), and the edge texels where `address` gives exactly
-//!   0 or 1;
+//! - 9.5 `sample_nearest`: first the edge texels where `address` gives exactly 0 or 1 (before
+//!   anything can index past the texture), then the texel whose centre is closest to the
+//!   addressed point (found by searching every texel), for every addressing mode and for an
+//!   arbitrary corresponder (so the lookup must go through `address`); a wrong texel is
+//!   compared with what each usual slip would read;
 //! - 9.6 `sample_bilinear`: the texel itself at its centre; an affine function of `(u, v)`
 //!   sampled at the texel centres reproduced exactly between them; continuity across texel
 //!   edges, texel centres and the repeat seam (a bound on the change over a 10⁻³-texel step);
-//!   periodic, mirrored or clamped as the mode says; within the range of the texels.
+//!   periodic, mirrored or clamped as the mode says; within the range of the texels. A failure
+//!   names the slip the lookup makes on a probe of texel-centre coordinates.
 
 use std::sync::Arc;
 
@@ -819,9 +821,22 @@ fn check_nearest_at(
         return Ok(());
     }
     let call = nearest_call(case, uv, mode);
+    // What the usual slips would read: a coordinate not passed through `address` (used as it
+    // is, the index clamped into the texture).
+    let raw = |t: f32| t.clamp(0.0, 1.0);
+    let slip = |b: Vec2| closest_texel(&texture, b).filter(|&t| t != (i, j));
     let found = match find_texel(&texture, got) {
         Some((gi, gj)) => {
-            let hint = if gi == i && gj == texture.height - 1 - j {
+            let hint = if slip(Vec2::new(raw(uv.x), raw(uv.y))) == Some((gi, gj))
+                && slip(Vec2::new(a.x, raw(uv.y))) != Some((gi, gj))
+                && slip(Vec2::new(raw(uv.x), a.y)) != Some((gi, gj))
+            {
+                " — neither u nor v went through `address`: the texel is the one at the unaddressed point, clamped into the texture"
+            } else if slip(Vec2::new(a.x, raw(uv.y))) == Some((gi, gj)) {
+                " — v did not go through `address`: call it on v as well as on u"
+            } else if slip(Vec2::new(raw(uv.x), a.y)) == Some((gi, gj)) {
+                " — u did not go through `address`: call it on u as well as on v"
+            } else if gi == i && gj == texture.height - 1 - j {
                 " — the row is upside down: rows count from the top, v goes up"
             } else if gi != i && gj == j {
                 " — the column is wrong: texel i covers [i/w, (i+1)/w), so it holds the point when its centre is the closest"
@@ -846,8 +861,103 @@ fn odd_corresponder(t: f32) -> f32 {
     0.5 + 0.5 * (1.7 * t + 0.3).sin()
 }
 
+/// The edges of the texture, before any other lookup, so that an index one past the last
+/// column or row is named before it can read outside the texture: `address` giving exactly 1
+/// or 0 for u (with v inside, so that an unclamped column still reads a texel of the next row)
+/// and then for v, on textures of several rows first and a single row last. The other
+/// coordinate lies a quarter of a texel into its texel, so that only the edge is in question;
+/// a lookup wrong along the other axis gets the diagnosis of [`check_nearest_at`].
+fn check_nearest_edges(p: &dyn Texturing) -> Result<(), String> {
+    let inside = |t: f32| t.clamp(0.0, 1.0);
+    let mode = "address = clamp into [0, 1]";
+    for case in [(4, 3, 2), (16, 9, 3), (5, 1, 4), (1, 1, 1)] {
+        let texture = random_texture(case);
+        let (w, h) = (case.0, case.1);
+        // A row above the bottom one (so that column w of an unclamped index is still in the
+        // texels), and a column in the middle.
+        let (row, column) = (h.saturating_sub(2), w / 2);
+        let v = 1.0 - (row as f32 + 0.25) / h as f32;
+        let u = (column as f32 + 0.25) / w as f32;
+        // Each edge: the point, the texel, whether the edge is along u, and what to say.
+        let edges = [
+            (
+                Vec2::new(1.0, v),
+                (w - 1, row),
+                true,
+                "u = 1 is the right edge, in the last column: ⌊u·w⌋ = w is one past it, so clamp the column to w − 1",
+            ),
+            (
+                Vec2::new(0.0, v),
+                (0, row),
+                true,
+                "u = 0 is the left edge, in column 0",
+            ),
+            (
+                Vec2::new(u, 1.0),
+                (column, 0),
+                false,
+                "v = 1 is the top edge, in row 0: rows count from the top while v grows upwards, so the row comes from 1 − v",
+            ),
+            (
+                Vec2::new(u, 0.0),
+                (column, h - 1),
+                false,
+                "v = 0 is the bottom edge, in the last row: (1 − v)·h = h is one past it, so clamp the row to h − 1",
+            ),
+        ];
+        for (uv, (i, j), along_u, what) in edges {
+            let asked = std::cell::RefCell::new(Vec::new());
+            let recorded = |t: f32| {
+                asked.borrow_mut().push(t);
+                inside(t)
+            };
+            let got = p.sample_nearest(&texture, uv, &recorded);
+            let expected = texture.texel(i, j);
+            if got == expected {
+                continue;
+            }
+            let asked = asked.into_inner();
+            for (t, axis) in [(uv.x, "u"), (uv.y, "v")] {
+                if !asked.contains(&t) {
+                    return Err(format!(
+                        "{} is {got}, expected the texel {} = {expected}; it never called `address` on {axis} = {t}: look the texture up where `address` sends u and v, whatever the mode",
+                        nearest_call(case, uv, mode),
+                        texel_name(i, j),
+                    ));
+                }
+            }
+            let found = find_texel(&texture, got);
+            // Column w of row j, read through the flat index, is column 0 of row j + 1.
+            let past_the_end = along_u && i == w - 1 && j + 1 < h && got == texture.texel(0, j + 1);
+            let edge_only = match found {
+                Some((gi, gj)) if along_u => gj == j && gi != i,
+                Some((gi, gj)) => gi == i && gj != j,
+                None => false,
+            };
+            if !(past_the_end || edge_only) {
+                check_nearest_at(p, case, uv, &inside, mode)?;
+            }
+            let found = match found {
+                Some(_) if past_the_end => format!(
+                    "the texel {}, which is where column {w} of row {j} would be, one past the last column",
+                    texel_name(0, j + 1)
+                ),
+                Some((gi, gj)) => format!("the texel {}", texel_name(gi, gj)),
+                None => format!("{got}, which is not a texel of the texture"),
+            };
+            return Err(format!(
+                "{} is {found}, expected the texel {} = {expected}: {what}",
+                nearest_call(case, uv, mode),
+                texel_name(i, j),
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn exercise_9_5(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> {
     let base = ctx.base.texturing.clone();
+    check_nearest_edges(p.as_ref())?;
     for_all(
         600,
         (texture_case(), texcoords(), addressing()),
@@ -866,25 +976,6 @@ fn exercise_9_5(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         )
         .map_err(|e| format!("{e}: look the texture up where `address` sends u and v"))
     })?;
-    // The edges: `address` giving exactly 0 or 1 selects the first or last column and the
-    // bottom or top row.
-    for case in [(1, 1, 1), (4, 3, 2), (16, 9, 3)] {
-        let texture = random_texture(case);
-        let (w, h) = (case.0, case.1);
-        for (t, i, j) in [(0.0f32, 0, h - 1), (1.0, w - 1, 0)] {
-            let uv = Vec2::splat(t);
-            let got = p.sample_nearest(&texture, uv, &|_| t);
-            if got != texture.texel(i, j) {
-                return Err(format!(
-                    "{} is {got}, expected the texel {} = {}: when address gives exactly {t}, the point lies on the texture's edge, in texel {} (clamp the index into the texture)",
-                    nearest_call(case, uv, &format!("address always {t}")),
-                    texel_name(i, j),
-                    texture.texel(i, j),
-                    texel_name(i, j)
-                ));
-            }
-        }
-    }
     if let Some(key) = ctx.key() {
         let key = key.texturing.clone();
         for_all(
@@ -933,6 +1024,77 @@ fn bilinear_call(case: TextureCase, uv: Vec2, mode: Addressing) -> String {
     )
 }
 
+/// What a failing bilinear lookup does, found by running it on a probe: a 5×4 texture whose
+/// texels hold their own centres in texel-centre coordinates (`x = u·w − ½`, `y = v·h − ½`,
+/// rows counted from the bottom), read with clamp at a point inside, `(x, y) = (1.3, 2.8)`.
+/// A lookup that blends texels around some point returns that point, which is compared with
+/// the point each usual slip blends around. `None` when the lookup is right on the probe or
+/// matches no slip.
+fn bilinear_slip(p: &dyn Texturing) -> Option<&'static str> {
+    let (w, h) = (5u32, 4u32);
+    let probe = Texture::from_fn("<texel centres>", w, h, |i, j| {
+        Vec3::new(i as f32, (h - 1 - j) as f32, 0.0)
+    });
+    let (x, y) = (1.3f32, 2.8f32);
+    let uv = Vec2::new((x + 0.5) / w as f32, (y + 0.5) / h as f32);
+    let got = p.sample_bilinear(&probe, uv, &|t: f32| t.clamp(0.0, 1.0));
+    if !got.is_finite() {
+        return None;
+    }
+    // Points in texel-centre coordinates, clamped to the centres as the probe is.
+    let on_probe =
+        |x: f32, y: f32| Vec2::new(x.clamp(0.0, (w - 1) as f32), y.clamp(0.0, (h - 1) as f32));
+    let (x0, y0) = (x.floor(), y.floor());
+    let (s, t) = (x - x0, y - y0);
+    let matches = |q: Vec2| (Vec2::new(got.x, got.y) - q).abs().max_element() < 1e-3;
+    if matches(on_probe(x, y)) {
+        return None;
+    }
+    let slips = [
+        (
+            on_probe(x0 + t, y0 + s),
+            "the weights s and t are swapped: s, the fractional part along u, blends the columns, and t, along v, the rows",
+        ),
+        (
+            on_probe(x + 0.5, y + 0.5),
+            "the half texel is not subtracted: texel k's centre is k + ½ texels from the edge, so subtract ½ from u·w and v·h before taking the integer part",
+        ),
+        (
+            on_probe(x0 + 1.0 - s, y0 + 1.0 - t),
+            "the weights are reversed: the neighbour at the larger column gets s and the lower one 1 − s (likewise t for the rows)",
+        ),
+        (
+            on_probe(x, (h - 1) as f32 - y),
+            "v is upside down: the rows are blended as if counted from the bottom, but `texel` counts them from the top",
+        ),
+        (
+            on_probe((x + 0.5).floor(), (y + 0.5).floor()),
+            "that is the nearest texel, not a blend of the four around the point",
+        ),
+        (
+            on_probe(x, (y + 0.5).floor()),
+            "the columns are blended but not the rows: blend the two rows around the point as well, by t",
+        ),
+        (
+            on_probe((x + 0.5).floor(), y),
+            "the rows are blended but not the columns: blend the two columns around the point as well, by s",
+        ),
+    ];
+    slips
+        .into_iter()
+        .find(|&(q, _)| matches(q))
+        .map(|(_, hint)| hint)
+}
+
+/// `e` with the slip [`bilinear_slip`] finds, or with `otherwise` when it finds none.
+fn with_slip(e: String, p: &dyn Texturing, otherwise: &str) -> String {
+    match bilinear_slip(p) {
+        Some(hint) => format!("{e}: {hint}"),
+        None if otherwise.is_empty() => e,
+        None => format!("{e}: {otherwise}"),
+    }
+}
+
 /// At a texel's centre the bilinear lookup is that texel.
 fn check_centres(p: &dyn Texturing, base: &dyn Texturing, case: TextureCase) -> Result<(), String> {
     let texture = random_texture(case);
@@ -949,7 +1111,11 @@ fn check_centres(p: &dyn Texturing, base: &dyn Texturing, case: TextureCase) -> 
                     1e-4,
                 )
                 .map_err(|e| {
-                    format!("{e}, texel {}: at a texel's centre the lookup is that texel (its centre is k + ½ texels from the edge: subtract ½ before taking the integer part)", texel_name(i, j))
+                    with_slip(
+                        format!("{e}, texel {}", texel_name(i, j)),
+                        p,
+                        "at a texel's centre the lookup is that texel (texel k's centre is k + ½ texels from the edge)",
+                    )
                 })?;
             }
         }
@@ -986,7 +1152,13 @@ fn check_affine(
         2e-5,
         1e-4,
     )
-    .map_err(|e| format!("{e}: between texel centres, bilinear interpolation reproduces a linear gradient exactly; the weights are the point's fractional position between the centres around it"))
+    .map_err(|e| {
+        with_slip(
+            e,
+            p,
+            "between texel centres, bilinear interpolation reproduces a linear gradient exactly; the weights are the point's fractional position between the centres around it",
+        )
+    })
 }
 
 /// Points next to texel edges, texel centres and the repeat seam, and a step along u or v.
@@ -1168,6 +1340,7 @@ fn exercise_9_6(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
                     1e-5 + 1e-6 * uv.abs().max_element() * n,
                     1e-4,
                 )
+                .map_err(|e| with_slip(e, p.as_ref(), ""))
             },
         )?;
     }
@@ -1183,7 +1356,8 @@ fn exercise_9_6(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             case.expected,
             1e-5 + 1e-6 * uv.abs().max_element() * n,
             1e-4,
-        )?;
+        )
+        .map_err(|e| with_slip(e, p.as_ref(), ""))?;
     }
     check_render(p, Part::Bilinear, ctx)
 }
