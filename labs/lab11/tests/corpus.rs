@@ -32,6 +32,7 @@ enum Change {
     AssumesUniform,
     TminZero,
     BentOverAllRays,
+    BentUnweighted,
     DividesByFree,
     PdfWithoutPi,
     NoMantissaScale,
@@ -116,6 +117,11 @@ pub fn variants() -> Vec<Variant> {
         ),
         v("rays with tmin = 0", r("11.3"), TminZero),
         v("the bent normal over every ray", r("11.3"), BentOverAllRays),
+        v(
+            "the bent normal the plain mean of the free directions (no weight)",
+            r("11.3"),
+            BentUnweighted,
+        ),
         v(
             "divided by the free rays, not all",
             r("11.3"),
@@ -286,7 +292,9 @@ impl AmbientOcclusion for Variant {
             IgnoresPdf => |_, _| 1.0,
             AssumesUniform => |cos, _| 2.0 * cos,
             PdfWithoutPi => |cos, pdf| cos / pdf,
-            TminZero | BentOverAllRays | DividesByFree => |cos, pdf| cos / (PI * pdf),
+            TminZero | BentOverAllRays | BentUnweighted | DividesByFree => {
+                |cos, pdf| cos / (PI * pdf)
+            }
             _ => {
                 return Reference
                     .ambient_occlusion(position, normal, samples, sampler, occluded, rng);
@@ -308,7 +316,9 @@ impl AmbientOcclusion for Variant {
             if !blocked {
                 sum += w;
                 free += 1;
-                if self.change != BentOverAllRays {
+                if self.change == BentUnweighted {
+                    bent += s.direction;
+                } else if self.change != BentOverAllRays {
                     bent += w * s.direction;
                 }
             }

@@ -348,6 +348,47 @@ pub fn equal_angle_sampler(normal: Vec3) -> impl Fn(&mut Rng) -> HemisphereSampl
     }
 }
 
+/// The check's lopsided sampler: `cos θ` uniform in `(0, 1]` and `φ` three times as likely on
+/// the half of the hemisphere towards the first tangent of `Onb::from_w(normal)` (where the
+/// corner's wall stands) as on the other, density per steradian `3/(4π)` there and `1/(4π)`
+/// elsewhere. Under it the fraction of free rays and their plain mean direction are far from
+/// the accessibility and the bent normal, so the weight `cos θ/(π·pdf)` must be applied.
+pub fn lopsided_sampler(normal: Vec3) -> impl Fn(&mut Rng) -> HemisphereSample {
+    move |rng: &mut Rng| {
+        let u = rng.next_vec2().as_dvec2();
+        let theta = (1.0 - u.x).acos();
+        let (phi, pdf) = if u.y < 0.75 {
+            (PI * (u.y / 0.75 - 0.5), 0.75 / PI)
+        } else {
+            (PI * ((u.y - 0.75) / 0.25 + 0.5), 0.25 / PI)
+        };
+        HemisphereSample {
+            direction: spherical(normal, theta, phi),
+            pdf: pdf as f32,
+        }
+    }
+}
+
+/// A sampler of the check's own for a normal, with what it is for messages.
+pub type CheckSampler = (
+    fn(Vec3) -> Box<dyn Fn(&mut Rng) -> HemisphereSample>,
+    &'static str,
+);
+
+/// The samplers the closed forms of 11.3 are estimated with.
+pub fn check_samplers() -> [CheckSampler; 2] {
+    [
+        (
+            |n| Box::new(equal_angle_sampler(n)),
+            "the check's sampler draws θ and φ uniformly, pdf = 1/(π² sin θ)",
+        ),
+        (
+            |n| Box::new(lopsided_sampler(n)),
+            "the check's sampler draws cos θ uniformly and φ three times as often on the side of the wall (or the first tangent) as on the other, pdf = 3/(4π) there and 1/(4π) elsewhere",
+        ),
+    ]
+}
+
 /// A configuration of 11.3: a floor and what stands on it, with the exact accessibility at a
 /// point of the floor.
 #[derive(Clone, Debug)]
@@ -364,6 +405,21 @@ pub struct OcclusionCase {
     pub accessibility: f64,
     /// The exact bent normal, where the check knows it.
     pub bent_normal: Option<Vec3>,
+    /// The size of the configuration (1 for walls about a unit away).
+    pub scale: f32,
+}
+
+impl OcclusionCase {
+    /// Whether `ray` is blocked in the case's scene, the ray's `tmin` measured in units of the
+    /// configuration (`tmin · scale`): the contract's offset `RAY_EPSILON` is a fixed world
+    /// distance, which at scale 10⁻⁴ would pass over the walls themselves, so the check's
+    /// scenes take it as relative, as a renderer offsetting by the scene's size would.
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.scene.trace_to_any(&Ray {
+            tmin: ray.tmin * self.scale,
+            ..*ray
+        })
+    }
 }
 
 fn occlusion_scene(planes: Vec<Plane>, mesh: Mesh) -> Arc<Scene> {
@@ -399,20 +455,24 @@ fn groove_accessibility(walls: &[(f64, f64)]) -> f64 {
 /// plane, a corner by an infinite wall, and grooves between long walls.
 pub fn occlusion_cases() -> Vec<OcclusionCase> {
     let mut cases = Vec::new();
-    // Floors along the axes (the position on them exact in f32, at 10³ units from the
-    // origin) and a tilted one.
-    let frames = [
+    // Floors along the axes (the position on them exact in f32, so that the floor never
+    // occludes its own rays at any offset; at 10⁻² three units from the origin, 300 times the
+    // configuration's size) and a tilted one.
+    let (along_y, along_z) = (
         (Vec3::Y, Vec3::new(0.3, 0.0, -0.2)),
-        (
-            Vec3::new(0.3, 0.9, -0.2).normalize(),
-            Vec3::new(0.5, -0.3, 0.2),
-        ),
         (Vec3::NEG_Z, Vec3::new(-2.0, 3.0, 1.0)),
-    ];
+    );
+    let tilted = (
+        Vec3::new(0.3, 0.9, -0.2).normalize(),
+        Vec3::new(0.5, -0.3, 0.2),
+    );
     let m = MaterialId(0);
-    // (Not below 10⁻²: the rays start RAY_EPSILON = 10⁻⁴ from the surface.)
-    for (k, &scale) in [1e-2f32, 1.0, 1e3].iter().enumerate() {
-        let (n, origin) = frames[k % frames.len()];
+    for (scale, (n, origin)) in [
+        (1e-4f32, along_y),
+        (1e-2, along_z),
+        (1.0, tilted),
+        (1e3, along_z),
+    ] {
         let onb = Onb::from_w(n);
         let (t, b) = (onb.u, onb.v);
         let at = |x: f32, y: f32, z: f32| origin + scale * (x * t + y * b + z * n);
@@ -425,6 +485,7 @@ pub fn occlusion_cases() -> Vec<OcclusionCase> {
             normal: n,
             accessibility: 1.0,
             bent_normal: Some(n),
+            scale,
         });
         // An infinite wall 0.7 units along t, facing back.
         let wall = Plane::new(at(1.0, 0.0, 0.0), -t, m);
@@ -436,6 +497,7 @@ pub fn occlusion_cases() -> Vec<OcclusionCase> {
             accessibility: 0.5,
             // ∫ ω cos θ dω over the half of the hemisphere away from the wall: (π/3) n − (2/3) t.
             bent_normal: Some((std::f32::consts::PI / 3.0 * n - 2.0 / 3.0 * t).normalize()),
+            scale,
         });
         // A groove: walls of heights 0.5 and 1.5 at distances 0.4 and 1.1 along ∓t, long
         // (±5000) along b.
@@ -463,6 +525,7 @@ pub fn occlusion_cases() -> Vec<OcclusionCase> {
             normal: n,
             accessibility: groove_accessibility(&[(d1 as f64, h1 as f64), (d2 as f64, h2 as f64)]),
             bent_normal: None,
+            scale,
         });
     }
     cases
@@ -573,69 +636,85 @@ fn check_exact(s: &dyn AmbientOcclusion) -> Result<(), String> {
     Ok(())
 }
 
-/// The Z-test of the estimates against the closed forms.
+/// The Z-test of the estimates against the closed forms, with each of the check's samplers.
 fn check_closed_forms(s: &dyn AmbientOcclusion) -> Result<(), String> {
     let cases = occlusion_cases();
-    let z_max = normal_two_sided_quantile(sidak(SIGNIFICANCE, 2 * cases.len()));
-    for (k, case) in cases.iter().enumerate() {
-        let sampler = equal_angle_sampler(case.normal);
-        let occluded = |r: &Ray| case.scene.trace_to_any(r);
-        let mut rng = Rng::new(1103, k as u64);
-        let before = rng.clone();
-        let estimates: Vec<Occlusion> = (0..AO_ESTIMATES)
-            .map(|_| {
-                s.ambient_occlusion(
-                    case.position,
-                    case.normal,
-                    AO_RAYS,
-                    &sampler,
-                    &occluded,
-                    &mut rng,
-                )
-            })
-            .collect();
-        if rng.clone().next_u32() == before.clone().next_u32() {
-            return Err(format!(
-                "{} did not draw from `rng`: the sampler takes it",
-                ao_call(case)
-            ));
+    let samplers = check_samplers();
+    let z_max = normal_two_sided_quantile(sidak(SIGNIFICANCE, 2 * cases.len() * samplers.len()));
+    for (which, (make, about)) in samplers.iter().enumerate() {
+        for (k, case) in cases.iter().enumerate() {
+            check_closed_form(s, case, make(case.normal), about, z_max, (which, k))?;
         }
-        for o in &estimates {
-            if !o.accessibility.is_finite() {
-                return Err(format!("{} returned {o:?}", ao_call(case)));
-            }
-            check_unit(
-                &format!("the bent normal of {}", ao_call(case)),
-                o.bent_normal,
-            )?;
+    }
+    Ok(())
+}
+
+/// One case of [`check_closed_forms`] with one sampler (`about` says which), its generator
+/// seeded by `seed`.
+fn check_closed_form(
+    s: &dyn AmbientOcclusion,
+    case: &OcclusionCase,
+    sampler: Box<dyn Fn(&mut Rng) -> HemisphereSample>,
+    about: &str,
+    z_max: f64,
+    seed: (usize, usize),
+) -> Result<(), String> {
+    let occluded = |r: &Ray| case.occluded(r);
+    let mut rng = Rng::new(1103 + seed.0 as u64, seed.1 as u64);
+    let before = rng.clone();
+    let estimates: Vec<Occlusion> = (0..AO_ESTIMATES)
+        .map(|_| {
+            s.ambient_occlusion(
+                case.position,
+                case.normal,
+                AO_RAYS,
+                &sampler,
+                &occluded,
+                &mut rng,
+            )
+        })
+        .collect();
+    if rng.clone().next_u32() == before.clone().next_u32() {
+        return Err(format!(
+            "{} did not draw from `rng`: the sampler takes it",
+            ao_call(case)
+        ));
+    }
+    for o in &estimates {
+        if !o.accessibility.is_finite() {
+            return Err(format!("{} returned {o:?}", ao_call(case)));
         }
-        let a: Vec<f64> = estimates.iter().map(|o| o.accessibility as f64).collect();
-        let mean = a.iter().sum::<f64>() / a.len() as f64;
-        let var = a.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (a.len() - 1) as f64;
-        let sd = (var / a.len() as f64).sqrt() + 1e-5;
-        let z = (mean - case.accessibility) / sd;
-        if z.abs() > z_max {
+        check_unit(
+            &format!("the bent normal of {}", ao_call(case)),
+            o.bent_normal,
+        )?;
+    }
+    let a: Vec<f64> = estimates.iter().map(|o| o.accessibility as f64).collect();
+    let mean = a.iter().sum::<f64>() / a.len() as f64;
+    let var = a.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (a.len() - 1) as f64;
+    let sd = (var / a.len() as f64).sqrt() + 1e-5;
+    let z = (mean - case.accessibility) / sd;
+    if z.abs() > z_max {
+        return Err(format!(
+            "{}: the mean accessibility of {AO_ESTIMATES} estimates of {AO_RAYS} rays is {mean:.4} ± {sd:.4}, expected {:.4} (|z| = {:.1} > {z_max:.2}; {about}: weight each free ray by cos θ/(π·pdf) with the pdf the sampler returns)",
+            ao_call(case),
+            case.accessibility,
+            z.abs()
+        ));
+    }
+    if let Some(expected) = case.bent_normal {
+        let mean_bent = estimates
+            .iter()
+            .map(|o| o.bent_normal)
+            .sum::<Vec3>()
+            .normalize();
+        let off = angle(mean_bent, expected);
+        if off > 0.05 {
             return Err(format!(
-                "{}: the mean accessibility of {AO_ESTIMATES} estimates of {AO_RAYS} rays is {mean:.4} ± {sd:.4}, expected {:.4} (|z| = {:.1} > {z_max:.2}; the check's sampler draws θ and φ uniformly, pdf = 1/(π² sin θ): weight each free ray by what the pdf says)",
+                "{}: the mean bent normal is {mean_bent}, {:.1}° from the expected {expected} (the cosine-weighted mean free direction; {about}: weight each free direction by cos θ/(π·pdf), as the accessibility)",
                 ao_call(case),
-                case.accessibility,
-                z.abs()
+                off.to_degrees()
             ));
-        }
-        if let Some(expected) = case.bent_normal {
-            let mean_bent = estimates
-                .iter()
-                .map(|o| o.bent_normal)
-                .sum::<Vec3>()
-                .normalize();
-            let off = angle(mean_bent, expected);
-            if off > 0.05 {
-                return Err(format!(
-                    "{}: the mean bent normal is {mean_bent}, {:.1}° from the expected {expected} (the cosine-weighted mean free direction)",
-                    ao_call(case),
-                    off.to_degrees()
-                ));
-            }
         }
     }
     Ok(())
@@ -648,8 +727,8 @@ fn exercise_11_3(s: &Arc<dyn AmbientOcclusion>, ctx: &LabContext) -> Result<(), 
     check_closed_forms(s)?;
     if let Some(key) = key(ctx) {
         for (k, case) in occlusion_cases().iter().enumerate() {
-            let sampler = equal_angle_sampler(case.normal);
-            let occluded = |r: &Ray| case.scene.trace_to_any(r);
+            let sampler = check_samplers()[k % 2].0(case.normal);
+            let occluded = |r: &Ray| case.occluded(r);
             let mut a = Rng::new(99, k as u64);
             let mut b = a.clone();
             let got =
@@ -1112,12 +1191,37 @@ mod tests {
     }
 
     #[test]
+    fn the_lopsided_sampler_reports_its_density() {
+        // The mean of 1/pdf is 2π; three directions in four lean towards the first tangent,
+        // each with the density 3/(4π).
+        let mut rng = Rng::new(3, 1);
+        let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let onb = Onb::from_w(n);
+        let sampler = lopsided_sampler(n);
+        let count = 200_000;
+        let (mut inverse, mut towards) = (0.0, 0);
+        for _ in 0..count {
+            let s = sampler(&mut rng);
+            assert!(s.direction.dot(n) >= 0.0);
+            inverse += 1.0 / s.pdf as f64;
+            let side = s.direction.dot(onb.u);
+            towards += usize::from(side > 0.0);
+            if side.abs() > 1e-4 {
+                let expected = if side > 0.0 { 0.75 } else { 0.25 } / PI;
+                assert!((s.pdf as f64 - expected).abs() < 1e-6, "{s:?}");
+            }
+        }
+        assert!((inverse / count as f64 / (2.0 * PI) - 1.0).abs() < 0.01);
+        assert!((towards as f64 / count as f64 - 0.75).abs() < 0.01);
+    }
+
+    #[test]
     fn groove_closed_form() {
         // No wall, or a wall of no height: accessible; an infinitely high wall at any
         // distance hides half.
         assert_eq!(groove_accessibility(&[]), 1.0);
         assert!((groove_accessibility(&[(1.0, 0.0)]) - 1.0).abs() < 1e-12);
         assert!((groove_accessibility(&[(1.0, 1e9)]) - 0.5).abs() < 1e-8);
-        assert_eq!(occlusion_cases().len(), 9);
+        assert_eq!(occlusion_cases().len(), 12);
     }
 }
