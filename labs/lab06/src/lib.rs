@@ -137,8 +137,8 @@ impl Radiosity for Student {
     /// **Exercise 6.8** — nodal averaging (docs/lab06.md, §6.8).
     ///
     /// Each patch lists its corner vertices (`patch.vertices`, indices below `vertex_count`).
-    /// A vertex's colour is the mean of the colours of the patches it is a corner of; a vertex
-    /// of no patch is black. The framework then interpolates the vertex colours across each
+    /// A vertex's colour is the mean of the colours of the patches it is a corner of, each patch
+    /// counting once whatever its area; a vertex of no patch is black. The framework then interpolates the vertex colours across each
     /// patch (Gouraud shading).
     ///
     /// Hint: one pass over the patches adds each patch's colour to its corners and counts

@@ -353,6 +353,47 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "shoot: sends the shooter's radiosity B_i instead of its unshot radiosity ΔB_i",
+            verdict: Verdict::Reject("6.6"),
+            shoot: Some(|p, f, i, b, u| {
+                let shot = b[i];
+                for j in (0..p.len()).filter(|&j| j != i) {
+                    let r = p[j].reflectance * shot * (f[j] * p[i].area / p[j].area);
+                    b[j] += r;
+                    u[j] += r;
+                }
+                u[i] = Vec3::ZERO;
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "shoot: the shooter's unshot radiosity zeroed before the loop reads it",
+            verdict: Verdict::Reject("6.6"),
+            shoot: Some(|p, f, i, b, u| {
+                u[i] = Vec3::ZERO;
+                for j in (0..p.len()).filter(|&j| j != i) {
+                    let r = p[j].reflectance * u[i] * (f[j] * p[i].area / p[j].area);
+                    b[j] += r;
+                    u[j] += r;
+                }
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "shoot: the shooter's reflectance ρ_i instead of the receiver's ρ_j",
+            verdict: Verdict::Reject("6.6"),
+            shoot: Some(|p, f, i, b, u| {
+                let shot = u[i];
+                for j in (0..p.len()).filter(|&j| j != i) {
+                    let r = p[i].reflectance * shot * (f[j] * p[i].area / p[j].area);
+                    b[j] += r;
+                    u[j] += r;
+                }
+                u[i] = Vec3::ZERO;
+            }),
+            ..NONE
+        },
         // ---- Exercise 6.7 mistakes
         Variant {
             name: "colours: B itself, not B/π",
@@ -406,6 +447,25 @@ pub fn variants() -> Vec<Variant> {
                     }
                 }
                 s.iter().map(|x| *x / p.len() as f32).collect()
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "vertex colours: the mean weighted by the patches' areas",
+            verdict: Verdict::Reject("6.8"),
+            vertices: Some(|p, n, c| {
+                let mut s = vec![Vec3::ZERO; n];
+                let mut w = vec![0.0f32; n];
+                for (patch, c) in p.iter().zip(c) {
+                    for &v in &patch.vertices {
+                        s[v as usize] += *c * patch.area;
+                        w[v as usize] += patch.area;
+                    }
+                }
+                s.iter()
+                    .zip(&w)
+                    .map(|(s, &w)| if w > 0.0 { *s / w } else { Vec3::ZERO })
+                    .collect()
             }),
             ..NONE
         },

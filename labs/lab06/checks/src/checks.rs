@@ -21,14 +21,18 @@
 //!   each) are reciprocal and match Howell's C-11 and C-14 within [`area_bound`].
 //! - 6.5 (`select_shooter`): the patch chosen has the most unshot power (radiosity times area)
 //!   over areas from 10⁻⁸ to 10⁶, and `None` when nothing is left to shoot.
-//! - 6.6 (`shoot`): the shooter's unshot radiosity is zeroed and nothing else of it changes;
+//! - 6.6 (`shoot`): on a shot whose factors all differ, relations that name each usual mistake
+//!   ([`diagnose_shoot`]): what a receiver gets halves with its area, doubles with the
+//!   shooter's, ignores the shooter's radiosity `B_i` and reflectance; then on random shots
+//!   the shooter's unshot radiosity is zeroed and nothing else of it changes;
 //!   radiosity and unshot radiosity grow by the same amount; the power received is the power
 //!   shot times `ρ` where the form factors sum to 1 (energy conservation); in a closed box with
 //!   `ρ < 1` the solution's total power stays below the geometric-series bound
 //!   `P_E / (1 − ρ)` and converges to it, at scales from 10⁻³ to 10³; and the Cornell box solved
 //!   with it matches the reference's snapshot.
 //! - 6.7 (`patch_colours`), 6.8 (`vertex_colours`): linearity, bounds (a vertex's colour lies
-//!   between its patches' colours), golden cases, and the Cornell box's flat and smooth images.
+//!   between its patches' colours), blindness to the patches' areas (from 10⁻³ to 10³: the
+//!   mean counts each patch once), golden cases, and the Cornell box's flat and smooth images.
 
 use std::sync::Arc;
 
@@ -1082,6 +1086,7 @@ fn check_shoot(
             }
         }
     }
+    diagnose_shoot(r, &call, input)?;
     // Energy: the power arriving at the others is the shooter's power times Σ F_ij, per channel
     // (on the channels of patches with ρ > 0).
     let shot_power = u0[i].as_dvec3() * patches[i].area as f64;
@@ -1134,6 +1139,156 @@ fn check_shoot(
     Ok(())
 }
 
+/// What each patch's radiosity receives from one shot of `input`'s shooter through `r`, every
+/// other patch starting from nothing (so that nothing is lost to rounding against what it had).
+fn received(r: &dyn Radiosity, (patches, f, i, b0, u0): &ShootInput) -> Vec<Vec3> {
+    let mut b = vec![Vec3::ZERO; patches.len()];
+    let mut u = b.clone();
+    b[*i] = b0[*i];
+    u[*i] = u0[*i];
+    r.shoot(patches, f, *i, &mut b, &mut u);
+    b.iter()
+        .enumerate()
+        .map(|(j, x)| if j == *i { Vec3::ZERO } else { *x })
+        .collect()
+}
+
+/// The first patch and channel whose received radiosity in `changed` is not `factor` times
+/// that in `before` (channels that received a normal, finite amount only): `(j, before_j,
+/// changed_j)`.
+fn not_scaled(before: &[Vec3], changed: &[Vec3], factor: f32) -> Option<(usize, Vec3, Vec3)> {
+    before
+        .iter()
+        .zip(changed)
+        .enumerate()
+        .find_map(|(j, (a, b))| {
+            let differs = (0..3).any(|c| {
+                a[c].is_normal()
+                    && a[c].is_finite()
+                    && (a[c] * 1e-20).is_normal()
+                    && (b[c] - factor * a[c]).abs() > 1e-3 * factor * a[c].abs()
+            });
+            differs.then_some((j, *a, *b))
+        })
+}
+
+/// The relations of one shot that tell its mistakes apart: what patch `j` receives halves
+/// when the receivers' areas double (the power arriving spreads over `A_j`), doubles when the
+/// shooter's area doubles (the power shot is `A_i ΔB_i`), and does not change with the
+/// shooter's radiosity `B_i` (only the unshot `ΔB_i` is shot) or its reflectance (the receiver
+/// reflects, with its own `ρ_j`).
+fn diagnose_shoot(r: &dyn Radiosity, call: &str, input: &ShootInput) -> Result<(), String> {
+    let (patches, f, i, b0, u0) = input;
+    let i = *i;
+    let before = received(r, input);
+    if before.iter().all(|x| *x == Vec3::ZERO) {
+        // A patch that receives a normal amount (ρ_j ΔB_i F_ij A_i / A_j, in f64).
+        let lit = (0..patches.len()).find(|&j| {
+            let ratio = f[j] as f64 * patches[i].area as f64 / patches[j].area as f64;
+            j != i && (patches[j].reflectance * u0[i]).as_dvec3().max_element() * ratio > 1e-30
+        });
+        return match lit {
+            Some(j) => Err(format!(
+                "{call}: no patch receives anything, though patch {j} has form factor F_ij = {} from the shooter, reflectance {} and the shooter has unshot radiosity ΔB_i = {}: read ΔB_i (into a local) before setting the shooter's unshot radiosity to 0, which comes last",
+                f[j], patches[j].reflectance, u0[i]
+            )),
+            None => Ok(()),
+        };
+    }
+    let with = |change: &dyn Fn(usize, &mut Patch)| {
+        let mut p = patches.clone();
+        for (j, patch) in p.iter_mut().enumerate() {
+            change(j, patch);
+        }
+        received(r, &(p, f.clone(), i, b0.clone(), u0.clone()))
+    };
+    let receivers_doubled = with(&|j, p| {
+        if j != i {
+            p.area *= 2.0;
+        }
+    });
+    let shooter_doubled = with(&|j, p| {
+        if j == i {
+            p.area *= 2.0;
+        }
+    });
+    if not_scaled(&before, &receivers_doubled, 0.5).is_some() {
+        if not_scaled(&before, &receivers_doubled, 2.0).is_none() {
+            let (j, a, b) = not_scaled(&before, &receivers_doubled, 0.5).unwrap_or_default();
+            return Err(format!(
+                "{call}: patch {j} receives {a}, and {b} with every receiver's area doubled: twice as much, where a patch twice as large receives half the radiosity (the same power over twice the area). The shooter's power A_i ΔB_i F_ij spreads over the receiver's area: the ratio is A_i / A_j, the shooter's area over the receiver's, not A_j / A_i"
+            ));
+        }
+        if not_scaled(&before, &receivers_doubled, 1.0).is_none()
+            && not_scaled(&before, &shooter_doubled, 1.0).is_none()
+        {
+            let j = before.iter().position(|x| *x != Vec3::ZERO).unwrap_or(0);
+            return Err(format!(
+                "{call}: patch {j} receives {} whatever the patches' areas (the same with every receiver's area doubled, and with the shooter's): ΔB_i F_ij is power per unit of the shooter's area; the power A_i ΔB_i F_ij that arrives spreads over the receiver's area A_j, so patch j receives ρ_j ΔB_i F_ij A_i / A_j — the ratio of areas is missing",
+                before[j]
+            ));
+        }
+        let (j, a, b) = not_scaled(&before, &receivers_doubled, 0.5).unwrap_or_default();
+        return Err(format!(
+            "{call}: patch {j} receives {a}, and {b} with every receiver's area doubled, expected half of it: radiosity is power per area, so the same power arriving at a patch twice as large is half the radiosity (ρ_j ΔB_i F_ij A_i / A_j)"
+        ));
+    }
+    if let Some((j, a, b)) = not_scaled(&before, &shooter_doubled, 2.0) {
+        return Err(format!(
+            "{call}: patch {j} receives {a}, and {b} with the shooter's area doubled, expected twice as much: a shooter twice as large shoots twice the power A_i ΔB_i (ρ_j ΔB_i F_ij A_i / A_j)"
+        ));
+    }
+    let mut b_changed = b0.clone();
+    b_changed[i] = b0[i] * 3.0 + Vec3::new(1.0, 2.0, 3.0);
+    let radiosity_changed = received(r, &(patches.clone(), f.clone(), i, b_changed, u0.clone()));
+    if let Some((j, a, b)) = not_scaled(&before, &radiosity_changed, 1.0) {
+        return Err(format!(
+            "{call}: patch {j} receives {a}, but {b} when only the shooter's radiosity B_i changes (its unshot radiosity ΔB_i the same): a shot sends the unshot radiosity ΔB_i, the light the shooter has received since it last shot; B_i also holds the light it has already shot, which would be sent again"
+        ));
+    }
+    let reflectance_changed = with(&|j, p| {
+        if j == i {
+            p.reflectance = Vec3::select(
+                p.reflectance.cmpgt(Vec3::splat(0.5)),
+                Vec3::splat(0.2),
+                Vec3::splat(0.8),
+            );
+        }
+    });
+    if let Some((j, a, b)) = not_scaled(&before, &reflectance_changed, 1.0) {
+        return Err(format!(
+            "{call}: patch {j} receives {a}, but {b} when only the shooter's reflectance changes: the receiving patch reflects what arrives, so the factor is its own reflectance ρ_j (patches[j].reflectance), not the shooter's"
+        ));
+    }
+    Ok(())
+}
+
+/// A shot in which every factor of `ρ_j ΔB_i F_ij A_i / A_j` differs from patch to patch and
+/// from channel to channel, and the shooter's radiosity from its unshot radiosity: the input
+/// on which [`diagnose_shoot`] first tells the mistakes apart.
+pub fn diagnosis_input() -> ShootInput {
+    let patches = vec![
+        bare_patch(0.5, Vec3::new(0.3, 0.6, 0.9)),
+        bare_patch(2.0, Vec3::new(0.8, 0.5, 0.2)),
+        bare_patch(0.1, Vec3::new(0.4, 0.7, 0.6)),
+        bare_patch(1.0, Vec3::new(0.5, 0.25, 0.75)),
+    ];
+    let f = vec![0.0, 0.3, 0.05, 0.2];
+    let u = vec![
+        Vec3::new(1.0, 2.0, 1.5),
+        Vec3::new(0.1, 0.2, 0.3),
+        Vec3::ZERO,
+        Vec3::new(0.5, 0.0, 0.25),
+    ];
+    let b = vec![
+        Vec3::new(5.0, 4.0, 3.0),
+        Vec3::new(0.4, 0.5, 0.6),
+        Vec3::new(0.2, 0.1, 0.3),
+        Vec3::new(0.5, 0.7, 0.25),
+    ];
+    (patches, f, 0, b, u)
+}
+
 /// In a closed box with `ρ < 1` (6 faces of 3 × 3 patches, one emitting), the solution's total
 /// power stays below the geometric series `P_E (1 + ρ + ρ² + …) = P_E / (1 − ρ)` and reaches
 /// it, at scales from 10⁻³ to 10³.
@@ -1167,6 +1322,21 @@ fn check_closed_box_energy(r: &dyn Radiosity) -> Result<(), String> {
 
 fn exercise_6_6(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
     let key = ctx.key().map(|k| k.radiosity.clone());
+    let input = diagnosis_input();
+    let call = format!(
+        "shoot(patches with areas {:?} and reflectances {}, form factors {:?}, shooter = 0 with radiosity B_0 = {} and unshot ΔB_0 = {}, …)",
+        input.0.iter().map(|p| p.area).collect::<Vec<_>>(),
+        input
+            .0
+            .iter()
+            .map(|p| p.reflectance.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        input.1,
+        input.3[0],
+        input.4[0]
+    );
+    diagnose_shoot(p.as_ref(), &call, &input)?;
     for_all(300, shoot_input(), |input| {
         check_shoot(p.as_ref(), key.as_deref(), &input)
     })?;
@@ -1266,7 +1436,9 @@ fn exercise_6_7(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> 
 /// the patches' colours.
 pub type VerticesInput = (Vec<Patch>, usize, Vec<Vec3>);
 
-/// 1 to 30 patches over 3 to 40 vertices (some vertices of no patch), colours from 10⁻³ to 10³.
+/// 1 to 30 patches over 3 to 40 vertices (some vertices of no patch), areas from 10⁻³ to 10³
+/// (neighbours of unequal size, as where a coarse quad meets a fine one), colours from 10⁻³
+/// to 10³.
 pub fn vertices_input() -> impl Strategy<Value = VerticesInput> {
     (4usize..40, 1usize..30).prop_flat_map(|(vertices, n)| {
         let corners = (3usize..=4).prop_flat_map(move |k| {
@@ -1275,9 +1447,9 @@ pub fn vertices_input() -> impl Strategy<Value = VerticesInput> {
         let c = (-3.0f32..3.0).prop_map(|e| 10f32.powf(e));
         (
             prop::collection::vec(
-                corners.prop_map(|v| Patch {
+                (corners, -3.0f32..3.0).prop_map(|(v, e)| Patch {
                     vertices: v,
-                    ..bare_patch(1.0, Vec3::ONE)
+                    ..bare_patch(10f32.powf(e), Vec3::ONE)
                 }),
                 n,
             ),
@@ -1335,6 +1507,29 @@ fn check_vertices(
             return Err(format!(
                 "{call}: vertex {v} is a corner of patch {} only (colour {}), but its colour is {c}",
                 around[0].0, around[0].1
+            ));
+        }
+    }
+    // The mean counts every patch once: the same patches with other areas give the same colours.
+    let resized: Vec<Patch> = patches
+        .iter()
+        .enumerate()
+        .map(|(k, p)| Patch {
+            area: if k % 2 == 0 { 1.0 } else { 7.0 },
+            ..p.clone()
+        })
+        .collect();
+    let again = r.vertex_colours(&resized, *count, colours);
+    for (v, (&c, a)) in got.iter().zip(&again).enumerate() {
+        if !vec3_close(c, *a, 1e-30, 1e-5) {
+            let around: Vec<usize> = (0..patches.len())
+                .filter(|&k| patches[k].vertices.contains(&(v as u32)))
+                .collect();
+            return Err(format!(
+                "{call}: vertex {v} is a corner of patches {around:?} with areas {:?} and colours {:?}; its colour is {c}, but {a} when only the patches' areas change (to {:?}): nodal averaging is the plain mean of the colours of the patches around a vertex, each patch counting once whatever its area",
+                around.iter().map(|&k| patches[k].area).collect::<Vec<_>>(),
+                around.iter().map(|&k| colours[k]).collect::<Vec<_>>(),
+                around.iter().map(|&k| resized[k].area).collect::<Vec<_>>(),
             ));
         }
     }

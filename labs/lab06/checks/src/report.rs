@@ -232,14 +232,17 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         seconds: Some(seconds),
     });
 
-    // Radiosity against ray tracing: the same box by lab 3's area-light ray tracer.
+    // Radiosity against ray tracing: the same box by lab 3's area-light ray tracer, lit as the
+    // radiosity solution is, by the ceiling light alone (`cornell-ceiling`: `cornell` without
+    // the point light that the patches know nothing of).
     let spp = if ctx.quick { 1 } else { 4 };
     let traced_pipeline = pipeline::Pipeline {
         lab: 4,
         area_light_samples: 4,
         ..ctx.pipeline.clone()
     };
-    let (traced, t) = ctx.render_timed(&scene, &traced_pipeline, &settings(w, h, spp))?;
+    let ceiling_only = builtin_scene("cornell-ceiling")?;
+    let (traced, t) = ctx.render_timed(&ceiling_only, &traced_pipeline, &settings(w, h, spp))?;
     let panels = vec![
         Panel::new(draw(&main, true), timed("radiosity", main.seconds)),
         Panel::new(traced, timed("ray tracing", t)),
@@ -247,8 +250,8 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     ctx.save_panels(&[panels], "radiosity-vs-ray-tracing.png", tone)?;
     figures.push(Figure {
         file: "radiosity-vs-ray-tracing.png".into(),
-        caption: "Radiosity (left: every diffuse interreflection, colour bleeding) against the ray tracer of labs 3–4 (right: direct light only, from the scene's point light and its area light: a black ceiling, no colour bleeding, hard shadows from the point light)".into(),
-        parameters: format!("{w}×{h} pixels; right: {spp} sample(s) per pixel, 4×4 area-light samples"),
+        caption: "Radiosity (left: every diffuse interreflection, colour bleeding) against the ray tracer of labs 3–4 (right: direct light only), both lit by the ceiling light alone: the ray tracer's ceiling and the blocks' shadowed sides are black, and it has no colour bleeding; the soft shadows are the area light's in both".into(),
+        parameters: format!("{w}×{h} pixels; both the Cornell box lit by its ceiling light alone (the ray tracer's scene `cornell-ceiling`, without the point light of `cornell`); right: {spp} sample(s) per pixel, 4×4 area-light samples"),
         seconds: Some(t),
     });
     Ok(figures)
