@@ -86,6 +86,10 @@ pub trait PhotonMapping: Send + Sync {
     /// Exercise 8.4 — the caustic radiance reflected by a diffuse surface of reflectance
     /// `diffuse` and unit `normal` from the photons near the shading point: `photons` are the
     /// at most `k` photons of the map nearest to it within `max_radius`, nearest first.
+    ///
+    /// The zero-radius rule: when the disc of the estimate has no area (`r² = 0`: the `k`
+    /// photons found all lie at the shading point, or fewer were found and `max_radius` is 0),
+    /// the estimate is zero, as it is without photons.
     fn caustic_radiance(
         &self,
         diffuse: Vec3,

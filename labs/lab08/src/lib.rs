@@ -78,7 +78,8 @@ impl PhotonMapping for Student {
     /// surface (travelling against `normal`), divide by the area of the disc they were found
     /// in, and turn that irradiance into the radiance a diffuse surface of reflectance
     /// `diffuse` reflects. The disc's radius is the distance of the farthest photon when `k`
-    /// were found, `max_radius` when fewer were.
+    /// were found, `max_radius` when fewer were. With no photons, or a disc of no area (radius
+    /// 0: the `k` photons found all at the shading point, or `max_radius` 0), return zero.
     fn caustic_radiance(
         &self,
         diffuse: Vec3,

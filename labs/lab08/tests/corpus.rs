@@ -264,6 +264,21 @@ pub fn variants() -> Vec<Variant> {
             ..NONE
         },
         Variant {
+            name: "area light: one random number for both the disc's radius and the angle",
+            verdict: Verdict::Reject("8.2"),
+            area: Some(|p, nrm, le, a, n, rng| {
+                let u = rng.next_f32();
+                let (r, phi) = (u.sqrt(), 2.0 * PI * u);
+                area_photon(
+                    p,
+                    nrm,
+                    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u).max(0.0).sqrt()),
+                    PI * le * a / n as f32,
+                )
+            }),
+            ..NONE
+        },
+        Variant {
             name: "area light: power L·A/N (the π of the cosine lobe forgotten)",
             verdict: Verdict::Reject("8.2"),
             area: Some(|p, nrm, le, a, n, rng| {
@@ -464,6 +479,17 @@ pub fn variants() -> Vec<Variant> {
                     .map(|p| p.power * (-p.direction.dot(n)).max(0.0))
                     .sum();
                 d / PI * flux / (PI * r2)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "estimate: no rule for a disc of no area (divides by r² = 0)",
+            verdict: Verdict::Reject("8.4"),
+            radiance: Some(|d, n, ps, k, r| {
+                if ps.is_empty() {
+                    return Vec3::ZERO;
+                }
+                d / PI * front_flux(ps, n) / (PI * radius2(ps, k, r))
             }),
             ..NONE
         },

@@ -15,8 +15,9 @@
 //! - over [`DIRECTIONS`] directions drawn one after another from one generator: 8.1's are
 //!   uniform on the sphere (Pearson's χ² on 128 cells of equal solid angle, 8 bands of `z` by
 //!   16 sectors of azimuth, and the mean direction 0); 8.2's are cosine-weighted about the
-//!   normal (χ² on 16 bands of `cos²θ`, which is uniform for a cosine-weighted direction, and
-//!   16 sectors of azimuth about the normal), about five normals including the axes.
+//!   normal (χ² on 16 bands of `cos²θ`, which is uniform for a cosine-weighted direction, on
+//!   16 sectors of azimuth about the normal, and on the [`JOINT_BANDS`] × 16 cells of both
+//!   together, the joint distribution), about five normals including the axes.
 //!
 //! Exercise 8.3 (`russian_roulette`): the power goes on unchanged; `R = 0` always refracts and
 //! `R = 1` always reflects; for seven reflectances from 0.02 to 0.96 the share of reflections in
@@ -29,11 +30,13 @@
 //! two-sample Poisson z-score.
 //!
 //! Exercise 8.4 (`caustic_radiance`): on random photon sets (500 cases, radii from 10⁻⁴ to 10³
-//! units), the estimate is finite, zero without photons, linear in the reflectance, blind to
-//! photons arriving from behind the surface, additive over the photons and falling as
+//! units), the estimate is finite, zero without photons, linear in the reflectance, additive
+//! over the photons, blind to photons arriving from behind the surface and falling as
 //! `1/r²` with the maximum radius while fewer than `k` were found, and with `k` found the same
 //! as for those photons found with the farthest one's distance as maximum radius; the key's
-//! where present, and the golden cases (`golden/caustic_radiance.json`). Then the density
+//! where present; zero where the disc has no area (the zero-radius rule: `k` photons at the
+//! shading point, or a maximum radius of 0); and the golden cases
+//! (`golden/caustic_radiance.json`). Then the density
 //! estimate itself: a plane lit by a point light, every photon stored where it first lands
 //! (not only after a specular bounce), gives at 25 points the radiance the base's lab 02 code
 //! shades there from the light (its irradiance), and with the radius shrinking as the photons grow the error
@@ -74,6 +77,8 @@ pub const GOLDEN_CAUSTIC: &str = "glass_caustic.json";
 pub const FAMILY_ALPHA: f64 = 1e-4;
 /// Directions drawn for the distribution checks of Exercises 8.1 and 8.2.
 pub const DIRECTIONS: usize = 32_768;
+/// Bands of `cos²θ` of Exercise 8.2's joint test, by 16 sectors of azimuth.
+pub const JOINT_BANDS: usize = 8;
 /// Roulette decisions drawn per reflectance in Exercise 8.3.
 pub const DECISIONS: usize = 20_000;
 /// The reflectances whose roulette frequencies Exercise 8.3 checks.
@@ -487,11 +492,12 @@ fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
         Vec3::NEG_Z,
         Vec3::new(0.48, -0.6, 0.64),
     ];
-    let z_max = z_limit(2 * normals.len());
+    let z_max = z_limit(3 * normals.len());
     for (i, normal) in normals.into_iter().enumerate() {
         let mut rng = Rng::new(82, i as u64);
         let basis = Onb::from_w(normal);
         let (mut bands, mut sectors) = (vec![0u32; 16], vec![0u32; 16]);
+        let mut cells = vec![0u32; JOINT_BANDS * 16];
         for _ in 0..DIRECTIONS {
             let d = s
                 .emit_area_light(Vec3::ZERO, normal, Vec3::ONE, 1.0, 1000, &mut rng)
@@ -501,8 +507,10 @@ fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             let local = basis.to_local(d);
             let cos2 = (local.z * local.z).clamp(0.0, 1.0);
             bands[((cos2 * 16.0) as usize).min(15)] += 1;
-            let sector = (((local.y.atan2(local.x) / (2.0 * PI)) + 0.5) * 16.0) as usize;
-            sectors[sector.min(15)] += 1;
+            let sector = ((((local.y.atan2(local.x) / (2.0 * PI)) + 0.5) * 16.0) as usize).min(15);
+            sectors[sector] += 1;
+            let band = ((cos2 * JOINT_BANDS as f32) as usize).min(JOINT_BANDS - 1);
+            cells[band * 16 + sector] += 1;
         }
         let (_, z) = chi_square_uniform_z(&bands);
         if z.abs() > z_max {
@@ -514,6 +522,15 @@ fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
         if z.abs() > z_max {
             return Err(format!(
                 "the directions of {DIRECTIONS} photons about the normal {normal} do not spread evenly around it: χ² on 16 sectors of azimuth has z = {z:.1} (limit {z_max:.2}); counts: {sectors:?}"
+            ));
+        }
+        // Each alone can be right while the two go together (one number driving both).
+        let (_, z) = chi_square_uniform_z(&cells);
+        if z.abs() > z_max {
+            let empty = cells.iter().filter(|&&c| c == 0).count();
+            return Err(format!(
+                "the directions of {DIRECTIONS} photons about the normal {normal} have cos²θ uniform and the azimuth even, each on its own, but not together: χ² on the {} cells of {JOINT_BANDS} bands of cos²θ by 16 sectors of azimuth, each of which a cosine-weighted direction falls in equally often, has z = {z:.1} (limit {z_max:.2}; {empty} cells empty). The polar angle and the azimuth must be independent: draw two numbers, ξ₁ for the disc's radius √ξ₁ and ξ₂ for the angle 2πξ₂, not one for both",
+                cells.len()
             ));
         }
     }
@@ -719,8 +736,9 @@ fn exercise_8_3(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
 /// Input of Exercise 8.4: diffuse reflectance, normal, photons, k, maximum radius.
 pub type RadianceInput = (Vec3, Vec3, Vec<NearbyPhoton>, usize, f32);
 
-/// Inputs of Exercise 8.4 over every scale: up to `k` photons sorted by distance, about
-/// half of the sets with exactly `k`, a few photons from behind the surface.
+/// Inputs of Exercise 8.4 over every scale: up to `k` photons sorted by distance (from a
+/// hundredth of the maximum radius up), about half of the sets with exactly `k`, a few photons
+/// from behind the surface.
 pub fn radiance_input() -> impl Strategy<Value = RadianceInput> + Clone {
     (
         1usize..40,
@@ -731,8 +749,10 @@ pub fn radiance_input() -> impl Strategy<Value = RadianceInput> + Clone {
     )
         .prop_flat_map(|(k, full, sc, r, normal)| {
             let n = if full { k..k + 1 } else { 0..k };
+            // Distances from a hundredth of the maximum radius up: the disc always has an
+            // area here (the zero-radius rule has a check of its own).
             let photon = (
-                0.0f32..1.0,
+                0.01f32..1.0,
                 0.0f32..1e-2,
                 0.0f32..1e-2,
                 0.0f32..1e-2,
@@ -765,6 +785,41 @@ pub fn radiance_input() -> impl Strategy<Value = RadianceInput> + Clone {
             photons.sort_by(|a, b| a.distance_squared.total_cmp(&b.distance_squared));
             (Vec3::new(dr, dg, db), normal, photons, k, max_radius)
         })
+}
+
+/// The estimate where the disc has no area: `k` photons found all at the shading point, or a
+/// maximum radius of 0 with fewer found. There is no density to estimate, and the rule
+/// (docs/lab08.md, Exercise 8.4) is an estimate of zero.
+fn check_zero_radius(s: &dyn PhotonMapping) -> Result<(), String> {
+    let at_point = |n: usize| {
+        (0..n)
+            .map(|i| NearbyPhoton {
+                power: Vec3::new(0.5, 1.0, 0.25) * (i + 1) as f32,
+                direction: Vec3::new(0.3, -1.0, 0.1).normalize(),
+                distance_squared: 0.0,
+            })
+            .collect::<Vec<_>>()
+    };
+    let cases = [
+        (at_point(1), 1, 0.025, "the k = 1 photon found lies"),
+        (at_point(3), 3, 0.025, "all k = 3 photons found lie"),
+        (at_point(2), 5, 0.0, "2 photons lie"),
+    ];
+    for (photons, k, max_radius, which) in cases {
+        let l = s.caustic_radiance(Vec3::splat(0.7), Vec3::Y, &photons, k, max_radius);
+        if l != Vec3::ZERO {
+            let disc = if photons.len() >= k {
+                "the disc is the one that just holds the k photons, of radius 0"
+            } else {
+                "fewer than k were found, so the disc is the maximum radius's, 0"
+            };
+            return Err(format!(
+                "caustic_radiance(diffuse [0.7, 0.7, 0.7], normal +y, {} photons, k = {k}, max_radius = {max_radius}) = {l}, where {which} exactly at the shading point (distance_squared 0): {disc}, and Σ Φ_p / (π r²) has no value. The rule for a disc of no area (r² = 0) is an estimate of zero: return zero rather than divide by r² = 0",
+                photons.len()
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
@@ -800,19 +855,19 @@ fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             .filter(|p| p.direction.dot(*normal) < 0.0)
             .collect();
         if photons.len() < k {
-            let only_front = s.caustic_radiance(*diffuse, *normal, &front, k, r);
-            if !close(only_front, l) {
-                return Err(format!(
-                    "{call} = {l}, but {only_front} without the photons that arrived from behind the surface (travelling along the normal): those do not light this side"
-                ));
-            }
-            let sum: Vec3 = front
+            let sum: Vec3 = photons
                 .iter()
                 .map(|p| s.caustic_radiance(*diffuse, *normal, std::slice::from_ref(p), k, r))
                 .sum();
             if !close(sum, l) {
                 return Err(format!(
-                    "{call} = {l}, but the estimates of its photons one by one add up to {sum}: with fewer than k photons found, each adds its own power over the same disc"
+                    "{call} = {l}, but the estimates of its photons one by one add up to {sum}: with fewer than k photons found, each adds its own power over the same disc (the estimate is the sum of the photons' power, not their mean)"
+                ));
+            }
+            let only_front = s.caustic_radiance(*diffuse, *normal, &front, k, r);
+            if !close(only_front, l) {
+                return Err(format!(
+                    "{call} = {l}, but {only_front} without the photons that arrived from behind the surface (travelling along the normal): those do not light this side"
                 ));
             }
             let wider = s.caustic_radiance(*diffuse, *normal, photons, k, 2.0 * r);
@@ -844,6 +899,7 @@ fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
         }
         Ok(())
     })?;
+    check_zero_radius(s.as_ref())?;
     let golden: GoldenFile<RadianceInput, Vec3> =
         GoldenFile::load(&ctx.golden_path(GOLDEN_RADIANCE)).map_err(|e| e.to_string())?;
     for case in &golden.cases {
