@@ -86,8 +86,8 @@ pub struct RenderArgs {
     /// The caustic estimate gathers the k nearest photons (lab 8 on) …
     #[arg(long, default_value_t = PhotonSettings::DEFAULT.k)]
     pub photon_k: u32,
-    /// … within this radius, in scene units (lab 8 on) [default: 2.6 % of the diagonal of the
-    /// scene's bounds, 2.5 cm in the Cornell box]
+    /// … within this radius, in scene units (lab 8 on) [default: 5.2 % of the diagonal of the
+    /// scene's bounds, 5 cm in the Cornell box]
     #[arg(long)]
     pub photon_radius: Option<f32>,
     /// Lab 12 on, where --spp of 8 or more renders progressively (passes of 4 samples, the

@@ -19,10 +19,10 @@ const SCENE: &str = "cornell-spheres";
 /// The photon map of the images of the estimate (Figures 4.1 and 4.2). Besides the glass
 /// sphere's caustic, the mirror sphere spreads the reflection of the lights thinly over every
 /// wall and the ceiling: caustic light too (a specular bounce, then a diffuse surface), but a
-/// dim one, where a million photons leave some twenty in each 2.5 cm disc and the estimate of
-/// `k = 50` shows their noise as blotches. Eight times the photons and `k = 400` within 6 cm
-/// (a relative noise of `1/√400 = 5 %`) make that glow smooth, while the glass sphere's caustic,
-/// hundreds of times denser, still finds its 400 photons within a few millimetres.
+/// dim one. The defaults ([`PhotonSettings::DEFAULT`], two million photons, `k = 200` within
+/// 5 cm) leave a faint mottle in it; four times the photons and `k = 400` within 6 cm (a
+/// relative noise of `1/√400 = 5 %`) make it smooth for the figures, while the glass sphere's
+/// caustic, hundreds of times denser, still finds its 400 photons within a few millimetres.
 pub const ESTIMATE_PHOTONS: PhotonSettings = PhotonSettings {
     emitted: 8_000_000,
     k: 400,
