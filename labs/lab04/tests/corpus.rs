@@ -263,6 +263,27 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            name: "interface: decides entering or leaving by the geometric normal, returns ± the shading normal (wrong rays at the rims of smooth glass)",
+            verdict: Verdict::Reject("4.3"),
+            interface: Some(|w, hit, ior| {
+                let n = hit.shading_normal;
+                if w.dot(hit.geometric_normal) < 0.0 {
+                    Interface {
+                        normal: n,
+                        eta_incident: hit.ior,
+                        eta_transmitted: ior,
+                    }
+                } else {
+                    Interface {
+                        normal: -n,
+                        eta_incident: ior,
+                        eta_transmitted: 1.0,
+                    }
+                }
+            }),
+            ..NONE
+        },
         // 4.4
         Variant {
             name: "refract: η inverted (η₂/η₁)",
@@ -351,6 +372,22 @@ pub fn variants() -> Vec<Variant> {
                     ..*hit
                 };
                 Reference.refracted_ray(ray, &faceted, ior)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "refracted ray: decides entering or leaving by the geometric normal, refracts about the shading normal",
+            verdict: Verdict::Reject("4.5"),
+            refracted_ray: Some(|ray, hit, ior| {
+                let n = hit.shading_normal;
+                let (normal, eta_i, eta_t) = if ray.direction.dot(hit.geometric_normal) < 0.0 {
+                    (n, hit.ior, ior)
+                } else {
+                    (-n, ior, 1.0)
+                };
+                Reference
+                    .refract(ray.direction, normal, eta_i, eta_t)
+                    .map(|d| (Ray::unbounded(hit.position, d, RAY_EPSILON), eta_t))
             }),
             ..NONE
         },

@@ -255,6 +255,40 @@ pub fn bent_side_strategy() -> impl Strategy<Value = (SideInput, Vec3, Vec3)> + 
     )
 }
 
+/// Inputs of Exercises 4.3 and 4.5 at hits where the two normals disagree, as near the
+/// silhouette of a smooth mesh: the direction lies between the tangent planes of the
+/// geometric and the shading normal (at least 0.02 from either), so it arrives from the front
+/// by one normal and from the back by the other; the shading normal decides. The input, the
+/// geometric normal and the hit's position, from the origin to thousands of units away.
+pub fn split_side_strategy() -> impl Strategy<Value = (SideInput, Vec3, Vec3)> + Clone {
+    (
+        (unit_vector(), unit_vector(), 0.1f32..0.6),
+        (-0.9f32..0.9, -1.0f32..1.0, any::<bool>()),
+        (index_strategy(), 1.05f32..2.5),
+        (point(5.0), scale()),
+    )
+        .prop_filter_map(
+            "a direction between the two tangent planes",
+            |((g, towards, tilt), (x, z, flip), (outside, material), (p, k))| {
+                // The shading normal, `tilt` radians from `g`; `h` halves the angle between
+                // them and `d` is perpendicular to `h` in their plane.
+                let d0 = (towards - towards.dot(g) * g).try_normalize()?;
+                let n = (g * tilt.cos() + d0 * tilt.sin()).normalize();
+                let h = (g + n).normalize();
+                let d = (n - g).normalize();
+                let e = h.cross(d);
+                // ω ∝ x·tan(tilt/2)·h ± d + z·e with |x| < 1: ω·g ∝ x − (±1) and ω·n ∝ x + (±1)
+                // differ in sign.
+                let y = if flip { 1.0 } else { -1.0 };
+                let w = (x * (0.5 * tilt).tan() * h + y * d + z * e).normalize();
+                let (cg, cn) = (w.dot(g), w.dot(n));
+                let apart = cg * cn < 0.0 && cg.abs() >= 0.02 && cn.abs() >= 0.02;
+                let hit_ior = if cn < 0.0 { outside } else { material };
+                apart.then_some(((w, n, hit_ior, material), g, k * p))
+            },
+        )
+}
+
 /// A random shininess in `[1, 200]` (half the time one of a few typical values, some of them
 /// odd integers or fractions).
 pub fn shininess_strategy() -> impl Strategy<Value = f32> + Clone {
@@ -800,6 +834,24 @@ fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             None => Ok(()),
         }
     })?;
+    // Where the two normals disagree about the side the ray comes from, the shading normal
+    // decides, and the normal returned faces the ray.
+    for_all(300, split_side_strategy(), |(input, g, p)| {
+        let (w, n, hit_ior, material_ior) = input;
+        let hit = hit_at(p, g, n, hit_ior);
+        let call = format!(
+            "{} (at {p}, geometric normal {g}: ω·g = {:.4} and ω·n = {:.4} differ in sign, as near the silhouette of a smooth mesh, and the shading normal decides)",
+            side_call("interface", input),
+            w.dot(g),
+            w.dot(n)
+        );
+        let got = s.interface(w, &hit, material_ior);
+        check_interface_relations(&call, input, got)?;
+        match &key {
+            Some(key) => check_interface(&call, got, key.interface(w, &hit, material_ior)),
+            None => Ok(()),
+        }
+    })?;
     let golden: GoldenFile<SideInput, Interface> = load(ctx, GOLDEN_INTERFACE)?;
     for case in &golden.cases {
         let (w, _, _, material_ior) = case.input;
@@ -1006,6 +1058,24 @@ fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
     for_all(300, bent, |((input, g, p), distance)| {
         let (_, n, hit_ior, _) = input;
         judge(input, hit_at(p, g, n, hit_ior), distance)
+    })?;
+    // Where the two normals disagree about the side the ray comes from, the shading normal
+    // decides.
+    let split = (
+        split_side_strategy().prop_filter("clear of the critical angle", |(input, ..)| {
+            side_is_clear(input)
+        }),
+        0.5f32..10.0,
+    );
+    for_all(300, split, |((input, g, p), distance)| {
+        let (w, n, hit_ior, _) = input;
+        judge(input, hit_at(p, g, n, hit_ior), distance).map_err(|e| {
+            format!(
+                "{e} [ω·g = {:.4} and ω·n = {:.4} differ in sign, as near the silhouette of a smooth mesh: the shading normal decides whether the ray enters or leaves]",
+                w.dot(g),
+                w.dot(n)
+            )
+        })
     })?;
     let golden: GoldenFile<SideInput, Option<(Vec3, f32)>> = load(ctx, GOLDEN_REFRACTED_RAY)?;
     for case in &golden.cases {
