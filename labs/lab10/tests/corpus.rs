@@ -234,6 +234,31 @@ pub fn variants() -> Vec<Variant> {
             }),
             ..NONE
         },
+        Variant {
+            // Right everywhere but within rounding of the critical angle, where the test on
+            // sin θ₁ and the sin²θ₂ under the square root fall on different sides of it.
+            name: "reflectance: total internal reflection tested as sin θ₁ > η₂/η₁, then √(1 − sin²θ₂) (NaN within rounding of the critical angle)",
+            verdict: Verdict::Reject("10.4"),
+            reflectance: Some(|c, e1, e2| {
+                let sin_i = (1.0 - c * c).max(0.0).sqrt();
+                if sin_i > e2 / e1 {
+                    return 1.0;
+                }
+                Reference.fresnel_R(c, (1.0 - sin2_t(c, e1 / e2)).sqrt(), e1, e2)
+            }),
+            ..NONE
+        },
+        Variant {
+            name: "reflectance: total internal reflection tested as cos θ₁ ≤ cos θ_c = √(1 − (η₂/η₁)²), then √(1 − sin²θ₂) (NaN within rounding of the critical angle)",
+            verdict: Verdict::Reject("10.4"),
+            reflectance: Some(|c, e1, e2| {
+                if e1 > e2 && c <= (1.0 - (e2 / e1) * (e2 / e1)).sqrt() {
+                    return 1.0;
+                }
+                Reference.fresnel_R(c, (1.0 - sin2_t(c, e1 / e2)).sqrt(), e1, e2)
+            }),
+            ..NONE
+        },
         // ---- 10.5
         Variant {
             name: "transmittance: σ = 1/ρ_d − 1 without a guard for ρ_d = 0 (NaN at distance 0)",

@@ -556,8 +556,18 @@ fn check_average(
     );
     let slack = Vec3::splat(1e-5) + 1e-4 * hi.abs();
     if !got.is_finite() || got.cmplt(lo - slack).any() || got.cmpgt(hi + slack).any() {
+        let sum: Vec3 = values.iter().sum();
+        let scale = |v: Vec3| v.abs().max_element().max(1.0);
+        let near = |v: Vec3| (got - v).abs().max_element() <= 1e-4 * scale(v);
+        let what = if n > 1 && near(sum) {
+            ". That is their sum: divide it by the number of jitters, N = s²"
+        } else if n > 1 && near(sum / (n as f32).sqrt()) {
+            ". That is their sum divided by s = √N: there are s² subpixels, divide by s²"
+        } else {
+            ""
+        };
         return Err(format!(
-            "{call} is {got}, outside the range [{lo}, {hi}] of the radiance it traced: the pixel value is the average of the radiance over the jitters"
+            "{call} is {got}, outside the range [{lo}, {hi}] of the radiance it traced: the pixel value is the average of the radiance over the jitters{what}"
         ));
     }
     let reversed: Vec<Vec2> = jitters.iter().rev().copied().collect();

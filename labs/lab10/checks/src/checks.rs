@@ -2,8 +2,9 @@
 //!
 //! Every exercise is checked by relations its answer satisfies whatever the formula — values
 //! at normal and grazing incidence, Brewster's angle, the symmetry between the two sides of
-//! an interface, bounds, total internal reflection past the critical angle, the
-//! multiplicativity of transmittance over distance — on random inputs from a fixed seed, by
+//! an interface, bounds, total internal reflection past the critical angle (and a number of
+//! `[0, 1]` close to 1 within rounding of it), the multiplicativity of transmittance over
+//! distance — on random inputs from a fixed seed, by
 //! the answer key on the same inputs when it is present ([`LabContext::key`]), and by the
 //! golden cases recorded from the reference. Exercises 10.4 and 10.5, which the renderer
 //! calls, are also checked by renders of small scenes with the student's function in its slot
@@ -251,13 +252,28 @@ impl Coefficient {
         }
     }
 
+    /// What the value at normal incidence is, in words and symbols.
+    fn normal_incidence_rule(self) -> &'static str {
+        match self {
+            Coefficient::RS => {
+                "head-on r_s = (η₁ − η₂)/(η₁ + η₂), negative entering a denser medium"
+            }
+            Coefficient::RP => {
+                "head-on r_p = (η₂ − η₁)/(η₁ + η₂) = −r_s: in the sign convention of this course the two amplitudes are opposite there"
+            }
+            Coefficient::R => {
+                "head-on the two polarisations reflect alike and R = ((η₁ − η₂)/(η₁ + η₂))²"
+            }
+        }
+    }
+
     fn hint(self) -> &'static str {
         match self {
             Coefficient::RS => {
-                "r_s compares η cos θ on the two sides: η₁ cos θ₁ with η₂ cos θ₂ (docs/lab10.md, §10.1)"
+                "r_s compares η cos θ on the two sides: η₁ cos θ₁ − η₂ cos θ₂ over their sum (docs/lab10.md, §10.1)"
             }
             Coefficient::RP => {
-                "r_p pairs each index with the other side's cosine: η₂ cos θ₁ with η₁ cos θ₂ (docs/lab10.md, §10.2)"
+                "r_p pairs each index with the other side's cosine: η₂ cos θ₁ − η₁ cos θ₂ over their sum (docs/lab10.md, §10.2)"
             }
             Coefficient::R => {
                 "R is the mean of the two polarisations' reflectances r_s² and r_p² (docs/lab10.md, §10.3)"
@@ -336,12 +352,7 @@ fn check_pairs(which: Coefficient, s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Re
             COEFFICIENT_TOLERANCE,
             1e-4,
         )
-        .map_err(|e| {
-            format!(
-                "{e}: head-on the two polarisations are alike and R = ((η₁ − η₂)/(η₁ + η₂))² ({})",
-                which.hint()
-            )
-        })?;
+        .map_err(|e| format!("{e}: {} ({})", which.normal_incidence_rule(), which.hint()))?;
         let same = (0.6, 0.6, e1, e1);
         let got = which.call(s.as_ref(), same);
         if got.is_nan() || got.abs() > 1e-6 {
@@ -528,6 +539,47 @@ fn near_critical(c: f32, e1: f32, e2: f32) -> bool {
     (s * e1 as f64 / e2 as f64 - 1.0).abs() < 1e-3
 }
 
+/// How many representable `f32` cosines on each side of the critical angle's cosine
+/// [`check_at_critical_angle`] tries.
+pub const CRITICAL_STEPS: u32 = 16;
+/// The least reflectance accepted within [`CRITICAL_STEPS`] of the critical angle (the
+/// reference's is above 0.97 there: R rises steeply to 1).
+pub const CRITICAL_MIN_REFLECTANCE: f32 = 0.95;
+
+/// At the critical angle from `η₁` into `η₂ < η₁`, and within rounding of it (the
+/// [`CRITICAL_STEPS`] representable `f32` cosines on either side of `cos θ_c`), the reflectance
+/// is a number of `[0, 1]` close to 1. A test for total internal reflection on another quantity
+/// than the one under the square root (`sin θ₁` against `η₂/η₁`, `cos θ₁` against `cos θ_c`,
+/// the angles themselves) agrees with `sin²θ₂ ≥ 1` everywhere but there, where rounding can
+/// put the two on different sides of the critical angle and `√(1 − sin²θ₂)` is NaN.
+fn check_at_critical_angle(f: &dyn Fresnel, e1: f32, e2: f32) -> Result<(), String> {
+    let ratio = e2 as f64 / e1 as f64;
+    let critical = (1.0 - ratio * ratio).sqrt() as f32;
+    let degrees = ratio.asin().to_degrees();
+    let first = f32::from_bits(critical.to_bits().saturating_sub(CRITICAL_STEPS));
+    let cosines = (0..=2 * CRITICAL_STEPS).map(|k| f32::from_bits(first.to_bits() + k));
+    for c in cosines.filter(|c| (0.0..=1.0).contains(c)) {
+        let input = (c, e1, e2);
+        let got = f.fresnel_reflectance(c, e1, e2);
+        if !(CRITICAL_MIN_REFLECTANCE..=1.0 + 1e-6).contains(&got) {
+            let fix = if got.is_nan() {
+                "a NaN here is most often the square root of a negative 1 − sin²θ₂: the test for total internal reflection let this cosine through although sin²θ₂ comes out above 1. Test the quantity you take the square root of (return 1 when sin²θ₂ = (η₁/η₂)²(1 − cos²θ₁) ≥ 1), not the angle, its sine or its cosine computed apart: rounding can put two such tests on different sides of the critical angle".to_string()
+            } else {
+                format!(
+                    "R rises to 1 at the critical angle, so within rounding of it R is 1 or just under it (at least {CRITICAL_MIN_REFLECTANCE})"
+                )
+            };
+            let steps = (c.to_bits() as i64 - critical.to_bits() as i64).abs();
+            return Err(format!(
+                "{} is {got}, within rounding of the critical angle θ_c = {degrees:.4}° (cos θ₁ is {steps} f32 step{} from cos θ_c = {critical}): {fix} ({REFLECTANCE_HINT})",
+                reflectance_call(input),
+                if steps == 1 { "" } else { "s" },
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Whether an input of Exercise 10.4 is clear of the critical angle, and of grazing
 /// incidence between equal media (where both rays graze the surface).
 pub fn reflectance_is_clear(&(c, e1, e2): &ReflectanceInput) -> bool {
@@ -593,6 +645,7 @@ fn exercise_10_4(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
                     ));
                 }
             }
+            check_at_critical_angle(s.as_ref(), e1, e2)?;
         }
         Ok(())
     })?;
