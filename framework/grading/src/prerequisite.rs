@@ -55,7 +55,9 @@ pub fn skip_or_fail(test: &str, missing: &str, install: &str) -> bool {
     let written = std::io::stderr()
         .as_fd()
         .try_clone_to_owned()
-        .and_then(|fd| writeln!(std::fs::File::from(fd), "{notice}"));
+        // One write of the whole line, so that the notices of tests running at once do not
+        // interleave.
+        .and_then(|fd| std::fs::File::from(fd).write_all(format!("{notice}\n").as_bytes()));
     if written.is_err() {
         eprintln!("{notice}");
     }
