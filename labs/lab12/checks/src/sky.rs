@@ -136,14 +136,21 @@ pub fn latlong_direction(u: f64, v: f64) -> DVec3 {
     DVec3::new(sin * phi.sin(), cos, -sin * phi.cos())
 }
 
-/// The texel of a `width × height` image that holds the unit direction `d`.
-fn texel_of(d: Vec3, width: u32, height: u32) -> usize {
+/// Lab 11's mapping back: the `(u, v)` of the unit direction `d`.
+pub fn latlong_uv(d: Vec3) -> (f64, f64) {
     let d = d.as_dvec3();
     let u = 0.5 + d.x.atan2(-d.z) / (2.0 * PI);
     let v = (d.x.hypot(d.z)).atan2(d.y) / PI;
-    let x = ((u * width as f64) as usize).min(width as usize - 1);
-    let y = ((v * height as f64) as usize).min(height as usize - 1);
-    y * width as usize + x
+    (u, v)
+}
+
+/// The cell of a `width × height` grid over `(u, v)` that holds the unit direction `d`, row by
+/// row from the top (a texel of an image of that size).
+pub fn cell_of(d: Vec3, width: usize, height: usize) -> usize {
+    let (u, v) = latlong_uv(d);
+    let x = ((u * width as f64) as usize).min(width - 1);
+    let y = ((v * height as f64) as usize).min(height - 1);
+    y * width + x
 }
 
 /// The solid angle of the part of row `y` (of `height`) between `v0` and `v1` (fractions of
@@ -351,7 +358,7 @@ pub fn exercise_12_12(s: &Arc<dyn PathTracing>, _ctx: &LabContext) -> Result<(),
                     "{call} returned the direction {d} with the density {pdf}: a direction drawn has a positive, finite density (return `None` where sin θ is 0)"
                 ));
             }
-            let texel = texel_of(d, case.width, case.height);
+            let texel = cell_of(d, case.width as usize, case.height as usize);
             counts[texel] += 1;
             draws.push((texel, d, pdf));
         }
@@ -448,14 +455,7 @@ fn check_subcells(
     let cells = SUBCELLS;
     let mut per_cell = vec![Vec::new(); w * h * cells * cells];
     for &(_, d, pdf) in draws {
-        let d64 = d.as_dvec3();
-        let u = (0.5 + d64.x.atan2(-d64.z) / (2.0 * PI)) * (w * cells) as f64;
-        let v = (d64.x.hypot(d64.z)).atan2(d64.y) / PI * (h * cells) as f64;
-        let (cu, cv) = (
-            (u as usize).min(w * cells - 1),
-            (v as usize).min(h * cells - 1),
-        );
-        per_cell[cv * w * cells + cu].push(1.0 / f64::from(pdf));
+        per_cell[cell_of(d, w * cells, h * cells)].push(1.0 / f64::from(pdf));
     }
     let probabilities = texel_probabilities(&distribution(case));
     for (i, values) in per_cell.iter().enumerate() {

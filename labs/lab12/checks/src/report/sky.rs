@@ -3,7 +3,7 @@
 //! the sky's distribution — the directions Exercise 12.12 draws against the density Exercise
 //! 12.13 returns.
 
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 use std::path::Path;
 
 use glam::Vec3;
@@ -18,6 +18,7 @@ use raylab_core::film::{Film, ToneMap};
 use raylab_core::scene::{EnvironmentMap, Scene, load_scene_file};
 
 use super::failed;
+use crate::sky::{cell_of, latlong_direction};
 
 /// The exposure of the sky's renders: the city sky is bright.
 const EXPOSURE: ToneMap = ToneMap::Clamp { exposure: 0.6 };
@@ -228,12 +229,7 @@ fn drawn_density(
         let Some(s) = code.sample_sky(sky, &mut rng) else {
             continue;
         };
-        let d = s.direction;
-        let u = 0.5 + d.x.atan2(-d.z) / TAU;
-        let v = d.y.clamp(-1.0, 1.0).acos() / PI;
-        let x = ((u * w as f32) as u32).min(w - 1);
-        let y = ((v * h as f32) as u32).min(h - 1);
-        film.pixels[(y * w + x) as usize] += Vec3::splat(weight);
+        film.pixels[cell_of(s.direction, w as usize, h as usize)] += Vec3::splat(weight);
     }
     film
 }
@@ -242,12 +238,11 @@ fn drawn_density(
 fn returned_density(code: &dyn PathTracing, sky: &SkyDistribution, w: u32, h: u32) -> Film {
     let mut film = Film::new(w, h);
     for (i, p) in film.pixels.iter_mut().enumerate() {
-        let u = ((i as u32 % w) as f32 + 0.5) / w as f32;
-        let v = ((i as u32 / w) as f32 + 0.5) / h as f32;
-        let (sin, cos) = (PI * v).sin_cos();
-        let phi = TAU * (u - 0.5);
-        let d = Vec3::new(sin * phi.sin(), cos, -sin * phi.cos());
-        *p = Vec3::splat(code.sky_pdf(sky, d) * 2.0 * PI * PI * sin);
+        let u = ((i as u32 % w) as f64 + 0.5) / w as f64;
+        let v = ((i as u32 / w) as f64 + 0.5) / h as f64;
+        let d = latlong_direction(u, v).as_vec3();
+        let jacobian = 2.0 * PI * PI * (PI * v as f32).sin();
+        *p = Vec3::splat(code.sky_pdf(sky, d) * jacobian);
     }
     film
 }
