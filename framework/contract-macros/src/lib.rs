@@ -4,10 +4,12 @@
 //! For `#[contract] pub trait Shadows: Send + Sync { fn shadow_ray(&self, …) -> Ray; … }` it
 //! keeps the trait as written and adds
 //!
-//! - `impl Shadows for PartSlot<dyn Shadows>`: each method sent to the implementation
-//!   [`PartSlot::pick`] gives for that method's name — the student's for the method a check
-//!   puts in the slot, the base's for every other — so that one unfinished exercise never fails
-//!   another;
+//! - `impl<C: ?Sized + Shadows> Shadows for PartSlot<C>`: each method sent to the
+//!   implementation [`PartSlot::pick`] gives for that method's name — the student's for the
+//!   methods a check puts in the slot, the base's for every other — so that one unfinished
+//!   exercise never fails another;
+//! - `impl Mix for dyn Shadows`: the student's code with the key in place of some methods, which
+//!   the grader judges an exercise with when the exercises of the other methods it calls fail;
 //! - `impl Shadows for Waiting<dyn Shadows>`: every method panics, saying that it waits for
 //!   the lab's solution (the slot of a lab whose answer key the tree does not hold);
 //! - `impl ContractMethods for dyn Shadows`: the names of the trait's methods, which the tests
@@ -86,7 +88,8 @@ fn expand(item: TokenStream) -> Expansion {
             method.clone(),
             &params,
         )?);
-        let mut call = format!("self.pick(\"{ident}\").{ident}(");
+        let mut call =
+            format!("self.pick(\"{ident}\", const {{ crate::method_bit(\"{ident}\") }}).{ident}(");
         for arg in &args {
             call.push_str(&format!("{arg},"));
         }
@@ -103,7 +106,9 @@ fn expand(item: TokenStream) -> Expansion {
         names.push(ident.to_string());
     }
 
-    let mut out = parse(&format!("impl {name} for crate::PartSlot<dyn {name}>"));
+    let mut out = parse(&format!(
+        "impl<C: ?Sized + {name}> {name} for crate::PartSlot<C>"
+    ));
     out.extend([TokenTree::Group(Group::new(Delimiter::Brace, forwards))]);
     out.extend(parse(&format!(
         "impl {name} for crate::Waiting<dyn {name}>"
@@ -113,6 +118,12 @@ fn expand(item: TokenStream) -> Expansion {
     out.extend(parse(&format!(
         "impl crate::ContractMethods for dyn {name} {{ const METHODS: &'static [&'static str] = &[{}]; }}",
         list.join(", ")
+    )));
+    out.extend(parse(&format!(
+        "impl crate::Mix for dyn {name} {{ \
+           fn mix(student: &::std::sync::Arc<Self>, key: &::std::sync::Arc<Self>, \
+                  key_for: ::std::vec::Vec<&'static str>, calls: &::std::sync::Arc<crate::CallLog>) \
+                  -> ::std::sync::Arc<Self> {{ crate::PartSlot::mixed(student, key, key_for, calls) }} }}"
     )));
     out.extend(wire::expand(&name.to_string(), &wire_methods)?);
     Ok(out)

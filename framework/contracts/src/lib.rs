@@ -18,4 +18,6 @@ mod part_slot;
 pub mod wire;
 
 pub use contract_macros::{answer_keys, contract};
-pub use part_slot::{ContractMethods, PartSlot, WAITING_FOR_LAB, Waiting};
+pub use part_slot::{
+    CallLog, ContractMethods, Mix, PartSlot, StudentFor, WAITING_FOR_LAB, Waiting, method_bit,
+};

@@ -132,6 +132,50 @@ pub fn judge<S: ?Sized>(
     problems
 }
 
+/// Whether an exercise checks several functions together (1.6: "CameraRays (all of it)")
+/// rather than one function of the contract.
+pub fn is_composite<S: ?Sized>(exercise: &Exercise<S>) -> bool {
+    !exercise
+        .function
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Judges every exercise that checks several functions together with [`crate::judge`] on each
+/// mistake of the corpus (the key in `ctx`): a mistake is charged to the exercise it names
+/// alone, so every such exercise but the one named must pass. Returns the problems.
+pub fn charged_once<S: ?Sized + contracts::Mix + 'static>(
+    ctx: &LabContext,
+    exercises: Vec<Exercise<S>>,
+    variants: Vec<Variant<S>>,
+) -> Vec<String> {
+    let table: Vec<Arc<Exercise<S>>> = exercises.into_iter().map(Arc::new).collect();
+    let mut problems = Vec::new();
+    let mut judged = 0;
+    for (name, verdict, subject) in variants {
+        let Verdict::Reject(id) = verdict else {
+            continue;
+        };
+        for composite in table.iter().filter(|e| is_composite(e) && e.id != id) {
+            judged += 1;
+            if let Err(failure) = crate::judge(composite, &table, &subject, ctx) {
+                problems.push(format!(
+                    "lab {}: '{name}' (Exercise {id}) also costs Exercise {}:\n{}",
+                    ctx.lab.number(),
+                    composite.id,
+                    failure.message
+                ));
+            }
+        }
+    }
+    println!(
+        "{}: {}/{judged} mistakes charged to their own exercise alone by the composite exercises",
+        ctx.lab,
+        judged - problems.len()
+    );
+    problems
+}
+
 /// The tests of a lab's corpus, at the end of `labs/labNN/tests/corpus.rs`:
 /// `grading::corpus_tests!(lab03, lab03_checks);` after the file's `variants()`, a list of
 /// variants with a `name`, a `verdict` and the lab's `contracts::labNN::Contract` implemented.
@@ -222,6 +266,16 @@ macro_rules! corpus_tests {
             let exercises = $checks::checks::exercises();
             let ctx = corpus_context(::reference::KEYS);
             let problems = $crate::corpus::judge(&ctx, &exercises, corpus());
+            assert!(problems.is_empty(), "{}", problems.join("\n"));
+        }
+
+        /// One mistake, one exercise: an exercise that checks several functions together is
+        /// judged with the key in place of those whose own exercise fails.
+        #[test]
+        fn every_mistake_costs_its_own_exercise_alone() {
+            let ctx = corpus_context(::reference::KEYS);
+            let problems =
+                $crate::corpus::charged_once(&ctx, $checks::checks::exercises(), corpus());
             assert!(problems.is_empty(), "{}", problems.join("\n"));
         }
 

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use libtest_mimic::{Arguments, Failed, Trial};
 
 use super::task::{self, MakeReport, Task};
-use super::{Exercise, LabContext, LabId, Visibility, run_exercise, verdict};
+use super::{Exercise, LabContext, LabId, Visibility, judge, verdict};
 use pipeline::Pipeline;
 
 /// What a lab's checks run on.
@@ -45,7 +45,7 @@ pub type GenerateGolden<S> =
 /// Runs the tests the command line asks for, one per exercise, and exits with libtest's
 /// status; or, run by `raylab` with a task ([`crate::task`]), does the task. Under `raylab grade` a test ends its process with the check's verdict record
 /// ([`verdict`]) instead.
-pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
+pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
     let task = Task::from_env();
     let LabChecks {
         lab,
@@ -65,7 +65,7 @@ pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
             .with_key_labs(key_labs)
             .with_own_code(&subject),
     );
-    let exercises: Vec<Arc<Exercise<S>>> = exercises
+    let exercises: Arc<[Arc<Exercise<S>>]> = exercises
         .into_iter()
         .filter(|e| hidden || e.visibility == Visibility::Visible)
         .map(Arc::new)
@@ -73,8 +73,8 @@ pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
     match task {
         None => {}
         Some(Task::Status) => {
-            for exercise in &exercises {
-                let outcome = run_exercise(exercise, &subject, &ctx);
+            for exercise in exercises.iter() {
+                let outcome = judge(exercise, &exercises, &subject, &ctx);
                 task::answer(&verdict::Record::of(&exercise.id, &outcome));
             }
             std::process::exit(0)
@@ -109,8 +109,9 @@ pub fn run<S: ?Sized + Send + Sync + 'static>(checks: LabChecks<S>) -> ! {
         .iter()
         .map(|exercise| {
             let name = exercise.test_name();
-            let (exercise, subject, ctx) = (exercise.clone(), subject.clone(), ctx.clone());
-            Trial::test(name, move || check(&exercise, &subject, &ctx))
+            let (exercise, table) = (exercise.clone(), exercises.clone());
+            let (subject, ctx) = (subject.clone(), ctx.clone());
+            Trial::test(name, move || check(&exercise, &table, &subject, &ctx))
         })
         .collect();
     libtest_mimic::run(&args, trials).exit()
@@ -174,15 +175,16 @@ fn finish(outcome: Result<(), raylab_core::Error>) -> ! {
     }
 }
 
-/// One exercise's test: the secret of the verdict record is taken before any student code
+/// One exercise's test, judged by [`judge`] (a mistake charged to its own exercise): the secret of the verdict record is taken before any student code
 /// runs; the record, when asked for, ends the process.
-fn check<S: ?Sized>(
+fn check<S: ?Sized + contracts::Mix + 'static>(
     exercise: &Exercise<S>,
+    table: &[Arc<Exercise<S>>],
     subject: &Arc<S>,
     ctx: &LabContext,
 ) -> Result<(), Failed> {
     let channel = verdict::VerdictChannel::take();
-    let outcome = run_exercise(exercise, subject, ctx);
+    let outcome = judge(exercise, table, subject, ctx);
     if let Some(channel) = channel {
         channel.report(&exercise.id, &outcome);
     }

@@ -2,6 +2,7 @@
 //! snapshot comparison. A lab crate's `cargo test`, the reference's CI run and `raylab grade`
 //! all go through [`run_exercise`], so they judge student code the same way.
 
+mod charged_once;
 pub mod chi2;
 pub mod corpus;
 mod golden;
@@ -18,6 +19,7 @@ pub mod strategies;
 pub mod task;
 pub mod verdict;
 
+pub use charged_once::judge;
 pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
 pub use property::for_all;
@@ -284,6 +286,15 @@ pub struct Failure {
     pub reason: String,
     /// The whole message: the exercise's place, what happened, the reason and the docs.
     pub message: String,
+}
+
+impl Failure {
+    /// This failure with `note` after its message (and its reason).
+    pub fn with_note(mut self, note: String) -> Self {
+        self.reason = format!("{}\n{note}", self.reason);
+        self.message = format!("{}\n{note}", self.message);
+        self
+    }
 }
 
 impl std::fmt::Display for Failure {

@@ -286,4 +286,55 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
+/// One mistake, one exercise: with the key, a y-flip costs Exercise 1.1's 2 points of 10 (1.6
+/// renders with the key's `image_plane_coords`) and a panic in `camera_ray` 1.5's 1 point; the
+/// stubs earn nothing, 1.6 included. Without the key, 1.6 names the exercise to fix first.
+#[test]
+fn a_mistake_in_one_part_costs_that_part_alone() {
+    use std::sync::Arc;
+    let table: Vec<Arc<grading::Exercise<dyn CameraRays>>> = lab01_checks::checks::exercises()
+        .into_iter()
+        .map(Arc::new)
+        .collect();
+    let ctx = corpus_context(reference::KEYS);
+    let score = |code: Arc<dyn CameraRays>, ctx: &grading::LabContext| -> u32 {
+        table
+            .iter()
+            .filter(|e| grading::judge(e, &table, &code, ctx).is_ok())
+            .map(|e| e.points)
+            .sum()
+    };
+    let y_flip = variants()
+        .into_iter()
+        .find(|v| v.name.starts_with("y not flipped"))
+        .expect("the corpus holds the y-flip");
+    assert_eq!(score(Arc::new(y_flip), &ctx), 8);
+    let panics = Variant {
+        ray: Some(|_, _| panic!("a camera ray that panics")),
+        ..NONE
+    };
+    assert_eq!(score(Arc::new(panics), &ctx), 9);
+    assert_eq!(score(Arc::new(lab01::Student), &ctx), 0);
+
+    let handout = corpus_context(&grading::corpus::keys_but(
+        lab01_checks::checks::LAB,
+        reference::KEYS,
+    ));
+    let composite = table.iter().find(|e| e.id == "1.6").unwrap();
+    let failure = grading::judge(
+        composite,
+        &table,
+        &(Arc::new(y_flip) as Arc<dyn CameraRays>),
+        &handout,
+    )
+    .expect_err("the y-flip's image is upside down");
+    assert!(
+        failure
+            .message
+            .contains("Exercise 1.1 fails on its own: fix that first"),
+        "{}",
+        failure.message
+    );
+}
+
 grading::corpus_tests!(lab01, lab01_checks);
