@@ -15,6 +15,7 @@
 //! submission the tree is verified against its hashes. The results go to per-student reports
 //! and the class gradebooks ([`reports`]), written when every student process has ended.
 
+mod feedback;
 mod reports;
 mod runner;
 mod sandbox;

@@ -13,7 +13,7 @@ use raylab_core::Error;
 
 use crate::bench::median;
 
-use super::{ExerciseGrade, Status, StudentGrade};
+use super::{ExerciseGrade, Status, StudentGrade, feedback};
 use crate::handout::io;
 
 /// The paths of the instructor's machine that a student's report must not show, each with what
@@ -66,11 +66,19 @@ pub fn write_student(
 ) -> Result<(), Error> {
     fs::create_dir_all(dir).map_err(io(dir))?;
     write(&dir.join("report.md"), &redactions.apply(&markdown(grade)))?;
-    write(
-        &dir.join("report.html"),
-        &redactions.apply_html(&html(grade)),
-    )?;
-    let results = serde_json::to_string_pretty(&gradescope(grade)).unwrap_or_default();
+    let page = redactions.apply_html(&html(grade));
+    write(&dir.join("report.html"), &page)?;
+    // The same page with its images inlined, one file per student for an LMS.
+    if let Some(class_dir) = dir.parent() {
+        let pages = class_dir.join("pages");
+        fs::create_dir_all(&pages).map_err(io(&pages))?;
+        write(
+            &pages.join(feedback::page_name(grade)),
+            &feedback::standalone(&page, dir),
+        )?;
+    }
+    let results =
+        serde_json::to_string_pretty(&gradescope(grade, dir, redactions)).unwrap_or_default();
     write(&dir.join("results.json"), &redactions.apply(&results))
 }
 
@@ -259,7 +267,7 @@ fn fenced(text: &str) -> String {
 }
 
 /// "student", "reference" or "difference", from a failure image's file name.
-fn image_caption(image: &Path) -> String {
+pub(super) fn image_caption(image: &Path) -> String {
     let stem = image.file_stem().unwrap_or_default().to_string_lossy();
     stem.rsplit('-').next().unwrap_or_default().to_string()
 }
@@ -383,7 +391,6 @@ fn exercise_output(e: &ExerciseGrade) -> String {
     }
 }
 
-/// Gradescope's autograder `results.json` of one submission.
 /// Gradescope results for a submission that could not be graded at all: 0 points and why.
 pub fn ungraded_results(why: &str) -> String {
     let results = serde_json::json!({
@@ -394,18 +401,31 @@ pub fn ungraded_results(why: &str) -> String {
     serde_json::to_string_pretty(&results).unwrap_or_default()
 }
 
-fn gradescope(grade: &StudentGrade) -> serde_json::Value {
+/// Gradescope's `results.json` of `grade`, whose report directory is `dir`: a failed exercise
+/// with images shows them inline (its output in Gradescope's `html` format).
+fn gradescope(grade: &StudentGrade, dir: &Path, redactions: &Redactions) -> serde_json::Value {
+    let mut budget = feedback::RESULTS_IMAGE_BUDGET;
     let tests: Vec<serde_json::Value> = grade
         .exercises
         .iter()
         .map(|e| {
+            let output = redactions.apply(&exercise_output(e));
+            let (output, format) = if e.passed() || e.images.is_empty() {
+                (output, "text")
+            } else {
+                (
+                    feedback::gradescope_html(e, &output, dir, &mut budget),
+                    "html",
+                )
+            };
             serde_json::json!({
                 "name": format!("Exercise {} — {} ({})", e.info.id, e.info.title, e.info.function),
                 "number": e.info.id,
                 "score": e.score,
                 "max_score": e.info.points,
                 "status": class(e),
-                "output": exercise_output(e),
+                "output": output,
+                "output_format": format,
                 "visibility": match e.info.visibility {
                     Visibility::Visible => "visible",
                     Visibility::Hidden => "after_published",
@@ -669,6 +689,7 @@ fn exercise_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize, S
 mod tests {
     use super::*;
     use course::ExerciseInfo;
+    use std::path::PathBuf;
 
     #[test]
     fn utc_time_of_known_instants() {
@@ -866,6 +887,9 @@ mod tests {
             })
             .collect();
         first[0].program_output = "debug: 4 × 3 pixels <&>".into();
+        first[1].images = vec![PathBuf::from(
+            "images/lab01/default-base-colour-difference.png",
+        )];
         first.extend(lab02.iter().map(|info| exercise(info, Status::Passed, "")));
         let mut second: Vec<ExerciseGrade> = lab01
             .iter()
@@ -908,11 +932,22 @@ mod tests {
         let class = fixed_class();
         insta::assert_snapshot!("gradebook.csv", gradebook(&class));
         insta::assert_snapshot!("junit.xml", junit(&class));
+        // The failure image of ada's 1.2, which her results carry inline.
+        let dir = std::env::temp_dir().join(format!("raylab-fixed-class-{}", std::process::id()));
+        fs::create_dir_all(dir.join("images/lab01")).unwrap();
+        fs::write(
+            dir.join("images/lab01/default-base-colour-difference.png"),
+            b"\x89PNG\r\n\x1a\n",
+        )
+        .unwrap();
         for (k, grade) in class.iter().enumerate() {
-            let results = serde_json::to_string_pretty(&gradescope(grade)).unwrap_or_default();
+            let results =
+                serde_json::to_string_pretty(&gradescope(grade, &dir, &Redactions::default()))
+                    .unwrap_or_default();
             insta::assert_snapshot!(format!("results-{k}.json"), unstamped(&results));
             insta::assert_snapshot!(format!("report-{k}.md"), unstamped(&markdown(grade)));
         }
+        fs::remove_dir_all(&dir).unwrap();
         let ungraded = ungraded_results("labs/ holds no lab's sources");
         insta::assert_snapshot!("results-ungraded.json", unstamped(&ungraded));
     }
