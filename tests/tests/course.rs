@@ -346,3 +346,42 @@ fn stubs_and_docs_pages_agree_with_the_exercise_tables() {
         problems.join("\n")
     );
 }
+
+/// Each lab whose docs ask questions has its answers file, `labs/labNN/answers.md`, with those
+/// questions as its headings: the file a student answers in, which `raylab report` shows and
+/// `raylab grade` collects. `RAYLAB_WRITE_ANSWERS=1` writes the files from the docs.
+#[test]
+fn every_lab_with_questions_has_its_answers_file() {
+    let write = std::env::var_os("RAYLAB_WRITE_ANSWERS").is_some();
+    let mut with_questions = 0;
+    for id in course::labs() {
+        let questions = course::answers::questions(&read(&root().join(id.docs())));
+        let path = root().join(id.answers());
+        if questions.is_empty() {
+            assert!(
+                !path.exists(),
+                "{} has no numbered list under `## Questions`, so no {}",
+                id.docs(),
+                id.answers()
+            );
+            continue;
+        }
+        with_questions += 1;
+        let title = course::title(id).unwrap_or_default();
+        let wanted = course::answers::template(id, title, &questions);
+        if write {
+            fs::write(&path, &wanted).unwrap();
+        }
+        assert_eq!(
+            fs::read_to_string(&path).unwrap_or_default(),
+            wanted,
+            "{} is not the answers file of {}'s questions: run this test with RAYLAB_WRITE_ANSWERS=1",
+            id.answers(),
+            id.docs()
+        );
+    }
+    assert!(
+        with_questions >= 7,
+        "only {with_questions} labs ask questions"
+    );
+}

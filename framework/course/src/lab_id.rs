@@ -41,6 +41,11 @@ impl LabId {
         format!("labs/{self}/src/lib.rs")
     }
 
+    /// The student's written answers: `labs/lab01/answers.md`.
+    pub fn answers(self) -> String {
+        format!("labs/{self}/answers.md")
+    }
+
     /// Its docs page: `docs/lab01.md`.
     pub fn docs(self) -> String {
         format!("docs/{self}.md")

@@ -9,6 +9,7 @@
 //!
 //! [`LabId`] names a lab; it replaces bare numbers and `lab{:02}` strings.
 
+pub mod answers;
 mod exercise;
 mod lab_id;
 mod registry;

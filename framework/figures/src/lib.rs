@@ -38,6 +38,8 @@ pub struct ReportContext {
     pub whose: String,
     /// The failed pixels of every render so far, and how many pixels were rendered.
     pub failures: RefCell<(PixelFailures, usize)>,
+    /// The student's written answers, shown after the figures.
+    pub answers: Option<String>,
 }
 
 /// One figure of a report.
@@ -222,6 +224,7 @@ pub fn make(
     figures: LabFigures,
 ) -> Result<(), Error> {
     std::fs::create_dir_all(&job.dir).map_err(|e| Error::io(&job.dir, e))?;
+    let answers = job.answers.as_deref().map(read_answers).transpose()?;
     let ctx = ReportContext {
         lab,
         pipeline,
@@ -229,6 +232,7 @@ pub fn make(
         quick: job.quick,
         whose: job.whose.clone(),
         failures: RefCell::default(),
+        answers,
     };
     let figures = figures(&ctx)?;
     let (failures, total) = &*ctx.failures.borrow();
@@ -244,6 +248,34 @@ pub fn make(
     println!("{}", index.display());
     println!("{}", page.display());
     Ok(())
+}
+
+/// The written answers file at `path`, refused past [`course::answers::FILE_LIMIT`].
+fn read_answers(path: &std::path::Path) -> Result<String, Error> {
+    let size = std::fs::metadata(path)
+        .map_err(|e| Error::io(path, e))?
+        .len();
+    if size > course::answers::FILE_LIMIT {
+        return Err(Error::Invalid {
+            what: path.display().to_string(),
+            reason: format!(
+                "{size} bytes: a written answers file is at most {} bytes (put images beside it and link them)",
+                course::answers::FILE_LIMIT
+            ),
+        });
+    }
+    std::fs::read_to_string(path).map_err(|e| Error::io(path, e))
+}
+
+/// "Written answers (`labs/lab01/answers.md`, 3 of 8 answered)".
+fn answers_heading(lab: LabId, answers: &str) -> String {
+    let parsed = course::answers::parse(answers);
+    format!(
+        "Written answers (`{}`, {} of {} answered)",
+        lab.answers(),
+        course::answers::answered(&parsed),
+        parsed.len()
+    )
 }
 
 /// Writes `report.md` beside the figures: each figure with its caption, parameters and time.
@@ -273,6 +305,13 @@ fn write_index(
             md,
             "## {}\n\n![{}]({})\n\n{}{time}\n",
             f.caption, f.caption, f.file, f.parameters
+        );
+    }
+    if let Some(answers) = &ctx.answers {
+        let _ = writeln!(
+            md,
+            "---\n\n## {}\n\n{answers}",
+            answers_heading(ctx.lab, answers)
         );
     }
     let path = ctx.dir.join("report.md");
@@ -310,7 +349,8 @@ fn write_page(
                 title { (title) }
                 style { "body{font-family:sans-serif;max-width:72rem;margin:2rem auto;padding:0 1rem}\
                          figure{margin:2rem 0}img{max-width:100%;image-rendering:pixelated}\
-                         figcaption{color:#333}.unfinished{background:#fde;padding:.5rem 1rem}" }
+                         figcaption{color:#333}.unfinished{background:#fde;padding:.5rem 1rem}\
+                         pre.answers{white-space:pre-wrap;background:#f6f6f6;padding:1rem}" }
             }
             body {
                 h1 { (title) }
@@ -329,6 +369,12 @@ fn write_page(
                             (f.parameters)
                             @if let Some(s) = f.seconds { " — render time " (format!("{s:.3}")) " s" }
                         }
+                    }
+                }
+                @if let Some(answers) = &ctx.answers {
+                    section id="answers" {
+                        h2 { (answers_heading(ctx.lab, answers)) }
+                        pre class="answers" { (answers) }
                     }
                 }
             }

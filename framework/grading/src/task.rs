@@ -47,6 +47,10 @@ pub struct ReportJob {
     pub quick: bool,
     /// Whose code renders the lab's slots, in words ("Reference", "Student").
     pub whose: String,
+    /// The student's written answers (`labs/labNN/answers.md`), shown after the figures; the
+    /// report only reads the file.
+    #[serde(default)]
+    pub answers: Option<PathBuf>,
 }
 
 /// What makes a lab's report in its program: the lab's figures (its checks' `report`

@@ -15,6 +15,7 @@
 //! submission the tree is verified against its hashes. The results go to per-student reports
 //! and the class gradebooks ([`reports`]), written when every student process has ended.
 
+mod answers;
 mod feedback;
 mod reports;
 mod runner;
@@ -176,6 +177,8 @@ pub struct StudentGrade {
     pub sandbox: String,
     /// Where the grading of this submission spent its time.
     pub timings: Timings,
+    /// The written answers of the graded labs that have an answers file.
+    pub answers: Vec<answers::LabAnswers>,
 }
 
 /// Wall-clock seconds the grading of one submission spent, by kind of work.
@@ -227,6 +230,7 @@ impl StudentGrade {
             flagged: Vec::new(),
             sandbox: String::new(),
             timings: Timings::default(),
+            answers: Vec::new(),
         }
     }
 }
@@ -580,10 +584,16 @@ fn grade_submission(
     let mut broken = std::collections::BTreeMap::<LabId, (Status, String)>::new();
     // Exercises whose answer the code takes from the framework, with where.
     let mut answered = std::collections::BTreeMap::<String, Vec<String>>::new();
+    let mut written = Vec::new();
     for &lab in labs {
         let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
+        match submission::read_answers(submission, lab) {
+            Ok(Some(text)) => written.push(answers::LabAnswers::read(lab, &text)),
+            Ok(None) => {}
+            Err(line) => rejected.push(line),
+        }
         let scan::LabScan { flags, denied } = scan::scan_lab(
             &workspace.tree,
             lab,
@@ -766,5 +776,6 @@ fn grade_submission(
         flagged,
         sandbox: String::new(),
         timings,
+        answers: written,
     })
 }

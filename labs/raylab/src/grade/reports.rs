@@ -251,6 +251,9 @@ fn markdown(grade: &StudentGrade) -> String {
                 md.push('\n');
             }
         }
+        if let Some(answers) = grade.answers.iter().find(|a| a.lab == lab) {
+            md.push_str(&answers.markdown());
+        }
     }
     let _ = writeln!(md, "---\n\n{}", stamp());
     md
@@ -277,7 +280,8 @@ table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.3em .6em;tex
 .passed{color:#060}.failed{color:#a00}pre{background:#f4f4f4;padding:.6em;white-space:pre-wrap}\
 pre.program{border-left:4px solid #c90}\
 .images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{image-rendering:pixelated;\
-width:320px;border:1px solid #ccc}footer{margin-top:2em;color:#666}";
+width:320px;border:1px solid #ccc}footer{margin-top:2em;color:#666}\
+pre.answer{background:#f4f8ff;border-left:4px solid #36c}";
 
 /// A page with `title`, the shared style, `body` and the grader's stamp at its foot.
 fn page(title: &str, body: Markup, script: Option<&str>) -> String {
@@ -375,6 +379,9 @@ fn html(grade: &StudentGrade) -> String {
                         }
                     }
                 }
+            }
+            @if let Some(answers) = grade.answers.iter().find(|a| a.lab == lab) {
+                (answers.html())
             }
         }
     };
@@ -646,7 +653,9 @@ fn index(grades: &[StudentGrade]) -> String {
                 }
             }
         }
-        p { "Also: gradebook.csv, junit.xml, and each student's results.json (Gradescope)." }
+        (super::answers::class_table(grades))
+        p { "Also: gradebook.csv, junit.xml, each student's results.json (Gradescope), and in "
+            code { "pages/" } " each student's report as one file with its images inlined." }
     };
     page("Grades", body, Some(SORT_SCRIPT))
 }
@@ -742,6 +751,7 @@ mod tests {
             flagged: Vec::new(),
             sandbox: String::new(),
             timings: Default::default(),
+            answers: Vec::new(),
         }
     }
 
@@ -916,8 +926,20 @@ mod tests {
             flagged: Vec::new(),
             sandbox: "run in bubblewrap".into(),
             timings: Default::default(),
+            answers: Vec::new(),
         };
         let mut class = vec![grade("ada", first), grade("grace, \"g\"", second)];
+        // Questions of its own, so that the snapshot does not follow the docs' wording.
+        let questions = course::answers::questions(
+            "## Questions\n\n1. **Render time.** How does the time grow?\n2. Why flip y?\n",
+        );
+        class[0].answers = vec![super::super::answers::LabAnswers {
+            lab: LabId::of(1),
+            questions,
+            answers: course::answers::parse(
+                "## Q1 — Render time\n\n> (the question)\n\nLinear in the pixels: 4× for twice the width and height. <&>\n\n## Q2\n\n<!-- Your answer here. -->\n",
+            ),
+        }];
         class[0].changed_files = vec!["changed: Cargo.toml".into()];
         class[1].flagged =
             vec!["labs/lab01/src/lib.rs:7: `look_at_rh` answers Exercise 1.2".into()];

@@ -440,6 +440,44 @@ pub fn is_lab_sources(path: &Path) -> bool {
     is_lab_src(&parts)
 }
 
+/// Whether `path` (relative to the tree) is a lab's written answers file,
+/// `labs/labNN/answers.md`: the student's own, collected for the report, never a change.
+fn is_written_answers(path: &Path) -> bool {
+    let parts: Vec<_> = path.components().map(|c| c.as_os_str()).collect();
+    parts.len() == 3
+        && parts[0] == "labs"
+        && parts[1].to_string_lossy().starts_with("lab")
+        && parts[1] != "raylab"
+        && parts[2] == "answers.md"
+}
+
+/// The written answers of lab `lab` in `submission` (`labs/labNN/answers.md`), read as a
+/// regular file of at most [`course::answers::FILE_LIMIT`] bytes under real directories.
+/// `Ok(None)` when there is none; `Err` with a rejection line when it cannot be taken.
+pub fn read_answers(submission: &Path, lab: LabId) -> Result<Option<String>, String> {
+    let dir = match real_dir(submission, Path::new(&lab.folder())) {
+        Ok(dir) => dir,
+        Err(None) => return Ok(None),
+        Err(Some(line)) => return Err(line),
+    };
+    let path = dir.join("answers.md");
+    let shown_path = lab.answers();
+    match fs::symlink_metadata(&path) {
+        Err(err) if err.kind() == ErrorKind::NotFound => return Ok(None),
+        Ok(meta) if meta.len() > course::answers::FILE_LIMIT => {
+            return Err(format!(
+                "{shown_path}: {}, over the {} limit of a written answers file (not read)",
+                bytes(meta.len()),
+                bytes(course::answers::FILE_LIMIT)
+            ));
+        }
+        _ => {}
+    }
+    let contents = read_regular(&path, course::answers::FILE_LIMIT)
+        .map_err(|refusal| format!("{shown_path}: {}", refusal.rejection()))?;
+    Ok(Some(String::from_utf8_lossy(&contents).into_owned()))
+}
+
 /// Whether `parts` are `labs`, `labNN`, `src`: a lab's code directory.
 fn is_lab_src(parts: &[&OsStr]) -> bool {
     parts.len() == 3
@@ -601,7 +639,9 @@ pub fn changed_files(submission: &Path, handout: &Path) -> Result<Vec<String>, E
             }
         };
     }
-    let ignored = |p: &Path| is_student_code(p) || REGENERATED.iter().any(|r| p == Path::new(r));
+    let ignored = |p: &Path| {
+        is_student_code(p) || is_written_answers(p) || REGENERATED.iter().any(|r| p == Path::new(r))
+    };
     let mut changes = Vec::new();
     for (path, entry) in theirs.entries.iter().filter(|(p, _)| !ignored(p)) {
         // The empty path is the submission itself, when it cannot be listed.
@@ -743,6 +783,9 @@ mod tests {
         assert!(!is_student_code(Path::new("labs/raylab/src/main.rs")));
         assert!(!is_student_code(Path::new("framework/src/lib.rs")));
         assert!(!is_student_code(Path::new("labs/lab01/Cargo.toml")));
+        assert!(is_written_answers(Path::new("labs/lab01/answers.md")));
+        assert!(!is_written_answers(Path::new("labs/raylab/answers.md")));
+        assert!(!is_written_answers(Path::new("labs/lab01/src/answers.md")));
     }
 
     #[test]
