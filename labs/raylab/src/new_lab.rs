@@ -238,12 +238,24 @@ struct Skeleton {
 }
 
 impl Skeleton {
-    /// Each file of the skeleton: its path in the repository and its text.
+    /// Each file of the skeleton: its path in the repository and its text (the answers file made
+    /// from the docs page's questions).
     fn files(&self) -> Vec<(String, String)> {
-        TEMPLATES
+        let mut files: Vec<(String, String)> = TEMPLATES
             .iter()
             .map(|(path, text)| (self.fill(path), self.fill(text)))
-            .collect()
+            .collect();
+        // The answers file of the docs page's questions.
+        let questions = files
+            .iter()
+            .find(|(path, _)| *path == self.lab.docs())
+            .map(|(_, docs)| course::answers::questions(docs))
+            .unwrap_or_default();
+        if !questions.is_empty() {
+            let answers = course::answers::template(self.lab, &self.title, &questions);
+            files.push((self.lab.answers(), answers));
+        }
+        files
     }
 
     /// Fills the template `text`: `@lab@` (`lab12`), `@n@` (`12`), `@NN@` (`12` with two
