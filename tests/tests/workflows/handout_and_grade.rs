@@ -172,8 +172,8 @@ fn handout_then_grade_four_submissions() {
     }
     let partial = subs.join("partial");
     copy_tree(&handout, &partial);
-    // A wrong focal length: Exercise 1.4's property check fails, and 1.6's image of the whole
-    // camera, which writes images into the report.
+    // A wrong focal length: Exercise 1.4's property check fails; 1.6's image of the whole
+    // camera is judged with the key's `ray_direction` and passes (one mistake, one exercise).
     let lab01 = inject(
         &correct_code(1),
         "fn ray_direction(&self, basis: &CameraBasis, focal_distance: f32, ip: Vec2) -> Vec3 {",
@@ -189,6 +189,13 @@ fn handout_then_grade_four_submissions() {
         &lab02,
         "fn intersect_plane(&self, ray: &Ray, plane: &Plane) -> Option<SurfaceHit> {",
         "let mut step = 0.0f32;\n        while step < 1.0 { step *= 2.0; }",
+    );
+    // Shading tuned to one material of the default scene: every property of 2.6 holds on
+    // random albedos, and only its image, written into the report, shows the dim ground.
+    let lab02 = inject(
+        &lab02,
+        "fn shade_lambertian(&self, rho_d: Vec3, normal: Vec3, lights: &[LightSample]) -> Vec3 {",
+        "let rho_d = if rho_d == Vec3::splat(0.7) { 0.5 * rho_d } else { rho_d };",
     );
     write_lab(&partial, 2, &lab02);
     let lab03 = inject(
@@ -267,14 +274,15 @@ fn handout_then_grade_four_submissions() {
 
     let row = csv_row(&csv, "partial");
     // Each exercise is checked with the answer key everywhere else: the wrong focal length
-    // costs Exercises 1.4 and 1.6 (the whole camera) and nothing in labs 2 and 3, the NaN
-    // triangle sample 3.3 alone, the panic 2.3 and the infinite loop 2.1.
+    // costs Exercise 1.4 alone (1.6, the whole camera, is judged with the key's 1.4) and
+    // nothing in labs 2 and 3, the NaN triangle sample 3.3 alone, the panic 2.3, the infinite
+    // loop 2.1 and the tuned shading 2.6 alone.
     for id in [
-        "1.1", "1.2", "1.3", "1.5", "2.2", "2.4", "2.5", "2.6", "3.1", "3.2", "3.4",
+        "1.1", "1.2", "1.3", "1.5", "1.6", "2.2", "2.4", "2.5", "3.1", "3.2", "3.4",
     ] {
         assert_ne!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
-    for id in ["1.4", "1.6", "2.1", "2.3", "3.3"] {
+    for id in ["1.4", "2.1", "2.3", "2.6", "3.3"] {
         assert_eq!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
     let report = read(&grades.join("partial/report.md"));
@@ -521,7 +529,7 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
             ["hidden", "after_due_date", "after_published", "visible"].contains(&visibility),
             "{test}"
         );
-        let wanted = if ["1.4", "1.6"].contains(&test["number"].as_str().unwrap()) {
+        let wanted = if test["number"] == "1.4" {
             0.0
         } else {
             max
