@@ -36,7 +36,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         dir: cwd.join(&args.out).join(args.lab.to_string()),
         quick: args.quick,
         whose: format!("{:?}", args.pipeline),
-        answers: Some(crate::handout::repository_root().join(args.lab.answers()))
+        answers: Some(crate::lab_program::workspace_root().join(args.lab.answers()))
             .filter(|path| path.is_file()),
     };
     if let Some(note) = crate::render::student_code_note(args.pipeline, args.lab) {

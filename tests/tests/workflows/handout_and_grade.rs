@@ -529,11 +529,7 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
             ["hidden", "after_due_date", "after_published", "visible"].contains(&visibility),
             "{test}"
         );
-        let wanted = if test["number"] == "1.4" {
-            0.0
-        } else {
-            max
-        };
+        let wanted = if test["number"] == "1.4" { 0.0 } else { max };
         assert_eq!(score, wanted, "partial's camera: {test}");
         sum += score;
     }
