@@ -24,7 +24,13 @@ pub fn git(dir: &Path, args: &[&str]) -> Result<Vec<u8>, Error> {
         .current_dir(dir)
         .stdin(Stdio::null())
         .output()
-        .map_err(|e| Error::io(Path::new("git"), e))?;
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => Error::Invalid {
+                what: format!("git {}", args.join(" ")),
+                reason: "git is not installed (or not on PATH); the handout is a git repository, install git".into(),
+            },
+            _ => Error::io(Path::new("git"), e),
+        })?;
     if !output.status.success() {
         return Err(Error::Invalid {
             what: format!("git {} (in {})", args.join(" "), dir.display()),

@@ -376,9 +376,9 @@ This folder is a git repository: commit your work as you go (`git add -A` then `
 Your instructor releases solutions and fixes as new commits; `git pull --no-rebase` merges
 each release with your commits. A release never changes a file that is yours —
 `labs/labNN/src/` and `labs/labNN/answers.md` — so the pull merges without conflicts (commit
-before you pull). `raylab reset N.M` puts the function of Exercise N.M back as the handout had
-it (from the handout's own commits in your clone's history) and leaves your other functions as they are;
-`--dry-run` shows both versions and changes nothing.
+before you pull). `cargo run -p raylab -- reset N.M` puts the function of Exercise N.M back as
+the handout had it (from the handout's own commits in your clone's history) and leaves your
+other functions as they are; `--dry-run` shows both versions and changes nothing.
 
 Each exercise is checked in the pipeline of `reference::pipeline`: the solutions released so
 far, and your own code for the labs whose solutions are not released — so lab 3's checks use
