@@ -97,8 +97,114 @@ fn write_bundle(args: &GradescopeArgs, root: &Path, out: &Path) -> Result<(), Er
             copy_file(&path, &out.join(&name))?;
         }
     }
+    // The repository's README is the course's; the bundle's says what the bundle is.
+    let readme = out.join("README.md");
+    fs::write(&readme, bundle_readme(args)).map_err(io(&readme))?;
     script(&out.join("setup.sh"), &setup_script(args, &toolchain()?))?;
     script(&out.join("run_autograder"), &run_script(args))
+}
+
+/// The command line that writes this bundle again (with `--out autograder`).
+fn rebuild_command(args: &GradescopeArgs) -> String {
+    let mut command = "cargo run -p raylab -- gradescope --out autograder".to_string();
+    for lab in &args.labs {
+        command.push_str(&format!(" --lab {}", lab.number()));
+    }
+    if !args.release_solutions.is_empty() {
+        let labs: Vec<String> = args
+            .release_solutions
+            .iter()
+            .map(|l| l.number().to_string())
+            .collect();
+        command.push_str(&format!(" --release-solutions {}", labs.join(",")));
+    }
+    command.push_str(&format!(" --timeout {}", args.timeout));
+    command
+}
+
+/// The bundle's README.md: what the bundle is, the labs and exercises it grades, how to upload
+/// it, what students see, and how to write it again.
+fn bundle_readme(args: &GradescopeArgs) -> String {
+    let mut exercises = String::new();
+    let mut points = 0;
+    for &lab in &args.labs {
+        let title = course::title(lab).unwrap_or_default();
+        for e in crate::labs::exercises(lab) {
+            points += e.points;
+            let shown = match e.visibility {
+                course::Visibility::Visible => "from the first submission",
+                course::Visibility::Hidden => "after the instructor publishes the grades",
+            };
+            exercises.push_str(&format!(
+                "| {} | {title} | {} (`{}`) | {} | {shown} |\n",
+                e.id, e.title, e.function, e.points
+            ));
+        }
+    }
+    let labs: Vec<String> = args.labs.iter().map(|l| l.number().to_string()).collect();
+    let labs = if labs.len() == 1 {
+        format!("lab {}", labs[0])
+    } else {
+        format!("labs {}", labs.join(", "))
+    };
+    let solutions = if args.release_solutions.is_empty() {
+        "none".to_string()
+    } else {
+        let released: Vec<String> = args
+            .release_solutions
+            .iter()
+            .map(|l| l.number().to_string())
+            .collect();
+        format!("labs {}", released.join(", "))
+    };
+    format!(
+        r#"# raylab autograder: {labs}
+
+This folder is a Gradescope autograder written by `raylab gradescope`. It grades {labs} of
+the raylab course ({points} points) exactly as `raylab grade` does on one machine: each exercise
+of a submission's `labs/labNN/src/` is compiled and run on its own, with the answer key for
+everything else, and scored on its check's verdict. It holds the course repository (the answer
+key included: keep the bundle to yourself), `setup.sh` and `run_autograder`.
+
+| exercise | lab | what | points | students see its test |
+| --- | --- | --- | --- | --- |
+{exercises}
+Solutions released to students (their handout's `reference/`): {solutions}. Each exercise may
+run for {timeout} seconds.
+
+## Uploading it
+
+1. Zip the folder's contents (not the folder): `cd autograder && zip -qr ../autograder.zip .`
+2. On Gradescope, make a "Programming Assignment", choose the Ubuntu base image, and upload
+   `autograder.zip` under "Configure Autograder". Building the image runs `setup.sh` (it
+   installs the Rust toolchain and compiles the framework and answer key: allow several
+   minutes); use "Test Autograder" with a copy of the handout to see a result.
+3. Students submit their copy of the handout: a zip of the folder, or their GitHub repository.
+   Only the regular files of `labs/labNN/src/` of {labs} are graded; a change to any other file
+   is reported in the output, not graded.
+
+## What students see
+
+One test per exercise: its name, points, whether it passed and why not (the check's message:
+the smallest input on which the code is wrong, or what an image check found). The exercises
+marked above "after the instructor publishes the grades" are hidden until then. The overall
+output lists files not taken, changes outside `labs/labNN/src/` and how the code was isolated.
+Every other lab of the course is left out: students see only {labs}.
+
+## Writing it again
+
+From the course repository, at the commit the students' handout was made from:
+
+```sh
+{rebuild}
+```
+
+`raylab gradescope` refuses a repository with uncommitted changes (`--allow-dirty` takes them).
+docs/instructors.md, "On Gradescope", has the details of `setup.sh` and `run_autograder`.
+"#,
+        timeout = args.timeout,
+        rebuild = rebuild_command(args),
+    )
 }
 
 /// Writes an executable script.
@@ -153,7 +259,7 @@ set -euo pipefail
 source={AUTOGRADER}/source
 apt-get update -qq
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-    ca-certificates curl build-essential bubblewrap util-linux >/dev/null
+    ca-certificates curl build-essential bubblewrap util-linux git >/dev/null
 if ! command -v rustup >/dev/null 2>&1 && [ ! -x "$HOME/.cargo/bin/rustup" ]; then
     curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs \
         | sh -s -- -y --profile minimal --default-toolchain {toolchain}
@@ -246,6 +352,22 @@ mod tests {
         let setup = setup_script(&args, "1.95.0");
         assert!(setup.contains("--default-toolchain 1.95.0"), "{setup}");
         assert!(setup.contains("cargo build --locked -p raylab"), "{setup}");
+        let readme = bundle_readme(&args);
+        assert!(
+            readme.starts_with("# raylab autograder: labs 3, 4\n"),
+            "{readme}"
+        );
+        assert!(
+            readme.contains("| 3.1 | Shadows and area lights |"),
+            "{readme}"
+        );
+        assert!(!readme.contains("| 2.1 |"), "{readme}");
+        assert!(
+            readme.contains(
+                "gradescope --out autograder --lab 3 --lab 4 --release-solutions 1,2 --timeout 30"
+            ),
+            "{readme}"
+        );
         let run = run_script(&args);
         assert!(
             run.contains("--timeout 30 --lab 3 --lab 4 --release-solutions 1,2 $isolation"),

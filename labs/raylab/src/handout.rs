@@ -12,6 +12,12 @@
 //! - the instructor's parts stay behind: `tests/`, each lab's tests but its program
 //!   (`labs/labNN/tests/checks.rs`; the mutant corpus holds solutions), `.ci/`,
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
+//!
+//! The handout is a git repository, and releases are its commits (`release`): students clone
+//! it and `git pull` each release. Every release holds every lab's crate — the labs are
+//! listed in `labs/course.toml`, which the `course` crate embeds and checks against the lab
+//! folders, and the contracts, the pipeline's slots and the `reference` crate are made per lab
+//! of that list — and differs from the last in the solutions released and the course's fixes.
 
 use course::LabId;
 use std::collections::BTreeSet;
@@ -21,16 +27,30 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use raylab_core::Error;
 
+mod release;
+
 /// Options of `raylab handout`.
 #[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("handout_dir").required(true).args(["out", "update"])))]
 pub struct HandoutArgs {
-    /// Directory to write the student tree to (must not exist, or be empty).
-    #[arg(long)]
-    pub out: PathBuf,
+    /// Directory to write the handout to (must not exist, or be empty): a git repository on
+    /// branch `main` with one commit, to publish for students to clone.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Release into the handout repository DIR (made by `--out`): build the handout again and
+    /// commit the difference, for students to `git pull`. Solutions released before stay
+    /// released. Files students own (`labs/labNN/src/**`, `labs/labNN/answers.md`) that DIR
+    /// already has are never changed.
+    #[arg(long, value_name = "DIR")]
+    pub update: Option<PathBuf>,
     /// Labs whose reference solution goes into the handout, e.g. `--release-solutions 1,2`
-    /// (default: none).
+    /// (default: none; with `--update`, the ones to release in addition to those out already).
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<LabId>,
+    /// With `--update`: release even though it changes files students own (a stub fixed in the
+    /// course repository); students who changed such a file get a merge conflict on `git pull`.
+    #[arg(long, conflicts_with = "out")]
+    pub force: bool,
     /// Build the handout even though files that go into it differ from the last commit (they
     /// are named on stderr). Without it such a tree is refused: a handout should be a commit.
     #[arg(long)]
@@ -65,14 +85,19 @@ pub fn repository_root() -> PathBuf {
 
 /// Runs `raylab handout`.
 pub fn run(args: &HandoutArgs) -> Result<(), Error> {
-    if args.out.exists()
-        && fs::read_dir(&args.out)
-            .map_err(io(&args.out))?
-            .next()
-            .is_some()
-    {
+    let out = match (&args.out, &args.update) {
+        (_, Some(dir)) => return release::update(args, dir),
+        (Some(out), None) => out,
+        (None, None) => {
+            return Err(Error::Invalid {
+                what: "raylab handout".into(),
+                reason: "expected --out DIR (a new handout) or --update DIR (a release)".into(),
+            });
+        }
+    };
+    if out.exists() && fs::read_dir(out).map_err(io(out))?.next().is_some() {
         return Err(Error::Invalid {
-            what: format!("--out {}", args.out.display()),
+            what: format!("--out {}", out.display()),
             reason: "expected a directory that does not exist yet, or an empty one".into(),
         });
     }
@@ -84,15 +109,20 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
         version_tag: None,
         framework_tag: None,
     };
-    build_tree(&root, &args.out, &options)?;
+    // The refusals that need no tree come before the repository is made.
+    check_releasable(&root, &options.released)?;
+    release::init_repository(out)?;
+    build_tree(&root, out, &options)?;
+    release::commit_handout(out, &options.released)?;
     let released = if options.released.is_empty() {
         "none".to_string()
     } else {
         format!("{:?}", options.released)
     };
     println!(
-        "handout written to {} (solutions released: {released})",
-        args.out.display()
+        "handout written to {} (solutions released: {released}): a git repository on branch main with one commit; publish it for students to clone, and release with `raylab handout --update {}`",
+        out.display(),
+        out.display()
     );
     Ok(())
 }
@@ -339,7 +369,16 @@ cargo run -p raylab -- hint 1.2       # the next step when you are stuck on Exer
 cargo run -p raylab -- watch --lab 1  # re-run lab 1's checks each time you save
 cargo run -p raylab -- render --lab 1 --pipeline student   # the image your code makes
 cargo run -p raylab -- report --lab 1 --pipeline student   # the figures of your report
+cargo run -p raylab -- reset 1.2      # put Exercise 1.2's stub back as it was handed out
 ```
+
+This folder is a git repository: commit your work as you go (`git add -A` then `git commit`).
+Your instructor releases solutions and fixes as new commits; `git pull --no-rebase` merges
+each release with your commits. A release never changes a file that is yours —
+`labs/labNN/src/` and `labs/labNN/answers.md` — so the pull merges without conflicts (commit
+before you pull). `cargo run -p raylab -- reset N.M` puts the function of Exercise N.M back as
+the handout had it (from the handout's own commits in your clone's history) and leaves your
+other functions as they are; `--dry-run` shows both versions and changes nothing.
 
 Each exercise is checked in the pipeline of `reference::pipeline`: the solutions released so
 far, and your own code for the labs whose solutions are not released — so lab 3's checks use

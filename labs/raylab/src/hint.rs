@@ -38,7 +38,7 @@ pub fn hint(id: &str) -> Result<String, Error> {
 }
 
 /// The exercise numbered `id` in the course.
-fn find(id: &str) -> Result<&'static ExerciseInfo, Error> {
+pub fn find(id: &str) -> Result<&'static ExerciseInfo, Error> {
     let lab = id
         .split_once('.')
         .and_then(|(lab, _)| lab.parse::<LabId>().ok());

@@ -2,6 +2,7 @@
 //! labs' golden data from the reference.
 
 mod bench;
+mod git;
 #[cfg(feature = "instructor")]
 mod golden;
 #[cfg(feature = "instructor")]
@@ -17,6 +18,7 @@ mod labs;
 mod new_lab;
 mod render;
 mod report;
+mod reset;
 mod status;
 mod watch;
 
@@ -44,12 +46,16 @@ enum Command {
     Hint(hint::HintArgs),
     /// Re-run a lab's checks whenever its sources change, and show the next exercise to do.
     Watch(watch::WatchArgs),
+    /// Put one exercise's function back as the handout had it (e.g. `raylab reset 1.2`),
+    /// leaving the rest of your code as it is.
+    Reset(reset::ResetArgs),
     /// Measure the ray-tracing core: rays per second and BVH build time (docs/performance.md).
     Bench(bench::BenchArgs),
     /// Regenerate the labs' golden cases and snapshot images from the reference solution.
     #[cfg(feature = "instructor")]
     Golden(golden::GoldenArgs),
-    /// Write the student tree: stubs, checks, golden data, and only the released solutions.
+    /// Write the student handout as a git repository (stubs, checks, golden data, the released
+    /// solutions), or release into it with `--update`: a commit students `git pull`.
     #[cfg(feature = "instructor")]
     Handout(handout::HandoutArgs),
     /// Grade submissions: each exercise built and run in isolation, reports and gradebooks.
@@ -96,6 +102,7 @@ fn main() -> ExitCode {
         Some(Command::Status(args)) => status::run(&args),
         Some(Command::Hint(args)) => hint::run(&args),
         Some(Command::Watch(args)) => watch::run(&args),
+        Some(Command::Reset(args)) => reset::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         #[cfg(feature = "instructor")]
         Some(Command::Golden(args)) => golden::run(&args),

@@ -172,6 +172,7 @@ fn help_texts_stay_the_same() {
         "status",
         "hint",
         "watch",
+        "reset",
         "bench",
         "golden",
         "handout",
@@ -511,4 +512,165 @@ fn a_closed_output_pipe_ends_the_command_quietly() {
         "{:?} {stderr}",
         out.status.signal()
     );
+}
+
+/// Runs git in `dir` with an identity of its own (the machine may have none) and returns its
+/// standard output.
+fn git(dir: &std::path::Path, args: &[&str]) -> String {
+    let out = Command::new("git")
+        .args([
+            "-c",
+            "user.name=Student",
+            "-c",
+            "user.email=student@example.org",
+            "-c",
+            "commit.gpgsign=false",
+        ])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("git runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "git {args:?}: {stderr}");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+fn a_release_is_a_commit_that_students_pull_without_conflicts() {
+    let dir = scratch("release");
+    let (handout, student) = (dir.join("handout"), dir.join("student"));
+    let (h, s) = (handout.to_str().unwrap(), student.to_str().unwrap());
+    let (ok, _, stderr) = raylab(&["handout", "--allow-dirty", "--out", h], &dir);
+    assert!(ok, "{stderr}");
+    let subjects = git(&handout, &["log", "--format=%s"]);
+    assert!(
+        subjects.starts_with("raylab handout: labs 1–") && subjects.lines().count() == 1,
+        "{subjects}"
+    );
+    assert_eq!(git(&handout, &["branch", "--show-current"]).trim(), "main");
+    assert!(!handout.join("reference/src/lab01.rs").exists());
+
+    // The student clones the handout and commits work on lab 1.
+    git(&dir, &["clone", "--quiet", h, s]);
+    let lab01 = student.join("labs/lab01/src/lib.rs");
+    let stubs = std::fs::read_to_string(&lab01).unwrap();
+    let todo_1_1 = "todo!(\"Exercise 1.1: image_plane_coords (docs/lab01.md, Exercise 1.1)\")";
+    let todo_1_2 = "todo!(\"Exercise 1.2: camera_basis (docs/lab01.md, Exercise 1.2)\")";
+    assert!(stubs.contains(todo_1_1) && stubs.contains(todo_1_2));
+    let work = stubs
+        .replace(todo_1_1, "Vec2::ZERO // my 1.1")
+        .replace(todo_1_2, "todo!(\"my 1.2, half done\")");
+    std::fs::write(&lab01, &work).unwrap();
+    std::fs::write(student.join("labs/lab01/answers.md"), "# My answers\n").unwrap();
+    git(
+        &student,
+        &["commit", "--quiet", "--all", "--message", "lab 1 so far"],
+    );
+    git(&student, &["add", "labs/lab01/answers.md"]);
+    git(&student, &["commit", "--quiet", "--message", "answers"]);
+
+    // Nothing changed in the course: no commit.
+    let (ok, stdout, stderr) = raylab(&["handout", "--allow-dirty", "--update", h], &dir);
+    assert!(
+        ok && stdout.contains("nothing to release"),
+        "{stdout}{stderr}"
+    );
+    assert_eq!(git(&handout, &["rev-list", "--count", "HEAD"]).trim(), "1");
+
+    // Releasing lab 1's solution is one commit, which the student's pull merges cleanly.
+    let release = [
+        "handout",
+        "--allow-dirty",
+        "--update",
+        h,
+        "--release-solutions",
+        "1",
+    ];
+    let (ok, stdout, stderr) = raylab(&release, &dir);
+    assert!(ok, "{stdout}{stderr}");
+    assert_eq!(
+        git(&handout, &["log", "-1", "--format=%s"]).trim(),
+        "release: solutions of lab 1"
+    );
+    git(&student, &["pull", "--quiet", "--no-rebase", "--no-edit"]);
+    assert!(student.join("reference/src/lab01.rs").is_file());
+    let readme = std::fs::read_to_string(student.join("README.md")).unwrap();
+    assert!(readme.contains("`reference/src/lab01.rs`"), "{readme}");
+    assert_eq!(std::fs::read_to_string(&lab01).unwrap(), work);
+    assert!(git(&student, &["status", "--porcelain"]).is_empty());
+
+    // `raylab reset 1.2` puts back 1.2's stub and keeps 1.1's work byte for byte.
+    let (ok, stdout, stderr) = raylab(&["reset", "1.2", "--handout", s], &dir);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("restored `camera_basis`"), "{stdout}");
+    assert_eq!(
+        std::fs::read_to_string(&lab01).unwrap(),
+        stubs.replace(todo_1_1, "Vec2::ZERO // my 1.1")
+    );
+    for (exercise, expected) in [
+        ("1.6", "not one function of labs/lab01/src/lib.rs"),
+        ("1.9", "'1.9'"),
+    ] {
+        let (ok, _, stderr) = raylab(&["reset", exercise, "--handout", s], &dir);
+        assert!(!ok && stderr.contains(expected), "{exercise}: {stderr}");
+    }
+
+    // A release that would change a file students own is refused, naming it; a dirty
+    // repository or a folder that is not a handout is refused too.
+    let lab02 = handout.join("labs/lab02/src/lib.rs");
+    let fixed = std::fs::read_to_string(&lab02).unwrap() + "\n// a stub as it was before\n";
+    std::fs::write(&lab02, &fixed).unwrap();
+    let (ok, _, stderr) = raylab(&release, &dir);
+    assert!(!ok && stderr.contains("uncommitted changes"), "{stderr}");
+    git(
+        &handout,
+        &["commit", "--quiet", "--all", "--message", "old stub"],
+    );
+    let (ok, _, stderr) = raylab(&release, &dir);
+    assert!(!ok, "{stderr}");
+    assert!(
+        stderr.contains("files that students own") && stderr.contains("labs/lab02/src/lib.rs"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(&lab02).unwrap(), fixed);
+    let plain = dir.join("plain");
+    std::fs::create_dir_all(&plain).unwrap();
+    let (ok, _, stderr) = raylab(
+        &[
+            "handout",
+            "--allow-dirty",
+            "--update",
+            plain.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(
+        !ok && stderr.contains("expected a handout repository"),
+        "{stderr}"
+    );
+    let forced = [&release[..], &["--force"]].concat();
+    let (ok, _, stderr) = raylab(&forced, &dir);
+    assert!(ok && stderr.contains("merge conflict"), "{stderr}");
+    let repository_stubs = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../lab02/src/lib.rs"),
+    )
+    .unwrap();
+    assert_eq!(std::fs::read_to_string(&lab02).unwrap(), repository_stubs);
+
+    // After pulling the forced release, `reset` restores the stub as released last.
+    git(&student, &["pull", "--quiet", "--no-rebase", "--no-edit"]);
+    let student_lab02 = student.join("labs/lab02/src/lib.rs");
+    let todo_2_1 = "todo!(\"Exercise 2.1: intersect_plane (docs/lab02.md, Exercise 2.1)\")";
+    std::fs::write(
+        &student_lab02,
+        repository_stubs.replace(todo_2_1, "None // mine"),
+    )
+    .unwrap();
+    let (ok, _, stderr) = raylab(&["reset", "2.1", "--handout", s], &dir);
+    assert!(ok, "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(&student_lab02).unwrap(),
+        repository_stubs
+    );
+    std::fs::remove_dir_all(dir).ok();
 }
