@@ -80,7 +80,10 @@ pub fn write_class(grades: &[StudentGrade], dir: &Path) -> Result<(), Error> {
     write(&dir.join("gradebook.csv"), &gradebook(grades))?;
     write(&dir.join("junit.xml"), &junit(grades))?;
     write(&dir.join("timings.csv"), &timings(grades))?;
-    write(&dir.join("index.html"), &index(grades))
+    write(
+        &dir.join("index.html"),
+        &index(grades, crate::similarity::link_for_class_page(dir)),
+    )
 }
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
@@ -272,7 +275,7 @@ pre.program{border-left:4px solid #c90}\
 width:320px;border:1px solid #ccc}footer{margin-top:2em;color:#666}";
 
 /// A page with `title`, the shared style, `body` and the grader's stamp at its foot.
-fn page(title: &str, body: Markup, script: Option<&str>) -> String {
+pub(crate) fn page(title: &str, body: Markup, script: Option<&str>) -> String {
     html! {
         (DOCTYPE)
         html lang="en" {
@@ -294,7 +297,7 @@ fn page(title: &str, body: Markup, script: Option<&str>) -> String {
 }
 
 /// A titled list, or nothing when `lines` is empty.
-fn section_list(title: Markup, lines: &[String]) -> Markup {
+pub(crate) fn section_list(title: Markup, lines: &[String]) -> Markup {
     html! {
         @if !lines.is_empty() {
             h2 { (title) }
@@ -553,12 +556,13 @@ fn mean_median(values: &mut [f64]) -> Markup {
 
 /// Sorts a table by the column whose header is clicked (numbers as numbers), each click
 /// reversing the order.
-const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.style.cursor='pointer';th.title='sort';th.onclick=()=>{const t=th.closest('table'),b=t.tBodies[0],rows=[...b.rows],up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';const key=r=>{const s=r.cells[i].dataset.v??r.cells[i].textContent;const n=parseFloat(s);return isNaN(n)?s:n};rows.sort((x,y)=>{const a=key(x),c=key(y);return (a<c?-1:a>c?1:0)*(up?1:-1)});rows.forEach(r=>b.appendChild(r))}});";
+pub(crate) const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.style.cursor='pointer';th.title='sort';th.onclick=()=>{const t=th.closest('table'),b=t.tBodies[0],rows=[...b.rows],up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';const key=r=>{const s=r.cells[i].dataset.v??r.cells[i].textContent;const n=parseFloat(s);return isNaN(n)?s:n};rows.sort((x,y)=>{const a=key(x),c=key(y);return (a<c?-1:a>c?1:0)*(up?1:-1)});rows.forEach(r=>b.appendChild(r))}});";
 
 /// The class page: each student's points per lab and total, linking to their report; per lab
 /// and per exercise the mean and median points and how many passed; the tables sort by any
-/// column.
-fn index(grades: &[StudentGrade]) -> String {
+/// column; and `similarity`, the section on similar submissions when `raylab similarity` wrote
+/// into the same directory.
+fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
     let labs: Vec<(LabId, Vec<&ExerciseGrade>)> = grades.first().map(by_lab).unwrap_or_default();
     let body = html! {
         h1 { "Grades" }
@@ -626,6 +630,7 @@ fn index(grades: &[StudentGrade]) -> String {
                 }
             }
         }
+        @if let Some(similarity) = similarity { (similarity) }
         p { "Also: gradebook.csv, junit.xml, and each student's results.json (Gradescope)." }
     };
     page("Grades", body, Some(SORT_SCRIPT))
@@ -770,7 +775,7 @@ mod tests {
         let page = html(&passed);
         let (links, _) = anchors(&page);
         assert!(links.is_empty(), "{links:?}");
-        let class = index(&[failed, passed]);
+        let class = index(&[failed, passed], None);
         assert!(class.contains("&lt;b&gt;&amp;/report.html"), "{class}");
         assert!(class.contains("class=\"sortable\""), "{class}");
         assert!(
