@@ -785,6 +785,33 @@ mod tests {
     }
 
     #[test]
+    fn the_class_page_has_the_similar_pairs_when_similarity_wrote_them() {
+        let dir = std::env::temp_dir().join(format!("raylab-index-similar-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let grades = [
+            grade_of("ann", Status::Passed),
+            grade_of("ben", Status::Wrong),
+        ];
+        write_class(&grades, &dir).unwrap();
+        let class = fs::read_to_string(dir.join("index.html")).unwrap();
+        assert!(!class.contains("similarity.html"), "{class}");
+        fs::write(
+            dir.join(crate::similarity::CSV),
+            "lab,student_a,student_b,similarity,longest_fragment,fragment_a,fragment_b\n\
+             lab01,ann,ben,0.912,40,labs/lab01/src/lib.rs:1–9,labs/lab01/src/lib.rs:3–11\n",
+        )
+        .unwrap();
+        write_class(&grades, &dir).unwrap();
+        let class = fs::read_to_string(dir.join("index.html")).unwrap();
+        assert!(
+            class.contains("href=\"similarity.html\"")
+                && class.contains("<td>ann</td><td>ben</td><td>0.912</td>"),
+            "{class}"
+        );
+        fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
     fn redactions_replace_the_longest_path_first() {
         let mut r = Redactions::default();
         r.add(Path::new("/srv/course"), "<course>");
