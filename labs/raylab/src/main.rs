@@ -19,6 +19,8 @@ mod new_lab;
 mod render;
 mod report;
 mod reset;
+#[cfg(feature = "instructor")]
+mod similarity;
 mod status;
 mod watch;
 
@@ -68,6 +70,10 @@ enum Command {
     /// in labs/course.toml.
     #[cfg(feature = "instructor")]
     NewLab(new_lab::NewLabArgs),
+    /// Find submissions whose code of a lab is alike (Dolos, with the stubs left out): a page and
+    /// a CSV of the similar pairs, linked from the class page of `grade`.
+    #[cfg(feature = "instructor")]
+    Similarity(similarity::SimilarityArgs),
 }
 
 /// The status of a command whose output pipe was closed: killed by SIGPIPE, as a Unix tool is.
@@ -114,6 +120,8 @@ fn main() -> ExitCode {
         Some(Command::Gradescope(args)) => gradescope::run(&args),
         #[cfg(feature = "instructor")]
         Some(Command::NewLab(args)) => new_lab::run(&args),
+        #[cfg(feature = "instructor")]
+        Some(Command::Similarity(args)) => similarity::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -178,6 +178,7 @@ fn help_texts_stay_the_same() {
         "handout",
         "grade",
         "gradescope",
+        "similarity",
     ] {
         let (ok, stdout, stderr) = raylab(&[command, "--help"], &dir);
         assert!(ok, "{command} --help: {stderr}");

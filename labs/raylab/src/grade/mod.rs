@@ -17,11 +17,11 @@
 
 mod answers;
 mod feedback;
-mod reports;
+pub(crate) mod reports;
 mod runner;
 mod sandbox;
 mod scan;
-mod submission;
+pub(crate) mod submission;
 mod tree;
 
 use course::LabId;
@@ -490,7 +490,7 @@ fn fnv1a(text: &str) -> u32 {
 }
 
 /// The labs to grade: `requested`, or every lab; each must be a lab of the course.
-fn graded_labs(requested: &[LabId]) -> Result<Vec<LabId>, Error> {
+pub(crate) fn graded_labs(requested: &[LabId]) -> Result<Vec<LabId>, Error> {
     if requested.is_empty() {
         return Ok(crate::labs::labs().to_vec());
     }
@@ -505,7 +505,7 @@ fn graded_labs(requested: &[LabId]) -> Result<Vec<LabId>, Error> {
 
 /// The name of each submission (its directory's name); each must be a directory, and the
 /// names must differ.
-fn student_names(submissions: &[PathBuf]) -> Result<Vec<String>, Error> {
+pub(crate) fn student_names(submissions: &[PathBuf]) -> Result<Vec<String>, Error> {
     let mut names = Vec::new();
     for path in submissions {
         if !path.is_dir() {

@@ -88,7 +88,10 @@ pub fn write_class(grades: &[StudentGrade], dir: &Path) -> Result<(), Error> {
     write(&dir.join("gradebook.csv"), &gradebook(grades))?;
     write(&dir.join("junit.xml"), &junit(grades))?;
     write(&dir.join("timings.csv"), &timings(grades))?;
-    write(&dir.join("index.html"), &index(grades))
+    write(
+        &dir.join("index.html"),
+        &index(grades, crate::similarity::link_for_class_page(dir)),
+    )
 }
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
@@ -284,7 +287,7 @@ width:320px;border:1px solid #ccc}footer{margin-top:2em;color:#666}\
 pre.answer{background:#f4f8ff;border-left:4px solid #36c}";
 
 /// A page with `title`, the shared style, `body` and the grader's stamp at its foot.
-fn page(title: &str, body: Markup, script: Option<&str>) -> String {
+pub(crate) fn page(title: &str, body: Markup, script: Option<&str>) -> String {
     html! {
         (DOCTYPE)
         html lang="en" {
@@ -306,7 +309,7 @@ fn page(title: &str, body: Markup, script: Option<&str>) -> String {
 }
 
 /// A titled list, or nothing when `lines` is empty.
-fn section_list(title: Markup, lines: &[String]) -> Markup {
+pub(crate) fn section_list(title: Markup, lines: &[String]) -> Markup {
     html! {
         @if !lines.is_empty() {
             h2 { (title) }
@@ -580,12 +583,13 @@ fn mean_median(values: &mut [f64]) -> Markup {
 
 /// Sorts a table by the column whose header is clicked (numbers as numbers), each click
 /// reversing the order.
-const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.style.cursor='pointer';th.title='sort';th.onclick=()=>{const t=th.closest('table'),b=t.tBodies[0],rows=[...b.rows],up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';const key=r=>{const s=r.cells[i].dataset.v??r.cells[i].textContent;const n=parseFloat(s);return isNaN(n)?s:n};rows.sort((x,y)=>{const a=key(x),c=key(y);return (a<c?-1:a>c?1:0)*(up?1:-1)});rows.forEach(r=>b.appendChild(r))}});";
+pub(crate) const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.style.cursor='pointer';th.title='sort';th.onclick=()=>{const t=th.closest('table'),b=t.tBodies[0],rows=[...b.rows],up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';const key=r=>{const s=r.cells[i].dataset.v??r.cells[i].textContent;const n=parseFloat(s);return isNaN(n)?s:n};rows.sort((x,y)=>{const a=key(x),c=key(y);return (a<c?-1:a>c?1:0)*(up?1:-1)});rows.forEach(r=>b.appendChild(r))}});";
 
 /// The class page: each student's points per lab and total, linking to their report; per lab
 /// and per exercise the mean and median points and how many passed; the tables sort by any
-/// column.
-fn index(grades: &[StudentGrade]) -> String {
+/// column; and `similarity`, the section on similar submissions when `raylab similarity` wrote
+/// into the same directory.
+fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
     let labs: Vec<(LabId, Vec<&ExerciseGrade>)> = grades.first().map(by_lab).unwrap_or_default();
     let body = html! {
         h1 { "Grades" }
@@ -654,6 +658,7 @@ fn index(grades: &[StudentGrade]) -> String {
             }
         }
         (super::answers::class_table(grades))
+        @if let Some(similarity) = similarity { (similarity) }
         p { "Also: gradebook.csv, junit.xml, each student's results.json (Gradescope), and in "
             code { "pages/" } " each student's report as one file with its images inlined." }
     };
@@ -801,13 +806,40 @@ mod tests {
         let page = html(&passed);
         let (links, _) = anchors(&page);
         assert!(links.is_empty(), "{links:?}");
-        let class = index(&[failed, passed]);
+        let class = index(&[failed, passed], None);
         assert!(class.contains("&lt;b&gt;&amp;/report.html"), "{class}");
         assert!(class.contains("class=\"sortable\""), "{class}");
         assert!(
             class.contains("raylab ") && class.contains(" UTC"),
             "{class}"
         );
+    }
+
+    #[test]
+    fn the_class_page_has_the_similar_pairs_when_similarity_wrote_them() {
+        let dir = std::env::temp_dir().join(format!("raylab-index-similar-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let grades = [
+            grade_of("ann", Status::Passed),
+            grade_of("ben", Status::Wrong),
+        ];
+        write_class(&grades, &dir).unwrap();
+        let class = fs::read_to_string(dir.join("index.html")).unwrap();
+        assert!(!class.contains("similarity.html"), "{class}");
+        fs::write(
+            dir.join(crate::similarity::CSV),
+            "lab,student_a,student_b,similarity,longest_fragment,fragment_a,fragment_b\n\
+             lab01,ann,ben,0.912,40,labs/lab01/src/lib.rs:1–9,labs/lab01/src/lib.rs:3–11\n",
+        )
+        .unwrap();
+        write_class(&grades, &dir).unwrap();
+        let class = fs::read_to_string(dir.join("index.html")).unwrap();
+        assert!(
+            class.contains("href=\"similarity.html\"")
+                && class.contains("<td>ann</td><td>ben</td><td>0.912</td>"),
+            "{class}"
+        );
+        fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

@@ -396,6 +396,34 @@ pub fn install_lab_code(
     Ok(intake)
 }
 
+/// A lab's files as read from a submission by [`lab_sources`].
+pub struct LabSources {
+    /// The files, by path relative to `src/`; `None` when the submission has no real
+    /// `labs/labNN/src/` directory.
+    pub files: Option<Vec<(PathBuf, Vec<u8>)>>,
+    /// One line per entry that was not read, and why.
+    pub rejected: Vec<String>,
+}
+
+/// The files of lab `lab`'s `labs/labNN/src/` in `submission`, read as [`install_lab_code`]
+/// reads them: regular files only, within the same limits.
+pub fn lab_sources(submission: &Path, lab: LabId) -> LabSources {
+    let src = lab_src(lab);
+    match real_dir(submission, &src) {
+        Ok(dir) => {
+            let taken = Taken::from(&dir, &src);
+            LabSources {
+                files: Some(taken.files),
+                rejected: taken.rejected,
+            }
+        }
+        Err(rejected) => LabSources {
+            files: None,
+            rejected: rejected.into_iter().collect(),
+        },
+    }
+}
+
 /// Replaces the directory `dir` by one holding `files` (paths relative to it), each a plain
 /// regular file of mode 0644.
 fn write_files(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> Result<(), Error> {
