@@ -496,15 +496,17 @@ fn a_closed_output_pipe_ends_the_command_quietly() {
     // The reader of the pipe is gone before the command writes (`raylab hint 1.3 | head -0`).
     use std::os::unix::process::ExitStatusExt;
     use std::process::Stdio;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+    // The pipe's reading end is closed before the command starts, so that its first write
+    // fails whatever the timing.
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
         .args(["hint", "1.3"])
         .current_dir(scratch("closed-pipe"))
-        .stdout(Stdio::piped())
+        .stdout(writer)
         .stderr(Stdio::piped())
-        .spawn()
+        .output()
         .expect("raylab runs");
-    drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(
