@@ -564,13 +564,16 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
         .replace(todo_1_1, "Vec2::ZERO // my 1.1")
         .replace(todo_1_2, "todo!(\"my 1.2, half done\")");
     std::fs::write(&lab01, &work).unwrap();
-    std::fs::write(student.join("labs/lab01/answers.md"), "# My answers\n").unwrap();
+    // The handout's answers file, with a first answer.
+    let answers = student.join("labs/lab01/answers.md");
+    let fresh = std::fs::read_to_string(&answers).expect("the handout has lab 1's answers file");
+    let mine = fresh.replacen("<!-- Your answer here. -->", "It grows with the pixels.", 1);
+    assert_ne!(mine, fresh);
+    std::fs::write(&answers, &mine).unwrap();
     git(
         &student,
         &["commit", "--quiet", "--all", "--message", "lab 1 so far"],
     );
-    git(&student, &["add", "labs/lab01/answers.md"]);
-    git(&student, &["commit", "--quiet", "--message", "answers"]);
 
     // Nothing changed in the course: no commit.
     let (ok, stdout, stderr) = raylab(&["handout", "--allow-dirty", "--update", h], &dir);
@@ -597,6 +600,7 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     );
     git(&student, &["pull", "--quiet", "--no-rebase", "--no-edit"]);
     assert!(student.join("reference/src/lab01.rs").is_file());
+    assert_eq!(std::fs::read_to_string(&answers).unwrap(), mine, "the answers survive");
     let readme = std::fs::read_to_string(student.join("README.md")).unwrap();
     assert!(readme.contains("`reference/src/lab01.rs`"), "{readme}");
     assert_eq!(std::fs::read_to_string(&lab01).unwrap(), work);
