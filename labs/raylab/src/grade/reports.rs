@@ -1189,6 +1189,24 @@ mod tests {
             insta::assert_snapshot!(format!("results-{k}.json"), unstamped(&results));
             insta::assert_snapshot!(format!("report-{k}.md"), unstamped(&markdown(grade)));
         }
+        // The pages show the same lateness and points graded by hand, escaped.
+        let page = html(&class[0]);
+        assert!(page.contains("<strong>17.5/29 points</strong>"), "{page}");
+        assert!(
+            page.contains(
+                "1 day 12 h late (2 started days); late penalty 20% of the lab's points: −3 points."
+            ),
+            "{page}"
+        );
+        assert!(page.contains("<h3>Graded by hand</h3>"), "{page}");
+        assert!(page.contains("right idea | no units &lt;b&gt;"), "{page}");
+        let class_page = index(&class);
+        assert!(class_page.contains("<th>lateness</th>"), "{class_page}");
+        assert!(
+            class_page.contains("unknown (no submission time): no penalty"),
+            "{class_page}"
+        );
+        assert!(class_page.contains("3.5/15"), "{class_page}");
         let ungraded = ungraded_results("labs/ holds no lab's sources");
         insta::assert_snapshot!("results-ungraded.json", unstamped(&ungraded));
     }
