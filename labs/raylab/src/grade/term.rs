@@ -234,6 +234,9 @@ pub struct CourseTerms {
     pub extensions: Vec<Extension>,
     /// Students' Canvas identities, by submission folder name.
     pub students: BTreeMap<String, CanvasStudent>,
+    /// The roster CSV the file names (`roster = "FILE"`, relative to the course file), with
+    /// the line of the file that names it; [`CourseTerms::load`] reads it into `students`.
+    pub roster: Option<(String, usize)>,
 }
 
 #[derive(Deserialize)]
@@ -247,6 +250,8 @@ struct RawCourse {
     extensions: Vec<RawExtension>,
     #[serde(default)]
     students: BTreeMap<String, CanvasStudent>,
+    #[serde(default)]
+    roster: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize, Default, Clone)]
@@ -314,7 +319,28 @@ impl CourseTerms {
     /// `students` (when given) and lab among the file's.
     pub fn load(path: &Path, students: Option<&[String]>) -> Result<Self, Error> {
         let text = read_text(path)?;
-        Self::parse(path, &text, students)
+        let mut terms = Self::parse(path, &text, students)?;
+        if let Some((roster, line)) = &terms.roster {
+            let file = path.parent().unwrap_or(Path::new("")).join(roster);
+            let text = read_text(&file).map_err(|e| Error::Parse {
+                path: path.to_path_buf(),
+                line: *line,
+                reason: format!("roster = {roster:?}: {e}"),
+            })?;
+            for (student, who) in parse_roster(&file, &text)? {
+                if terms.students.contains_key(&student) {
+                    return Err(Error::Parse {
+                        path: path.to_path_buf(),
+                        line: *line,
+                        reason: format!(
+                            "student {student:?} is both in [students] and in the roster {roster:?}"
+                        ),
+                    });
+                }
+                terms.students.insert(student, who);
+            }
+        }
+        Ok(terms)
     }
 
     /// [`CourseTerms::load`] of `text`, named `path` in errors.
@@ -425,6 +451,9 @@ impl CourseTerms {
             labs,
             extensions,
             students: raw.students,
+            roster: raw
+                .roster
+                .map(|r| (r.get_ref().clone(), line_of(text, r.span().start))),
         })
     }
 
@@ -443,6 +472,65 @@ impl CourseTerms {
     pub fn policy(&self, lab: LabId) -> LatePolicy {
         self.labs.get(&lab).map(|t| t.policy).unwrap_or_default()
     }
+}
+
+/// The students of a roster CSV (columns `student,name,canvas_id,sis_user_id,sis_login_id,section`;
+/// `student` is the submission folder's name, the others may be empty), by student.
+pub fn parse_roster(path: &Path, text: &str) -> Result<BTreeMap<String, CanvasStudent>, Error> {
+    const HEADER: [&str; 6] = [
+        "student",
+        "name",
+        "canvas_id",
+        "sis_user_id",
+        "sis_login_id",
+        "section",
+    ];
+    let fail = |line: u64, reason: String| Error::Parse {
+        path: path.to_path_buf(),
+        line: line as usize,
+        reason,
+    };
+    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
+    let header = reader
+        .headers()
+        .map_err(|e| fail(1, e.to_string()))?
+        .clone();
+    if header.iter().map(str::trim).collect::<Vec<_>>() != HEADER {
+        return Err(fail(
+            1,
+            format!(
+                "expected the header {}, found {}",
+                HEADER.join(","),
+                header.iter().collect::<Vec<_>>().join(",")
+            ),
+        ));
+    }
+    let mut students = BTreeMap::new();
+    for record in reader.records() {
+        let record =
+            record.map_err(|e| fail(e.position().map_or(0, |p| p.line()), e.to_string()))?;
+        let line = record.position().map_or(0, |p| p.line());
+        let field = |k: usize| {
+            Some(record.get(k).unwrap_or_default().trim().to_string()).filter(|f| !f.is_empty())
+        };
+        let Some(student) = field(0) else {
+            return Err(fail(
+                line,
+                "the student (submission folder name) is empty".into(),
+            ));
+        };
+        let who = CanvasStudent {
+            name: field(1),
+            canvas_id: field(2),
+            sis_user_id: field(3),
+            sis_login_id: field(4),
+            section: field(5),
+        };
+        if students.insert(student.clone(), who).is_some() {
+            return Err(fail(line, format!("a second row for student {student:?}")));
+        }
+    }
+    Ok(students)
 }
 
 /// A lab of the course, from a course file's key or value ("1", "01", "lab01").
@@ -596,8 +684,6 @@ pub struct GradescopeSubmission {
     pub due: Option<Time>,
     /// Whether `due` is the submitter's own.
     pub extended: bool,
-    /// The assignment's `late_due_date`, if set.
-    pub late_due: Option<Time>,
 }
 
 impl GradescopeSubmission {
@@ -631,10 +717,6 @@ impl GradescopeSubmission {
         let submitted = time(&json["created_at"], "created_at")?
             .ok_or_else(|| fail("created_at: missing (the submission's time)".into()))?;
         let assignment_due = time(&json["assignment"]["due_date"], "assignment.due_date")?;
-        let late_due = time(
-            &json["assignment"]["late_due_date"],
-            "assignment.late_due_date",
-        )?;
         // A group's submission: the latest of its members' own due dates.
         let mut own: Option<Time> = None;
         if let Some(users) = json["users"].as_array() {
@@ -651,7 +733,6 @@ impl GradescopeSubmission {
             submitted,
             due: own.or(assignment_due),
             extended,
-            late_due,
         })
     }
 }
@@ -993,6 +1074,46 @@ sis_login_id = "ada@uni.example"
         assert_eq!(terms.extensions.len(), 2);
     }
 
+    #[test]
+    fn a_roster_names_students_for_canvas() {
+        let dir = std::env::temp_dir().join(format!("raylab-roster-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("course.toml"),
+            "roster = \"roster.csv\"\n[students.ada]\ncanvas_id = \"1001\"\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("roster.csv"),
+            "student,name,canvas_id,sis_user_id,sis_login_id,section\ngrace,\"Hopper, Grace\",1002,,gh@uni.example,B\n",
+        )
+        .unwrap();
+        let terms = CourseTerms::load(&dir.join("course.toml"), None).unwrap();
+        assert_eq!(
+            terms.students["grace"].name.as_deref(),
+            Some("Hopper, Grace")
+        );
+        assert_eq!(terms.students["grace"].sis_user_id, None);
+        assert_eq!(terms.students["ada"].canvas_id.as_deref(), Some("1001"));
+        std::fs::write(
+            dir.join("roster.csv"),
+            "student,name,canvas_id,sis_user_id,sis_login_id,section\nada,Ada,1001,,,\n",
+        )
+        .unwrap();
+        let e = CourseTerms::load(&dir.join("course.toml"), None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.ends_with("course.toml:1: student \"ada\" is both in [students] and in the roster \"roster.csv\""), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+        let e = parse_roster(
+            Path::new("r.csv"),
+            "student,name,canvas_id,sis_user_id,sis_login_id,section\na,,,,,\na,,,,,\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(e, "r.csv:3: a second row for student \"a\"");
+    }
+
     /// The error of `text` as a course file.
     fn error(text: &str) -> String {
         CourseTerms::parse(Path::new("course.toml"), text, Some(&students()))
@@ -1053,7 +1174,6 @@ sis_login_id = "ada@uni.example"
         let g = GradescopeSubmission::parse(path, plain).unwrap();
         assert_eq!(g.due, Some(time("2026-10-05T23:59:00+02:00")));
         assert!(!g.extended);
-        assert_eq!(g.late_due, None);
         let late = deadlines("ada", &[LabId::of(1)], None, None, Some(&g));
         // Late, but with no course file no penalty.
         assert_eq!(late[0].lateness.fraction(), 0.0);
