@@ -1114,6 +1114,54 @@ sis_login_id = "ada@uni.example"
         assert_eq!(e, "r.csv:3: a second row for student \"a\"");
     }
 
+    #[test]
+    fn a_submission_repository_gives_its_last_commit_time() {
+        let dir = std::env::temp_dir().join(format!("raylab-commit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(commit_time(&dir), None, "not a repository");
+        let git = |args: &[&str]| {
+            let status = std::process::Command::new("git")
+                .args([
+                    "-c",
+                    "user.name=t",
+                    "-c",
+                    "user.email=t@t",
+                    "-c",
+                    "commit.gpgsign=false",
+                ])
+                .args(args)
+                .current_dir(&dir)
+                .env("GIT_COMMITTER_DATE", "2026-10-07T11:59:00+02:00")
+                .status()
+                .unwrap();
+            assert!(status.success());
+        };
+        git(&["init", "-q"]);
+        std::fs::write(dir.join("a.txt"), "a").unwrap();
+        git(&["add", "a.txt"]);
+        git(&["commit", "-qm", "work"]);
+        assert_eq!(commit_time(&dir), Some(time("2026-10-07T11:59:00+02:00")));
+        let times =
+            SubmissionTimes::new(&["ada=2026-10-05T10:00:00Z".into()], None, &students()).unwrap();
+        assert_eq!(
+            times.of("ada", &dir),
+            Some((time("2026-10-05T10:00:00Z"), "given".into()))
+        );
+        assert_eq!(
+            times.of("grace", &dir),
+            Some((time("2026-10-07T11:59:00+02:00"), "git commit".into()))
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+        let e = SubmissionTimes::new(&["zed=2026-10-05T10:00:00Z".into()], None, &students())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.starts_with("invalid --submitted-at zed=2026-10-05T10:00:00Z: student \"zed\""),
+            "{e}"
+        );
+    }
+
     /// The error of `text` as a course file.
     fn error(text: &str) -> String {
         CourseTerms::parse(Path::new("course.toml"), text, Some(&students()))
