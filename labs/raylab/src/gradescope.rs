@@ -44,7 +44,15 @@ pub struct GradescopeArgs {
     /// Write the bundle even though files of the repository differ from the last commit.
     #[arg(long)]
     pub allow_dirty: bool,
+    /// The course file of `raylab grade --course` (checked, and copied into the bundle): its
+    /// late penalty, grace period and cap apply to the due date Gradescope gives each
+    /// submission, extensions included.
+    #[arg(long, value_name = "FILE")]
+    pub course: Option<PathBuf>,
 }
+
+/// The course file's name in the bundle.
+const COURSE_FILE: &str = "course-term.toml";
 
 /// Where the autograder's files live in Gradescope's container; `run_autograder` takes
 /// another root from `$AUTOGRADER` (a test's stand-in directory).
@@ -69,6 +77,9 @@ pub fn run(args: &GradescopeArgs) -> Result<(), Error> {
     }
     for &lab in &args.labs {
         crate::labs::check_lab(lab)?;
+    }
+    if let Some(course) = &args.course {
+        crate::grade::term::CourseTerms::load(course, None)?;
     }
     write_bundle(args, &repository_root(), &args.out)?;
     println!(
@@ -100,6 +111,9 @@ fn write_bundle(args: &GradescopeArgs, root: &Path, out: &Path) -> Result<(), Er
     // The repository's README is the course's; the bundle's says what the bundle is.
     let readme = out.join("README.md");
     fs::write(&readme, bundle_readme(args)).map_err(io(&readme))?;
+    if let Some(course) = &args.course {
+        copy_file(course, &out.join(COURSE_FILE))?;
+    }
     script(&out.join("setup.sh"), &setup_script(args, &toolchain()?))?;
     script(&out.join("run_autograder"), &run_script(args))
 }
@@ -245,6 +259,9 @@ fn grade_options(args: &GradescopeArgs) -> String {
             .collect();
         options.push_str(&format!(" --release-solutions {}", labs.join(",")));
     }
+    if args.course.is_some() {
+        options.push_str(&format!(" --course \"$source/{COURSE_FILE}\""));
+    }
     options
 }
 
@@ -322,8 +339,13 @@ if [ ! -x "$raylab" ]; then
         > "$results/results.json"
     exit 0
 fi
+# Gradescope's metadata of the submission: its time and due date (the student's extension's).
+metadata=()
+if [ -f "$AUTOGRADER/submission_metadata.json" ]; then
+    metadata=(--gradescope-metadata "$AUTOGRADER/submission_metadata.json")
+fi
 "$raylab" grade "$submission" --out "$grading" --target-dir "$target" \
-    --results-json "$results/results.json" {options} $isolation
+    --results-json "$results/results.json" {options} "${{metadata[@]}}" $isolation
 status=$?
 echo "raylab grade ended with status $status"
 exit 0
@@ -343,6 +365,7 @@ mod tests {
             release_solutions: released.into_iter().map(LabId::of).collect(),
             timeout: 30,
             allow_dirty: false,
+            course: None,
         }
     }
 
@@ -370,11 +393,28 @@ mod tests {
         );
         let run = run_script(&args);
         assert!(
-            run.contains("--timeout 30 --lab 3 --lab 4 --release-solutions 1,2 $isolation"),
+            run.contains(
+                "--timeout 30 --lab 3 --lab 4 --release-solutions 1,2 \"${metadata[@]}\" $isolation"
+            ),
             "{run}"
         );
         assert!(
             run.contains("--results-json \"$results/results.json\""),
+            "{run}"
+        );
+        assert!(
+            run.contains(
+                "metadata=(--gradescope-metadata \"$AUTOGRADER/submission_metadata.json\")"
+            ),
+            "{run}"
+        );
+        let with_course = GradescopeArgs {
+            course: Some(PathBuf::from("term.toml")),
+            ..args
+        };
+        assert!(
+            run_script(&with_course)
+                .contains("--release-solutions 1,2 --course \"$source/course-term.toml\""),
             "{run}"
         );
     }

@@ -600,7 +600,11 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     );
     git(&student, &["pull", "--quiet", "--no-rebase", "--no-edit"]);
     assert!(student.join("reference/src/lab01.rs").is_file());
-    assert_eq!(std::fs::read_to_string(&answers).unwrap(), mine, "the answers survive");
+    assert_eq!(
+        std::fs::read_to_string(&answers).unwrap(),
+        mine,
+        "the answers survive"
+    );
     let readme = std::fs::read_to_string(student.join("README.md")).unwrap();
     assert!(readme.contains("`reference/src/lab01.rs`"), "{readme}");
     assert_eq!(std::fs::read_to_string(&lab01).unwrap(), work);

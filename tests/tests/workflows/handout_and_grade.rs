@@ -374,7 +374,7 @@ fn handout_then_grade_four_submissions() {
     let score: f64 = tests.iter().map(|t| t["score"].as_f64().unwrap()).sum();
     assert_eq!(results["score"].as_f64(), Some(score));
     let hidden = tests.iter().find(|t| t["number"] == "1.6").unwrap();
-    assert_eq!(hidden["visibility"], "after_published");
+    assert_eq!(hidden["visibility"], "after_due_date");
     assert!(
         tests
             .iter()

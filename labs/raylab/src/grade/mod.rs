@@ -22,6 +22,7 @@ mod runner;
 mod sandbox;
 mod scan;
 pub(crate) mod submission;
+pub mod term;
 mod tree;
 
 use course::LabId;
@@ -86,6 +87,25 @@ pub struct GradeArgs {
     /// `run_autograder`, written by `raylab gradescope`).
     #[arg(long, value_name = "FILE")]
     pub results_json: Option<PathBuf>,
+    /// The course file (TOML): each lab's due date, late penalty, grace period and cap, the
+    /// students' extensions and Canvas identities (docs/instructors.md, "Deadlines").
+    #[arg(long, value_name = "FILE")]
+    pub course: Option<PathBuf>,
+    /// When a student submitted (repeatable): `STUDENT=2026-10-05T23:59:00+02:00`. Otherwise
+    /// the time of the submission's last git commit, if it is a git repository.
+    #[arg(long, value_name = "STUDENT=TIME")]
+    pub submitted_at: Vec<String>,
+    /// The students' submission times as CSV, columns `student,submitted_at`.
+    #[arg(long, value_name = "FILE")]
+    pub submission_times: Option<PathBuf>,
+    /// Gradescope's submission metadata (`/autograder/submission_metadata.json`): the
+    /// submission's time and due date, extensions included (`raylab gradescope` passes it).
+    #[arg(long, value_name = "FILE")]
+    pub gradescope_metadata: Option<PathBuf>,
+    /// Points graded by hand, CSV with columns `student,lab,question,points,max_points,comment`,
+    /// added to the lab's points, the reports and the gradebooks.
+    #[arg(long, value_name = "FILE")]
+    pub manual_points: Option<PathBuf>,
 }
 
 /// What became of one exercise in grading.
@@ -179,6 +199,10 @@ pub struct StudentGrade {
     pub timings: Timings,
     /// The written answers of the graded labs that have an answers file.
     pub answers: Vec<answers::LabAnswers>,
+    /// The due date and lateness of each graded lab that has a due date.
+    pub deadlines: Vec<term::LabDeadline>,
+    /// Points graded by hand, per lab and question.
+    pub manual: Vec<term::ManualPoints>,
 }
 
 /// Wall-clock seconds the grading of one submission spent, by kind of work.
@@ -202,14 +226,74 @@ impl Timings {
 }
 
 impl StudentGrade {
-    /// Points earned.
-    pub fn score(&self) -> u32 {
-        self.exercises.iter().map(|e| e.score).sum()
+    /// Points earned: every lab's, after its late penalty.
+    pub fn score(&self) -> f64 {
+        term::round_points(self.labs().iter().map(|&lab| self.lab_score(lab)).sum())
     }
 
-    /// Points available.
-    pub fn max_score(&self) -> u32 {
-        self.exercises.iter().map(|e| e.info.points).sum()
+    /// Points available: the exercises' and the questions graded by hand.
+    pub fn max_score(&self) -> f64 {
+        self.labs().iter().map(|&lab| self.lab_max(lab)).sum()
+    }
+
+    /// The graded labs, in order.
+    pub fn labs(&self) -> Vec<LabId> {
+        let mut labs: Vec<LabId> = self.exercises.iter().map(|e| e.info.lab).collect();
+        labs.extend(self.manual.iter().map(|m| m.lab));
+        labs.sort_unstable();
+        labs.dedup();
+        labs
+    }
+
+    /// Points earned in `lab` before its late penalty: its exercises' and its questions'.
+    pub fn lab_earned(&self, lab: LabId) -> f64 {
+        let exercises: u32 = self
+            .exercises
+            .iter()
+            .filter(|e| e.info.lab == lab)
+            .map(|e| e.score)
+            .sum();
+        let manual: f64 = self
+            .manual
+            .iter()
+            .filter(|m| m.lab == lab)
+            .map(|m| m.points)
+            .sum();
+        f64::from(exercises) + manual
+    }
+
+    /// Points available in `lab`.
+    pub fn lab_max(&self, lab: LabId) -> f64 {
+        let exercises: u32 = self
+            .exercises
+            .iter()
+            .filter(|e| e.info.lab == lab)
+            .map(|e| e.info.points)
+            .sum();
+        let manual: f64 = self
+            .manual
+            .iter()
+            .filter(|m| m.lab == lab)
+            .map(|m| m.max_points)
+            .sum();
+        f64::from(exercises) + manual
+    }
+
+    /// `lab`'s due date and lateness, if it has a due date.
+    pub fn deadline(&self, lab: LabId) -> Option<&term::LabDeadline> {
+        self.deadlines.iter().find(|d| d.lab == lab)
+    }
+
+    /// Points `lab` loses for lateness: its penalty's fraction of the lab's points, at most
+    /// what it earned.
+    pub fn lab_penalty(&self, lab: LabId) -> f64 {
+        let fraction = self.deadline(lab).map_or(0.0, |d| d.lateness.fraction());
+        term::round_points((fraction * self.lab_max(lab)).min(self.lab_earned(lab)))
+    }
+
+    /// Points earned in `lab` after its late penalty.
+    pub fn lab_score(&self, lab: LabId) -> f64 {
+        term::round_points(self.lab_earned(lab) - self.lab_penalty(lab))
     }
 
     /// The grade of a submission that could not be graded: every exercise of `labs` failed,
@@ -231,6 +315,8 @@ impl StudentGrade {
             sandbox: String::new(),
             timings: Timings::default(),
             answers: Vec::new(),
+            deadlines: Vec::new(),
+            manual: Vec::new(),
         }
     }
 }
@@ -298,6 +384,43 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
 fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     let labs = graded_labs(&args.labs)?;
     let students = student_names(&args.submissions)?;
+    // The course's terms are read and checked before anything is built.
+    let terms = args
+        .course
+        .as_deref()
+        // On Gradescope (one submission, `--results-json`) extensions are Gradescope's: the
+        // file's students are not the submission's folder.
+        .map(|path| {
+            term::CourseTerms::load(path, args.results_json.is_none().then_some(&students[..]))
+        })
+        .transpose()?;
+    let times = term::SubmissionTimes::new(
+        &args.submitted_at,
+        args.submission_times.as_deref(),
+        &students,
+    )?;
+    if let Some(path) = &args.gradescope_metadata
+        && students.len() != 1
+    {
+        return Err(Error::Invalid {
+            what: format!("--gradescope-metadata {}", path.display()),
+            reason: format!(
+                "Gradescope's metadata is one submission's, not {}'s",
+                students.len()
+            ),
+        });
+    }
+    let gradescope = args
+        .gradescope_metadata
+        .as_deref()
+        .map(term::GradescopeSubmission::load)
+        .transpose()?;
+    let mut manual = args
+        .manual_points
+        .as_deref()
+        .map(|path| term::manual_points(path, &students, &labs))
+        .transpose()?
+        .unwrap_or_default();
     let memory = args.memory_limit << 20;
     let run_as = args.run_as.as_deref().map(RunAs::resolve).transpose()?;
     let sandbox = Sandbox::new(
@@ -392,6 +515,14 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         let mut grade = grade_submission(submission, student, &dir, &class)
             .unwrap_or_else(|e| StudentGrade::ungraded(student, &labs, &e.to_string()));
         grade.sandbox = workspace.sandbox.describe();
+        grade.manual = manual.remove(student).unwrap_or_default();
+        grade.deadlines = term::deadlines(
+            student,
+            &labs,
+            terms.as_ref(),
+            times.of(student, submission),
+            gradescope.as_ref(),
+        );
         // The sandbox keeps the tree read-only; should it change all the same (unsandboxed),
         // the submission is named and the next one gets a fresh tree.
         let changes = pristine.changes(&workspace.tree)?;
@@ -431,9 +562,9 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     }
     bar.finish_and_clear();
     println!("{}", summary(&grades, started.elapsed()));
-    reports::write_class(&grades, &args.out)?;
+    reports::write_class(&grades, &args.out, terms.as_ref())?;
     println!(
-        "reports in {}: index.html, gradebook.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
+        "reports in {}: index.html, gradebook.csv, canvas.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
         args.out.display()
     );
     Ok(())
@@ -446,9 +577,8 @@ fn summary(grades: &[StudentGrade], took: Duration) -> String {
     for e in grades.iter().flat_map(|g| &g.exercises) {
         *counts.entry(e.status.label()).or_default() += 1;
     }
-    let mean =
-        grades.iter().map(|g| f64::from(g.score())).sum::<f64>() / grades.len().max(1) as f64;
-    let max = grades.first().map_or(0, StudentGrade::max_score);
+    let mean = grades.iter().map(StudentGrade::score).sum::<f64>() / grades.len().max(1) as f64;
+    let max = grades.first().map_or(0.0, StudentGrade::max_score);
     let total = grades.iter().fold(Timings::default(), |sum, g| Timings {
         build: sum.build + g.timings.build,
         run: sum.run + g.timings.run,
@@ -777,5 +907,7 @@ fn grade_submission(
         sandbox: String::new(),
         timings,
         answers: written,
+        deadlines: Vec::new(),
+        manual: Vec::new(),
     })
 }

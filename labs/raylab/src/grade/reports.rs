@@ -13,6 +13,7 @@ use raylab_core::Error;
 
 use crate::bench::median;
 
+use super::term::{CourseTerms, LabDeadline, Lateness, ManualPoints, rfc3339};
 use super::{ExerciseGrade, Status, StudentGrade, feedback};
 use crate::handout::io;
 
@@ -82,10 +83,16 @@ pub fn write_student(
     write(&dir.join("results.json"), &redactions.apply(&results))
 }
 
-/// Writes `gradebook.csv`, `junit.xml` and `index.html` of the class into `dir`.
-pub fn write_class(grades: &[StudentGrade], dir: &Path) -> Result<(), Error> {
+/// Writes `gradebook.csv`, `canvas.csv`, `junit.xml`, `timings.csv` and `index.html` of the
+/// class into `dir`; `terms` names the students and the labs as Canvas knows them.
+pub fn write_class(
+    grades: &[StudentGrade],
+    dir: &Path,
+    terms: Option<&CourseTerms>,
+) -> Result<(), Error> {
     fs::create_dir_all(dir).map_err(io(dir))?;
     write(&dir.join("gradebook.csv"), &gradebook(grades))?;
+    write(&dir.join("canvas.csv"), &canvas(grades, terms))?;
     write(&dir.join("junit.xml"), &junit(grades))?;
     write(&dir.join("timings.csv"), &timings(grades))?;
     write(
@@ -110,16 +117,59 @@ fn by_lab(grade: &StudentGrade) -> Vec<(LabId, Vec<&ExerciseGrade>)> {
     labs
 }
 
-/// Points earned and available in `exercises`.
-fn points(exercises: &[&ExerciseGrade]) -> (u32, u32) {
-    exercises
-        .iter()
-        .fold((0, 0), |(e, t), x| (e + x.score, t + x.info.points))
-}
-
 fn lab_title(lab: LabId) -> &'static str {
     course::title(lab).unwrap_or_default()
 }
+
+/// Points as the reports write them: "7", "7.5", "7.25".
+fn pts(points: f64) -> String {
+    let rounded = super::term::round_points(points);
+    // No "-0" for a penalty of nothing.
+    format!("{}", rounded + 0.0)
+}
+
+/// Points as a JSON number: an integer when whole.
+fn json_points(points: f64) -> serde_json::Value {
+    let rounded = super::term::round_points(points);
+    if rounded.fract() == 0.0 && rounded.abs() < 1e15 {
+        serde_json::Value::from(rounded as i64)
+    } else {
+        serde_json::Value::from(rounded)
+    }
+}
+
+/// A lab's deadline in one line: due date (and whether extended), submission time and where it
+/// comes from, lateness, and the points it cost.
+fn deadline_line(grade: &StudentGrade, deadline: &LabDeadline) -> String {
+    let submitted = deadline.submitted.as_ref().map_or_else(
+        || "not known".to_string(),
+        |t| format!("{} ({})", rfc3339(t), deadline.submitted_source),
+    );
+    let penalty = grade.lab_penalty(deadline.lab);
+    let cost = match &deadline.lateness {
+        Lateness::Late { fraction, .. } => format!(
+            "; late penalty {}% of the lab's points: −{} points",
+            pts(fraction * 100.0),
+            pts(penalty)
+        ),
+        Lateness::PastCap { .. } => format!("; the lab scores 0: −{} points", pts(penalty)),
+        _ => String::new(),
+    };
+    format!(
+        "due {}{}; submitted {submitted}; {}{cost}",
+        rfc3339(&deadline.due),
+        if deadline.extended { " (extended)" } else { "" },
+        deadline.lateness.describe()
+    )
+}
+
+/// The questions of `lab` graded by hand.
+fn manual_of(grade: &StudentGrade, lab: LabId) -> Vec<&ManualPoints> {
+    grade.manual.iter().filter(|m| m.lab == lab).collect()
+}
+
+/// The heading of the questions graded by hand.
+const MANUAL_HEADING: &str = "Graded by hand";
 
 /// The CSS class of an exercise's status.
 fn class(e: &ExerciseGrade) -> &'static str {
@@ -169,8 +219,8 @@ fn markdown(grade: &StudentGrade) -> String {
     let mut md = format!(
         "# Grade report: {}\n\n**{}/{} points**\n\n",
         grade.student,
-        grade.score(),
-        grade.max_score()
+        pts(grade.score()),
+        pts(grade.max_score())
     );
     if !grade.changed_files.is_empty() {
         md.push_str("## Files changed outside `labs/labNN/src/` (not used for grading)\n\n");
@@ -204,13 +254,18 @@ fn markdown(grade: &StudentGrade) -> String {
         let _ = writeln!(md, "Student code was {}.\n", grade.sandbox);
     }
     for (lab, exercises) in by_lab(grade) {
-        let (earned, total) = points(&exercises);
         let _ = writeln!(
             md,
-            "## Lab {:02} — {} ({earned}/{total})\n\n| exercise | function | result | points |\n| --- | --- | --- | --- |",
+            "## Lab {:02} — {} ({}/{})\n",
             lab.number(),
-            lab_title(lab)
+            lab_title(lab),
+            pts(grade.lab_score(lab)),
+            pts(grade.lab_max(lab))
         );
+        if let Some(deadline) = grade.deadline(lab) {
+            let _ = writeln!(md, "Deadline: {}.\n", deadline_line(grade, deadline));
+        }
+        md.push_str("| exercise | function | result | points |\n| --- | --- | --- | --- |\n");
         for e in &exercises {
             let _ = writeln!(
                 md,
@@ -224,6 +279,24 @@ fn markdown(grade: &StudentGrade) -> String {
             );
         }
         md.push('\n');
+        let manual = manual_of(grade, lab);
+        if !manual.is_empty() {
+            let _ = writeln!(
+                md,
+                "### {MANUAL_HEADING}\n\n| question | points | comment |\n| --- | --- | --- |"
+            );
+            for m in &manual {
+                let _ = writeln!(
+                    md,
+                    "| {} | {}/{} | {} |",
+                    table_cell(&m.question),
+                    pts(m.points),
+                    pts(m.max_points),
+                    table_cell(&m.comment)
+                );
+            }
+            md.push('\n');
+        }
         let lab_wide = lab_wide_failure(&exercises);
         if let Some(why) = lab_wide {
             let _ = writeln!(md, "Every exercise of this lab:\n\n{}", fenced(why));
@@ -260,6 +333,15 @@ fn markdown(grade: &StudentGrade) -> String {
     }
     let _ = writeln!(md, "---\n\n{}", stamp());
     md
+}
+
+/// `text` in a Markdown table cell: as text (no HTML, no Markdown), on one line, with its
+/// pipes escaped.
+fn table_cell(text: &str) -> String {
+    if text.is_empty() {
+        return String::new();
+    }
+    code_span(text).replace('|', "\\|")
 }
 
 /// The heading of what the student's code printed, set apart from the verdict.
@@ -321,7 +403,7 @@ pub(crate) fn section_list(title: Markup, lines: &[String]) -> Markup {
 fn html(grade: &StudentGrade) -> String {
     let body = html! {
         h1 { "Grade report: " (grade.student) }
-        p { strong { (grade.score()) "/" (grade.max_score()) " points" } }
+        p { strong { (pts(grade.score())) "/" (pts(grade.max_score())) " points" } }
         (section_list(
             html! { "Files changed outside " code { "labs/labNN/src/" } " (not used for grading)" },
             &grade.changed_files,
@@ -336,9 +418,12 @@ fn html(grade: &StudentGrade) -> String {
             p { "Student code was " (grade.sandbox) "." }
         }
         @for (lab, exercises) in by_lab(grade) {
-            @let (earned, total) = points(&exercises);
             @let lab_wide = lab_wide_failure(&exercises);
-            h2 { "Lab " (format!("{lab:02}")) " — " (lab_title(lab)) " (" (earned) "/" (total) ")" }
+            @let manual = manual_of(grade, lab);
+            h2 { "Lab " (format!("{lab:02}")) " — " (lab_title(lab)) " (" (pts(grade.lab_score(lab))) "/" (pts(grade.lab_max(lab))) ")" }
+            @if let Some(deadline) = grade.deadline(lab) {
+                p class="deadline" { "Deadline: " (deadline_line(grade, deadline)) "." }
+            }
             table {
                 tr { th { "exercise" } th { "function" } th { "result" } th { "points" } }
                 @for e in &exercises {
@@ -354,6 +439,19 @@ fn html(grade: &StudentGrade) -> String {
                         td { code { (e.info.function) } }
                         td class=(class(e)) { (e.status.label()) }
                         td { (e.score) "/" (e.info.points) }
+                    }
+                }
+            }
+            @if !manual.is_empty() {
+                h3 { (MANUAL_HEADING) }
+                table {
+                    tr { th { "question" } th { "points" } th { "comment" } }
+                    @for m in &manual {
+                        tr {
+                            td { (m.question) }
+                            td { (pts(m.points)) "/" (pts(m.max_points)) }
+                            td { (m.comment) }
+                        }
                     }
                 }
             }
@@ -438,12 +536,30 @@ fn gradescope(grade: &StudentGrade, dir: &Path, redactions: &Redactions) -> serd
                 "output_format": format,
                 "visibility": match e.info.visibility {
                     Visibility::Visible => "visible",
-                    Visibility::Hidden => "after_published",
+                    // Shown once the due date has passed (Gradescope's own, extensions included).
+                    Visibility::Hidden => "after_due_date",
                 },
             })
         })
+        .chain(grade.manual.iter().map(|m| {
+            serde_json::json!({
+                "name": format!("Lab {:02} {} — {}", m.lab.number(), MANUAL_HEADING.to_lowercase(), m.question),
+                "score": json_points(m.points),
+                "max_score": json_points(m.max_points),
+                "output": m.comment,
+                "visibility": "visible",
+            })
+        }))
         .collect();
     let mut output = String::new();
+    for deadline in &grade.deadlines {
+        let _ = writeln!(
+            output,
+            "Lab {:02}: {}.",
+            deadline.lab.number(),
+            deadline_line(grade, deadline)
+        );
+    }
     for line in grade.notes.iter().chain(&grade.changed_files) {
         let _ = writeln!(output, "{line}");
     }
@@ -458,8 +574,8 @@ fn gradescope(grade: &StudentGrade, dir: &Path, redactions: &Redactions) -> serd
     }
     let _ = writeln!(output, "{}", stamp());
     serde_json::json!({
-        "score": grade.score(),
-        "max_score": grade.max_score(),
+        "score": json_points(grade.score()),
+        "max_score": json_points(grade.max_score()),
         // Gradescope's optional field: the seconds the grading took (builds and runs).
         "execution_time": (grade.timings.build + grade.timings.run + grade.timings.timed_out).round() as u64,
         "output": output,
@@ -467,8 +583,28 @@ fn gradescope(grade: &StudentGrade, dir: &Path, redactions: &Redactions) -> serd
     })
 }
 
-/// One row per student: the points of each exercise, the total, the maximum, and how many files
-/// outside the lab sources were changed.
+/// The labs of the class with a due date or questions graded by hand for anyone: the labs
+/// the gradebook has columns of deadlines or hand-graded points for.
+fn class_labs(grades: &[StudentGrade]) -> (Vec<LabId>, Vec<LabId>) {
+    let mut dated: Vec<LabId> = grades
+        .iter()
+        .flat_map(|g| g.deadlines.iter().map(|d| d.lab))
+        .collect();
+    dated.sort_unstable();
+    dated.dedup();
+    let mut manual: Vec<LabId> = grades
+        .iter()
+        .flat_map(|g| g.manual.iter().map(|m| m.lab))
+        .collect();
+    manual.sort_unstable();
+    manual.dedup();
+    (dated, manual)
+}
+
+/// One row per student: the points of each exercise, the total (after late penalties, with
+/// the points graded by hand), the maximum, and how many files outside the lab sources were
+/// changed; then, for each lab with a due date, the due date, submission time, days late and
+/// penalty, and for each lab with questions graded by hand, their points.
 fn gradebook(grades: &[StudentGrade]) -> String {
     let mut csv = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["student".to_string()];
@@ -476,16 +612,83 @@ fn gradebook(grades: &[StudentGrade]) -> String {
         header.extend(first.exercises.iter().map(|e| e.info.id.to_string()));
     }
     header.extend(["total", "max_score", "changed_files"].map(String::from));
+    let (dated, manual) = class_labs(grades);
+    for lab in &dated {
+        header.extend(["due", "submitted", "days_late", "penalty"].map(|c| format!("{lab}_{c}")));
+    }
+    header.extend(manual.iter().map(|lab| format!("{lab}_manual")));
     // Writing to memory cannot fail.
     let _ = csv.write_record(&header);
     for grade in grades {
         let mut row = vec![grade.student.clone()];
         row.extend(grade.exercises.iter().map(|e| e.score.to_string()));
         row.extend([
-            grade.score().to_string(),
-            grade.max_score().to_string(),
+            pts(grade.score()),
+            pts(grade.max_score()),
             grade.changed_files.len().to_string(),
         ]);
+        for &lab in &dated {
+            match grade.deadline(lab) {
+                Some(d) => row.extend([
+                    rfc3339(&d.due),
+                    d.submitted.as_ref().map(rfc3339).unwrap_or_default(),
+                    match d.lateness {
+                        Lateness::Unknown => String::new(),
+                        _ => format!("{:.2}", d.lateness.days_late()),
+                    },
+                    pts(grade.lab_penalty(lab)),
+                ]),
+                None => row.extend([String::new(), String::new(), String::new(), String::new()]),
+            }
+        }
+        for &lab in &manual {
+            row.push(pts(manual_of(grade, lab).iter().map(|m| m.points).sum()));
+        }
+        let _ = csv.write_record(&row);
+    }
+    String::from_utf8(csv.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
+/// `canvas.csv`: the gradebook as Canvas imports it (Grades → Import): the columns Student,
+/// ID, SIS User ID, SIS Login ID, Section, then one per lab, named as the course file's
+/// `canvas_assignment` ("Lab 01 (4411)": an existing assignment by its id) or "Lab 01 — Title"
+/// (a new assignment); a "Points Possible" row; a row per student with each lab's points after
+/// its late penalty. Students are named as the course file's `[students]` says, or by their
+/// submission folder's name.
+fn canvas(grades: &[StudentGrade], terms: Option<&CourseTerms>) -> String {
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    let labs = grades.first().map(StudentGrade::labs).unwrap_or_default();
+    let mut header: Vec<String> = ["Student", "ID", "SIS User ID", "SIS Login ID", "Section"]
+        .map(String::from)
+        .to_vec();
+    header.extend(labs.iter().map(|&lab| {
+        terms
+            .and_then(|t| t.labs.get(&lab))
+            .and_then(|l| l.canvas_assignment.clone())
+            .unwrap_or_else(|| format!("Lab {:02} — {}", lab.number(), lab_title(lab)))
+    }));
+    let _ = csv.write_record(&header);
+    let mut possible = vec!["Points Possible".to_string()];
+    possible.extend(std::iter::repeat_n(String::new(), 4));
+    // A question graded by hand for some students only still counts for the class.
+    possible.extend(
+        labs.iter()
+            .map(|&lab| pts(grades.iter().map(|g| g.lab_max(lab)).fold(0.0, f64::max))),
+    );
+    let _ = csv.write_record(&possible);
+    for grade in grades {
+        let who = terms
+            .and_then(|t| t.students.get(&grade.student))
+            .cloned()
+            .unwrap_or_default();
+        let mut row = vec![
+            who.name.unwrap_or_else(|| grade.student.clone()),
+            who.canvas_id.unwrap_or_default(),
+            who.sis_user_id.unwrap_or_default(),
+            who.sis_login_id.unwrap_or_default(),
+            who.section.unwrap_or_default(),
+        ];
+        row.extend(labs.iter().map(|&lab| pts(grade.lab_score(lab))));
         let _ = csv.write_record(&row);
     }
     String::from_utf8(csv.into_inner().unwrap_or_default()).unwrap_or_default()
@@ -591,6 +794,7 @@ pub(crate) const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable 
 /// into the same directory.
 fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
     let labs: Vec<(LabId, Vec<&ExerciseGrade>)> = grades.first().map(by_lab).unwrap_or_default();
+    let any_deadline = grades.iter().any(|g| !g.deadlines.is_empty());
     let body = html! {
         h1 { "Grades" }
         p { (grades.len()) " submissions." }
@@ -602,18 +806,25 @@ fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
                     @for (lab, _) in &labs { th { "lab " (format!("{lab:02}")) } }
                     th { "points" }
                     th { "files changed outside labs/*/src" }
+                    @if any_deadline { th { "lateness" } }
                 }
             }
             tbody {
                 @for g in grades {
                     tr {
                         td { a href={ (g.student) "/report.html" } { (g.student) } }
-                        @for (_, exercises) in by_lab(g) {
-                            @let (earned, total) = points(&exercises);
-                            td data-v=(earned) { (earned) "/" (total) }
+                        @for (lab, _) in by_lab(g) {
+                            td data-v=(g.lab_score(lab)) { (pts(g.lab_score(lab))) "/" (pts(g.lab_max(lab))) }
                         }
-                        td data-v=(g.score()) { (g.score()) "/" (g.max_score()) }
+                        td data-v=(g.score()) { (pts(g.score())) "/" (pts(g.max_score())) }
                         td { (g.changed_files.len()) }
+                        @if any_deadline {
+                            td data-v=(g.deadlines.iter().map(|d| g.lab_penalty(d.lab)).sum::<f64>()) {
+                                @for d in &g.deadlines {
+                                    div { "lab " (format!("{:02}", d.lab.number())) ": " (deadline_line(g, d)) }
+                                }
+                            }
+                        }
                     }
                 }
             }
@@ -623,11 +834,11 @@ fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
             table class="sortable" {
                 thead { tr { th { "lab" } th { "points" } th { "mean" } th { "median" } th { "all passed" } } }
                 tbody {
-                    @for (k, (lab, exercises)) in labs.iter().enumerate() {
+                    @for (k, (lab, _)) in labs.iter().enumerate() {
                         @let (mut earned, complete) = lab_statistics(grades, k);
                         tr {
                             td data-v=(lab) { (format!("{lab:02}")) " " (lab_title(*lab)) }
-                            td { (points(exercises).1) }
+                            td { (pts(grades[0].lab_max(*lab))) }
                             (mean_median(&mut earned))
                             td data-v=(complete) { (complete) "/" (grades.len()) }
                         }
@@ -659,7 +870,7 @@ fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
         }
         (super::answers::class_table(grades))
         @if let Some(similarity) = similarity { (similarity) }
-        p { "Also: gradebook.csv, junit.xml, each student's results.json (Gradescope), and in "
+        p { "Also: gradebook.csv, canvas.csv (for Canvas's gradebook import), junit.xml, each student's results.json (Gradescope), and in "
             code { "pages/" } " each student's report as one file with its images inlined." }
     };
     page("Grades", body, Some(SORT_SCRIPT))
@@ -670,8 +881,8 @@ fn lab_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize) {
     let mut earned = Vec::new();
     let mut complete = 0;
     for g in grades {
-        if let Some((_, es)) = by_lab(g).get(k) {
-            earned.push(f64::from(points(es).0));
+        if let Some((lab, es)) = by_lab(g).get(k) {
+            earned.push(g.lab_score(*lab));
             complete += usize::from(es.iter().all(|e| e.passed()));
         }
     }
@@ -757,6 +968,8 @@ mod tests {
             sandbox: String::new(),
             timings: Default::default(),
             answers: Vec::new(),
+            deadlines: Vec::new(),
+            manual: Vec::new(),
         }
     }
 
@@ -823,7 +1036,7 @@ mod tests {
             grade_of("ann", Status::Passed),
             grade_of("ben", Status::Wrong),
         ];
-        write_class(&grades, &dir).unwrap();
+        write_class(&grades, &dir, None).unwrap();
         let class = fs::read_to_string(dir.join("index.html")).unwrap();
         assert!(!class.contains("similarity.html"), "{class}");
         fs::write(
@@ -832,7 +1045,7 @@ mod tests {
              lab01,ann,ben,0.912,40,labs/lab01/src/lib.rs:1–9,labs/lab01/src/lib.rs:3–11\n",
         )
         .unwrap();
-        write_class(&grades, &dir).unwrap();
+        write_class(&grades, &dir, None).unwrap();
         let class = fs::read_to_string(dir.join("index.html")).unwrap();
         assert!(
             class.contains("href=\"similarity.html\"")
@@ -959,6 +1172,8 @@ mod tests {
             sandbox: "run in bubblewrap".into(),
             timings: Default::default(),
             answers: Vec::new(),
+            deadlines: Vec::new(),
+            manual: Vec::new(),
         };
         let mut class = vec![grade("ada", first), grade("grace, \"g\"", second)];
         // Questions of its own, so that the snapshot does not follow the docs' wording.
@@ -973,6 +1188,58 @@ mod tests {
             ),
         }];
         class[0].changed_files = vec!["changed: Cargo.toml".into()];
+        // Ada: lab 01 a day and a half late at 10% a day, and two questions graded by hand.
+        let time = |t: &str| crate::grade::term::parse_time(t).unwrap();
+        let policy = crate::grade::term::LatePolicy {
+            penalty_per_day: 0.1,
+            grace_minutes: 15,
+            cap_days: Some(3),
+        };
+        let due = time("2026-10-05T23:59:00+02:00");
+        let submitted = time("2026-10-07T11:59:00+02:00");
+        class[0].deadlines = vec![LabDeadline {
+            lab: LabId::of(1),
+            due,
+            extended: false,
+            submitted: Some(submitted),
+            submitted_source: "git commit".into(),
+            lateness: Lateness::assess(&due, Some(&submitted), &policy),
+        }];
+        class[0].manual = vec![
+            ManualPoints {
+                lab: LabId::of(1),
+                question: "Q1".into(),
+                points: 1.5,
+                max_points: 2.0,
+                comment: "right idea | no units <b>".into(),
+            },
+            ManualPoints {
+                lab: LabId::of(1),
+                question: "Q2".into(),
+                points: 3.0,
+                max_points: 3.0,
+                comment: String::new(),
+            },
+        ];
+        // Grace: lab 01's time unknown, lab 02 due later by an extension.
+        class[1].deadlines = vec![
+            LabDeadline {
+                lab: LabId::of(1),
+                due,
+                extended: false,
+                submitted: None,
+                submitted_source: String::new(),
+                lateness: Lateness::Unknown,
+            },
+            LabDeadline {
+                lab: LabId::of(2),
+                due: time("2026-10-14T23:59:00+02:00"),
+                extended: true,
+                submitted: Some(submitted),
+                submitted_source: "given".into(),
+                lateness: Lateness::OnTime,
+            },
+        ];
         class[1].flagged =
             vec!["labs/lab01/src/lib.rs:7: `look_at_rh` answers Exercise 1.2".into()];
         class[1].rejected = vec!["labs/lab02/src/big.bin: not a source file".into()];
@@ -985,6 +1252,15 @@ mod tests {
     fn the_grade_files_of_a_fixed_class_stay_the_same() {
         let class = fixed_class();
         insta::assert_snapshot!("gradebook.csv", gradebook(&class));
+        let terms = CourseTerms::parse(
+            Path::new("course.toml"),
+            "[labs.1]\ndue = 2026-10-05T23:59:00+02:00\ncanvas_assignment = \"Lab 1 (4411)\"\n\n\
+             [students.ada]\nname = \"Lovelace, Ada\"\ncanvas_id = \"1001\"\nsis_user_id = \"s1\"\n\
+             sis_login_id = \"ada@uni.example\"\nsection = \"A\"\n",
+            None,
+        )
+        .unwrap();
+        insta::assert_snapshot!("canvas.csv", canvas(&class, Some(&terms)));
         insta::assert_snapshot!("junit.xml", junit(&class));
         // The failure image of ada's 1.2, which her results carry inline.
         let dir = std::env::temp_dir().join(format!("raylab-fixed-class-{}", std::process::id()));
@@ -1001,6 +1277,24 @@ mod tests {
             insta::assert_snapshot!(format!("results-{k}.json"), unstamped(&results));
             insta::assert_snapshot!(format!("report-{k}.md"), unstamped(&markdown(grade)));
         }
+        // The pages show the same lateness and points graded by hand, escaped.
+        let page = html(&class[0]);
+        assert!(page.contains("<strong>17.5/29 points</strong>"), "{page}");
+        assert!(
+            page.contains(
+                "1 day 12 h late (2 started days); late penalty 20% of the lab's points: −3 points."
+            ),
+            "{page}"
+        );
+        assert!(page.contains("<h3>Graded by hand</h3>"), "{page}");
+        assert!(page.contains("right idea | no units &lt;b&gt;"), "{page}");
+        let class_page = index(&class, None);
+        assert!(class_page.contains("<th>lateness</th>"), "{class_page}");
+        assert!(
+            class_page.contains("unknown (no submission time): no penalty"),
+            "{class_page}"
+        );
+        assert!(class_page.contains("3.5/15"), "{class_page}");
         fs::remove_dir_all(&dir).unwrap();
         let ungraded = ungraded_results("labs/ holds no lab's sources");
         insta::assert_snapshot!("results-ungraded.json", unstamped(&ungraded));
