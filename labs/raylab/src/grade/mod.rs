@@ -42,7 +42,7 @@ use sandbox::{Limits, RunAs, Sandbox};
 use tree::Manifest;
 
 /// Options of `raylab grade`.
-#[derive(Args, Debug)]
+#[derive(Args, Clone, Debug)]
 pub struct GradeArgs {
     /// Submission directories: each a copy of the handout with the student's work in it.
     #[arg(required = true)]
@@ -343,6 +343,14 @@ impl ExerciseGrade {
 
 /// Runs `raylab grade`.
 pub fn run(args: &GradeArgs) -> Result<(), Error> {
+    // The grading tree's manifests name its own paths, which cargo reads relative to each
+    // manifest: every directory is made absolute first.
+    let absolute = |path: &Path| std::path::absolute(path).map_err(io(path));
+    let args = &GradeArgs {
+        out: absolute(&args.out)?,
+        target_dir: args.target_dir.as_deref().map(absolute).transpose()?,
+        ..args.clone()
+    };
     let Some(results) = &args.results_json else {
         return grade_class(args);
     };
