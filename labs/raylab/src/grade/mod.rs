@@ -92,7 +92,8 @@ pub struct GradeArgs {
     #[arg(long, value_name = "FILE")]
     pub course: Option<PathBuf>,
     /// When a student submitted (repeatable): `STUDENT=2026-10-05T23:59:00+02:00`. Otherwise
-    /// the time of the submission's last git commit, if it is a git repository.
+    /// the time of the last git commit that changed the lab's sources or answers, if the
+    /// submission is a git repository.
     #[arg(long, value_name = "STUDENT=TIME")]
     pub submitted_at: Vec<String>,
     /// The students' submission times as CSV, columns `student,submitted_at`.
@@ -528,7 +529,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             student,
             &labs,
             terms.as_ref(),
-            times.of(student, submission),
+            &|lab| times.of(student, submission, lab),
             gradescope.as_ref(),
         );
         // The sandbox keeps the tree read-only; should it change all the same (unsandboxed),

@@ -632,19 +632,22 @@ impl SubmissionTimes {
         Ok(Self { given })
     }
 
-    /// The time of `student`'s submission at `dir`, and where it comes from.
-    pub fn of(&self, student: &str, dir: &Path) -> Option<(Time, String)> {
+    /// The time of `student`'s submission of `lab` at `dir`, and where it comes from: the time
+    /// given, else that of the last commit that changed the lab's sources or answers (a pull
+    /// of a release later is no new submission).
+    pub fn of(&self, student: &str, dir: &Path, lab: LabId) -> Option<(Time, String)> {
         if let Some(time) = self.given.get(student) {
             return Some((*time, "given".into()));
         }
-        commit_time(dir).map(|t| (t, "git commit".into()))
+        let paths = [format!("{}/src", lab.folder()), lab.answers()];
+        commit_time(dir, &paths).map(|t| (t, "git commit".into()))
     }
 }
 
-/// The committer time of the last commit of the git repository at `dir` (only when `dir` is
-/// the repository's root), read without running the repository's hooks, pager, signature
-/// checks or file-system monitor.
-pub fn commit_time(dir: &Path) -> Option<Time> {
+/// The committer time of the last commit that changed `paths` (all of them: none given) in the
+/// git repository at `dir` (only when `dir` is the repository's root), read without running the
+/// repository's hooks, pager, signature checks or file-system monitor.
+pub fn commit_time(dir: &Path, paths: &[String]) -> Option<Time> {
     if !dir.join(".git").exists() {
         return None;
     }
@@ -662,7 +665,8 @@ pub fn commit_time(dir: &Path) -> Option<Time> {
         .arg(format!("safe.directory={}", absolute.display()))
         .arg("-C")
         .arg(&absolute)
-        .args(["log", "-1", "--format=%cI"])
+        .args(["log", "-1", "--format=%cI", "--"])
+        .args(paths)
         .env("GIT_TERMINAL_PROMPT", "0")
         .stdin(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
@@ -744,7 +748,7 @@ pub fn deadlines(
     student: &str,
     labs: &[LabId],
     terms: Option<&CourseTerms>,
-    submitted: Option<(Time, String)>,
+    submitted: &dyn Fn(LabId) -> Option<(Time, String)>,
     gradescope: Option<&GradescopeSubmission>,
 ) -> Vec<LabDeadline> {
     let mut out = Vec::new();
@@ -760,7 +764,7 @@ pub fn deadlines(
                 None => continue,
             },
             None => match terms.and_then(|t| t.due(student, lab)) {
-                Some((due, extended)) => (due, extended, submitted.clone()),
+                Some((due, extended)) => (due, extended, submitted(lab)),
                 None => continue,
             },
         };
@@ -1053,7 +1057,7 @@ sis_login_id = "ada@uni.example"
             "ada",
             &[one, LabId::of(3)],
             Some(&terms),
-            Some((time("2026-10-07T11:59:00+02:00"), "given".into())),
+            &|_| Some((time("2026-10-07T11:59:00+02:00"), "given".into())),
             None,
         );
         assert_eq!(ds.len(), 1);
@@ -1118,8 +1122,8 @@ sis_login_id = "ada@uni.example"
     fn a_submission_repository_gives_its_last_commit_time() {
         let dir = std::env::temp_dir().join(format!("raylab-commit-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        assert_eq!(commit_time(&dir), None, "not a repository");
-        let git = |args: &[&str]| {
+        assert_eq!(commit_time(&dir, &[]), None, "not a repository");
+        let git = |args: &[&str], date: &str| {
             let status = std::process::Command::new("git")
                 .args([
                     "-c",
@@ -1131,25 +1135,37 @@ sis_login_id = "ada@uni.example"
                 ])
                 .args(args)
                 .current_dir(&dir)
-                .env("GIT_COMMITTER_DATE", "2026-10-07T11:59:00+02:00")
+                .env("GIT_COMMITTER_DATE", date)
                 .status()
                 .unwrap();
             assert!(status.success());
         };
-        git(&["init", "-q"]);
-        std::fs::write(dir.join("a.txt"), "a").unwrap();
-        git(&["add", "a.txt"]);
-        git(&["commit", "-qm", "work"]);
-        assert_eq!(commit_time(&dir), Some(time("2026-10-07T11:59:00+02:00")));
+        let (worked, pulled) = ("2026-10-07T11:59:00+02:00", "2026-10-20T09:00:00+02:00");
+        git(&["init", "-q"], worked);
+        std::fs::create_dir_all(dir.join("labs/lab01/src")).unwrap();
+        std::fs::write(dir.join("labs/lab01/src/lib.rs"), "work").unwrap();
+        git(&["add", "."], worked);
+        git(&["commit", "-qm", "work"], worked);
+        // A later commit of the course's files (a release pulled) is no new submission of lab 1.
+        std::fs::write(dir.join("README.md"), "release").unwrap();
+        git(&["add", "."], pulled);
+        git(&["commit", "-qm", "release"], pulled);
+        assert_eq!(commit_time(&dir, &[]), Some(time(pulled)));
+        let one = LabId::of(1);
         let times =
             SubmissionTimes::new(&["ada=2026-10-05T10:00:00Z".into()], None, &students()).unwrap();
         assert_eq!(
-            times.of("ada", &dir),
+            times.of("ada", &dir, one),
             Some((time("2026-10-05T10:00:00Z"), "given".into()))
         );
         assert_eq!(
-            times.of("grace", &dir),
-            Some((time("2026-10-07T11:59:00+02:00"), "git commit".into()))
+            times.of("grace", &dir, one),
+            Some((time(worked), "git commit".into()))
+        );
+        assert_eq!(
+            times.of("grace", &dir, LabId::of(2)),
+            None,
+            "no commit of lab 2"
         );
         std::fs::remove_dir_all(&dir).unwrap();
         let e = SubmissionTimes::new(&["zed=2026-10-05T10:00:00Z".into()], None, &students())
@@ -1222,7 +1238,7 @@ sis_login_id = "ada@uni.example"
         let g = GradescopeSubmission::parse(path, plain).unwrap();
         assert_eq!(g.due, Some(time("2026-10-05T23:59:00+02:00")));
         assert!(!g.extended);
-        let late = deadlines("ada", &[LabId::of(1)], None, None, Some(&g));
+        let late = deadlines("ada", &[LabId::of(1)], None, &|_| None, Some(&g));
         // Late, but with no course file no penalty.
         assert_eq!(late[0].lateness.fraction(), 0.0);
         assert!(matches!(late[0].lateness, Lateness::Late { days: 2, .. }));
