@@ -25,6 +25,20 @@ pub struct Question {
     pub text: String,
 }
 
+impl Question {
+    /// The question without its bold lead (the [`Question::title`]).
+    pub fn body(&self) -> &str {
+        match &self.title {
+            Some(_) => self
+                .text
+                .strip_prefix("**")
+                .and_then(|rest| rest.split_once("**"))
+                .map_or(self.text.as_str(), |(_, body)| body.trim_start()),
+            None => &self.text,
+        }
+    }
+}
+
 /// One answer of a student's answers file.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Answer {
@@ -147,6 +161,7 @@ mod tests {
         assert_eq!(qs[0].id, "Q1");
         assert_eq!(qs[0].title.as_deref(), Some("Render time"));
         assert_eq!(qs[0].text, "**Render time.** How long? And why?");
+        assert_eq!(qs[0].body(), "How long? And why?");
         assert_eq!(qs[1].title, None);
         assert!(questions("# Lab\n\n## Questions\n\n**Why?** Because.\n").is_empty());
     }

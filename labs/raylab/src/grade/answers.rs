@@ -60,9 +60,12 @@ impl LabAnswers {
             let answer = self.answer(q);
             let _ = writeln!(
                 md,
-                "**{}** {}\n\n{}\n",
+                "**{}{}** {}\n\n{}\n",
                 q.id,
-                q.text,
+                q.title
+                    .as_ref()
+                    .map_or(String::new(), |t| format!(" — {t}")),
+                q.body(),
                 if answer.is_empty() {
                     "*(no answer)*".to_string()
                 } else {
@@ -86,7 +89,10 @@ impl LabAnswers {
             }
             @for q in &self.questions {
                 @let answer = self.answer(q);
-                p { strong { (q.id) } " " (q.text) }
+                p {
+                    strong { (q.id) @if let Some(title) = &q.title { " — " (title) } }
+                    " " (q.body())
+                }
                 @if answer.is_empty() {
                     p { em { "(no answer)" } }
                 } @else {
@@ -114,7 +120,7 @@ pub fn class_table(grades: &[StudentGrade]) -> Markup {
             h2 { "Written answers" }
             p { "Questions answered in each lab's " code { "answers.md" } ", to grade by hand." }
             table class="sortable" {
-                thead { tr { th { "student" } @for lab in &labs { th { "lab " (format!("{lab:02}")) } } } }
+                thead { tr { th { "student" } @for lab in &labs { th { "lab " (format!("{:02}", lab.number())) } } } }
                 tbody {
                     @for g in grades {
                         tr {

@@ -420,7 +420,7 @@ fn html(grade: &StudentGrade) -> String {
         @for (lab, exercises) in by_lab(grade) {
             @let lab_wide = lab_wide_failure(&exercises);
             @let manual = manual_of(grade, lab);
-            h2 { "Lab " (format!("{lab:02}")) " — " (lab_title(lab)) " (" (pts(grade.lab_score(lab))) "/" (pts(grade.lab_max(lab))) ")" }
+            h2 { "Lab " (format!("{:02}", lab.number())) " — " (lab_title(lab)) " (" (pts(grade.lab_score(lab))) "/" (pts(grade.lab_max(lab))) ")" }
             @if let Some(deadline) = grade.deadline(lab) {
                 p class="deadline" { "Deadline: " (deadline_line(grade, deadline)) "." }
             }
@@ -803,7 +803,7 @@ fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
             thead {
                 tr {
                     th { "student" }
-                    @for (lab, _) in &labs { th { "lab " (format!("{lab:02}")) } }
+                    @for (lab, _) in &labs { th { "lab " (format!("{:02}", lab.number())) } }
                     th { "points" }
                     th { "files changed outside labs/*/src" }
                     @if any_deadline { th { "lateness" } }
@@ -837,7 +837,7 @@ fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
                     @for (k, (lab, _)) in labs.iter().enumerate() {
                         @let (mut earned, complete) = lab_statistics(grades, k);
                         tr {
-                            td data-v=(lab) { (format!("{lab:02}")) " " (lab_title(*lab)) }
+                            td data-v=(lab) { (format!("{:02}", lab.number())) " " (lab_title(*lab)) }
                             td { (pts(grades[0].lab_max(*lab))) }
                             (mean_median(&mut earned))
                             td data-v=(complete) { (complete) "/" (grades.len()) }
