@@ -6,8 +6,10 @@
 //! cargo test -p raylab-tests --test workflows handout_and_grade -- --nocapture
 //! cargo test -p raylab-tests --test workflows hostile_submissions -- --nocapture
 //! cargo test -p raylab-tests --test workflows new_lab -- --nocapture
+//! cargo test -p raylab-tests --test workflows term -- --nocapture
 //! ```
 
 mod handout_and_grade;
 mod hostile_submissions;
 mod new_lab;
+mod term;
