@@ -410,10 +410,16 @@ fn handout_then_grade_four_submissions() {
             {
                 match target.strip_prefix('#') {
                     Some(id) => assert!(ids.contains(&id), "{page}: no id {id} for its link"),
-                    None => assert!(
-                        dir.join(target).is_file(),
-                        "{page}: {target} does not exist"
-                    ),
+                    None => {
+                        // A page beside this one, and the anchor in it a link names.
+                        let (file, anchor) = target.split_once('#').unwrap_or((target, ""));
+                        assert!(dir.join(file).is_file(), "{page}: {file} does not exist");
+                        assert!(
+                            anchor.is_empty()
+                                || read(&dir.join(file)).contains(&format!("id=\"{anchor}\"")),
+                            "{page}: {file} has no anchor {anchor}"
+                        );
+                    }
                 }
             }
         }
