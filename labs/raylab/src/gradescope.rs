@@ -120,9 +120,22 @@ fn write_bundle(args: &GradescopeArgs, root: &Path, out: &Path) -> Result<(), Er
 
 /// The command line that writes this bundle again (with `--out autograder`).
 fn rebuild_command(args: &GradescopeArgs) -> String {
-    let mut command = "cargo run -p raylab -- gradescope --out autograder".to_string();
+    let mut command = format!(
+        "cargo run -p raylab -- gradescope --out autograder {}",
+        lab_options(args)
+    );
+    if let Some(course) = &args.course {
+        command.push_str(&format!(" --course {}", course.display()));
+    }
+    command
+}
+
+/// `--timeout T --lab N … [--release-solutions …]`: the options of the labs the bundle grades,
+/// as it was written with them and as it grades.
+fn lab_options(args: &GradescopeArgs) -> String {
+    let mut options = format!("--timeout {}", args.timeout);
     for lab in &args.labs {
-        command.push_str(&format!(" --lab {}", lab.number()));
+        options.push_str(&format!(" --lab {}", lab.number()));
     }
     if !args.release_solutions.is_empty() {
         let labs: Vec<String> = args
@@ -130,10 +143,9 @@ fn rebuild_command(args: &GradescopeArgs) -> String {
             .iter()
             .map(|l| l.number().to_string())
             .collect();
-        command.push_str(&format!(" --release-solutions {}", labs.join(",")));
+        options.push_str(&format!(" --release-solutions {}", labs.join(",")));
     }
-    command.push_str(&format!(" --timeout {}", args.timeout));
-    command
+    options
 }
 
 /// The bundle's README.md: what the bundle is, the labs and exercises it grades, how to upload
@@ -247,18 +259,7 @@ fn toolchain() -> Result<String, Error> {
 
 /// The `raylab grade` options the bundle grades with, after the submission and `--out`.
 fn grade_options(args: &GradescopeArgs) -> String {
-    let mut options = format!("--timeout {}", args.timeout);
-    for lab in &args.labs {
-        options.push_str(&format!(" --lab {}", lab.number()));
-    }
-    if !args.release_solutions.is_empty() {
-        let labs: Vec<String> = args
-            .release_solutions
-            .iter()
-            .map(|l| l.number().to_string())
-            .collect();
-        options.push_str(&format!(" --release-solutions {}", labs.join(",")));
-    }
+    let mut options = lab_options(args);
     if args.course.is_some() {
         options.push_str(&format!(" --course \"$source/{COURSE_FILE}\""));
     }
@@ -387,7 +388,7 @@ mod tests {
         assert!(!readme.contains("| 2.1 |"), "{readme}");
         assert!(
             readme.contains(
-                "gradescope --out autograder --lab 3 --lab 4 --release-solutions 1,2 --timeout 30"
+                "gradescope --out autograder --timeout 30 --lab 3 --lab 4 --release-solutions 1,2"
             ),
             "{readme}"
         );

@@ -490,21 +490,7 @@ pub fn parse_roster(path: &Path, text: &str) -> Result<BTreeMap<String, CanvasSt
         line: line as usize,
         reason,
     };
-    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
-    let header = reader
-        .headers()
-        .map_err(|e| fail(1, e.to_string()))?
-        .clone();
-    if header.iter().map(str::trim).collect::<Vec<_>>() != HEADER {
-        return Err(fail(
-            1,
-            format!(
-                "expected the header {}, found {}",
-                HEADER.join(","),
-                header.iter().collect::<Vec<_>>().join(",")
-            ),
-        ));
-    }
+    let mut reader = csv_with_header(path, text, &HEADER)?;
     let mut students = BTreeMap::new();
     for record in reader.records() {
         let record =
@@ -597,25 +583,12 @@ impl SubmissionTimes {
         }
         if let Some(path) = csv {
             let text = read_text(path)?;
-            let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
             let fail = |line: u64, reason: String| Error::Parse {
                 path: path.to_path_buf(),
                 line: line as usize,
                 reason,
             };
-            let header = reader
-                .headers()
-                .map_err(|e| fail(1, e.to_string()))?
-                .clone();
-            if header.iter().map(str::trim).collect::<Vec<_>>() != ["student", "submitted_at"] {
-                return Err(fail(
-                    1,
-                    format!(
-                        "expected the header student,submitted_at, found {:?}",
-                        header.iter().collect::<Vec<_>>().join(",")
-                    ),
-                ));
-            }
+            let mut reader = csv_with_header(path, &text, &["student", "submitted_at"])?;
             for record in reader.records() {
                 let record = record
                     .map_err(|e| fail(e.position().map_or(0, |p| p.line()), e.to_string()))?;
@@ -642,6 +615,33 @@ impl SubmissionTimes {
         let paths = [format!("{}/src", lab.folder()), lab.answers()];
         commit_time(dir, &paths).map(|t| (t, "git commit".into()))
     }
+}
+
+/// A CSV reader of `text`, the file `path`, whose header must be `header`: otherwise an error
+/// naming line 1 and the header found.
+fn csv_with_header<'a>(
+    path: &Path,
+    text: &'a str,
+    header: &[&str],
+) -> Result<csv::Reader<&'a [u8]>, Error> {
+    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
+    let found = reader.headers().map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        line: 1,
+        reason: e.to_string(),
+    })?;
+    if found.iter().map(str::trim).collect::<Vec<_>>() != header {
+        return Err(Error::Parse {
+            path: path.to_path_buf(),
+            line: 1,
+            reason: format!(
+                "expected the header {}, found {}",
+                header.join(","),
+                found.iter().collect::<Vec<_>>().join(",")
+            ),
+        });
+    }
+    Ok(reader)
 }
 
 /// The committer time of the last commit that changed `paths` (all of them: none given) in the
@@ -828,21 +828,7 @@ pub fn parse_manual_points(
         line: line as usize,
         reason,
     };
-    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
-    let header = reader
-        .headers()
-        .map_err(|e| fail(1, e.to_string()))?
-        .clone();
-    if header.iter().map(str::trim).collect::<Vec<_>>() != HEADER {
-        return Err(fail(
-            1,
-            format!(
-                "expected the header {}, found {}",
-                HEADER.join(","),
-                header.iter().collect::<Vec<_>>().join(",")
-            ),
-        ));
-    }
+    let mut reader = csv_with_header(path, text, &HEADER)?;
     let mut out: BTreeMap<String, Vec<ManualPoints>> = BTreeMap::new();
     for record in reader.records() {
         let record =
