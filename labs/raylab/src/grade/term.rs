@@ -13,6 +13,8 @@ use std::path::Path;
 use chrono::{DateTime, FixedOffset};
 use course::LabId;
 use raylab_core::Error;
+
+use crate::reset::line_of;
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -279,15 +281,6 @@ struct RawExtension {
     lab: Spanned<toml::Value>,
     due: Option<Spanned<toml::Value>>,
     days: Option<Spanned<u32>>,
-}
-
-/// The 1-based line of byte `offset` in `text`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
 }
 
 /// An error about the file at `path`.
