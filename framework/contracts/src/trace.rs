@@ -178,6 +178,9 @@ pub struct RayEvent {
     pub ray: Ray,
     /// What the query found.
     pub answer: RayAnswer,
+    /// The radiance the integrator computed along the ray, where it computes it itself (the
+    /// camera, reflected and refracted rays below lab 12; the path tracer's is its loop's).
+    pub radiance: Option<glam::Vec3>,
     /// How many traced calls it is inside.
     pub depth: u32,
 }
@@ -285,6 +288,7 @@ pub fn note_ray(kind: RayKind, ray: &Ray, answer: RayAnswer) {
             kind,
             ray: *ray,
             answer,
+            radiance: None,
             depth: r.depth,
         };
         let closest = matches!(event.answer, RayAnswer::Closest(_));
@@ -306,6 +310,27 @@ pub fn note_texcoord(texcoord: Vec2) {
         })) = r.last_hit.and_then(|at| r.log.entries.get_mut(at))
         {
             hit.texcoord = Some(texcoord);
+        }
+    });
+}
+
+/// Where the next entry of this thread's log will go (0 when it does not record): the mark
+/// [`note_radiance`] takes.
+pub fn mark() -> usize {
+    with_recorder(|r| r.log.entries.len()).unwrap_or(0)
+}
+
+/// Notes `radiance` as the radiance along the first ray noted at or after `mark`, the ray the
+/// integrator computed it for.
+#[cold]
+pub fn note_radiance(mark: usize, radiance: glam::Vec3) {
+    with_recorder(|r| {
+        let first_ray = r.log.entries.iter_mut().skip(mark).find_map(|e| match e {
+            Entry::Ray(ray) => Some(ray),
+            Entry::Call(_) => None,
+        });
+        if let Some(ray) = first_ray {
+            ray.radiance = Some(radiance);
         }
     });
 }

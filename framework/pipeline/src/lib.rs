@@ -324,8 +324,28 @@ impl Pipeline {
 
     /// Radiance along `ray` (of kind `kind`) after `depth` bounces, travelling in a medium of
     /// index `ior`; NaN along a ray that is not [traceable](Ray::is_traceable), so that the
-    /// render marks the pixel.
+    /// render marks the pixel. The pixel inspector notes it with the ray.
     fn radiance_at(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        if !trace::is_recording() {
+            return self.radiance_along(scene, ray, kind, depth, ior, rng);
+        }
+        let mark = trace::mark();
+        let radiance = self.radiance_along(scene, ray, kind, depth, ior, rng);
+        trace::note_radiance(mark, radiance);
+        radiance
+    }
+
+    /// [`Self::radiance_at`], untraced.
+    #[inline]
+    fn radiance_along(
         &self,
         scene: &Scene,
         ray: &Ray,

@@ -75,6 +75,8 @@ fn a_pixel_s_inspection_holds_its_camera_ray_its_hit_and_its_shading() {
         panic!("the camera ray hits the ground: {camera:?}");
     };
     assert_eq!(hit.material, "ground");
+    // The radiance along the camera ray is the sample's (lab 4: the Whitted integrator).
+    assert_eq!(camera.radiance, Some(inspection.radiance));
     assert!(hit.position.y.abs() < 1e-3, "{hit:?}");
     assert_eq!(hit.shading_normal, Vec3::Y);
     assert!((hit.distance - camera.ray.origin.distance(hit.position)).abs() < 1e-3);
@@ -242,4 +244,32 @@ fn inspecting_twice_gives_the_same_answer_and_recording_stops() {
     // A pixel or sample the image does not have is an error.
     assert!(inspect_pixel(&scene, &pipeline, &settings, 32, 0, 0).is_err());
     assert!(inspect_pixel(&scene, &pipeline, &settings, 0, 0, 4).is_err());
+}
+
+#[test]
+fn a_mirror_s_reflected_ray_carries_its_radiance() {
+    let scene = default_scene();
+    let pipeline = reference::pipeline(4);
+    let settings = settings(1, 1);
+    let on_mirror = (0..24)
+        .map(|y| inspect_pixel(&scene, &pipeline, &settings, 16, y, 0).unwrap())
+        .find(|i| {
+            i.steps.iter().any(|s| {
+                matches!(s, Step::Ray(r) if r.kind == RayKind::Camera
+                    && matches!(&r.answer, RayAnswer::Closest(Some(h)) if h.material == "mirror"))
+            })
+        })
+        .expect("a pixel of the middle column sees the mirror sphere");
+    let reflected = on_mirror
+        .steps
+        .iter()
+        .find_map(|s| match s {
+            Step::Ray(r) if r.kind == RayKind::Reflected => Some(r),
+            _ => None,
+        })
+        .expect("the mirror reflects a ray");
+    assert_eq!(reflected.depth, 0);
+    assert_eq!(reflected.radiance, Some(on_mirror.radiance));
+    let calls = calls(&on_mirror);
+    assert!(calls.contains(&("reflected_ray", Some("4.2"))), "{calls:?}");
 }
