@@ -644,6 +644,24 @@ mod tests {
     }
 
     #[test]
+    fn a_full_log_counts_what_it_leaves_out_but_keeps_a_failing_call() {
+        let ((), log) = record(|| {
+            TRACED.with(|t| {
+                for _ in 0..ENTRY_LIMIT + 5 {
+                    t.field_of_view(2.0);
+                }
+                t.field_of_view(0.0);
+            })
+        });
+        assert_eq!(log.entries.len(), ENTRY_LIMIT + 1);
+        assert_eq!(log.dropped, 5);
+        let last = calls(&log).pop().unwrap().clone();
+        assert_eq!(last.non_finite, Some(NonFinite::Nan));
+        assert_eq!(last.arguments[0].value, "0.0");
+        assert_eq!(last.finished, ENTRY_LIMIT as u64 + 5);
+    }
+
+    #[test]
     fn values_are_bounded_and_scanned() {
         let long = vec![1.0f32; 10_000];
         let (text, non_finite) = bounded_debug(&long);
