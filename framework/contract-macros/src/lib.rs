@@ -12,6 +12,13 @@
 //!   the grader judges an exercise with when the exercises of the other methods it calls fail;
 //! - `impl Shadows for Waiting<dyn Shadows>`: every method panics, saying that it waits for
 //!   the lab's solution (the slot of a lab whose answer key the tree does not hold);
+//! - `impl<C: ?Sized + Shadows> Shadows for Traced<C>` and `impl Trace for dyn Shadows`: the
+//!   code with its every call noted while the pixel inspector records on the calling thread
+//!   (`contracts::trace`): lab, trait and method, each argument and the result by `Debug`
+//!   (a closure argument as `<closure>`), the depth of nested calls, a panic (noted, then
+//!   resumed) and a NaN or infinite result. When nothing records, a traced method costs one
+//!   relaxed atomic load before it forwards the call; the contract's argument and result types
+//!   must implement `Debug`;
 //! - `impl ContractMethods for dyn Shadows`: the names of the trait's methods, which the tests
 //!   compare with the functions of the lab's exercise table;
 //! - the wire code (`wire.rs`): `impl Shadows for wire::Remote<C>` (each call encoded and run
@@ -73,6 +80,7 @@ fn expand(item: TokenStream) -> Expansion {
 
     let mut forwards = TokenStream::new();
     let mut waiting = TokenStream::new();
+    let mut traced = TokenStream::new();
     let mut names = Vec::new();
     let mut wire_methods = Vec::new();
     for method in split(body.stream(), ';') {
@@ -83,6 +91,17 @@ fn expand(item: TokenStream) -> Expansion {
         let (ident, params) = signature(&method)?;
         let args = argument_names(params.clone())?;
         let params: Vec<Vec<TokenTree>> = split(params.stream(), ',').into_iter().skip(1).collect();
+        traced.extend(parse("#[inline]"));
+        traced.extend(method.clone());
+        traced.extend([TokenTree::Group(Group::new(
+            Delimiter::Brace,
+            parse(&traced_body(
+                &name.to_string(),
+                &ident.to_string(),
+                &args,
+                &params,
+            )),
+        ))]);
         wire_methods.push(wire::WireMethod::new(
             ident.to_string(),
             method.clone(),
@@ -114,6 +133,15 @@ fn expand(item: TokenStream) -> Expansion {
         "impl {name} for crate::Waiting<dyn {name}>"
     )));
     out.extend([TokenTree::Group(Group::new(Delimiter::Brace, waiting))]);
+    out.extend(parse(&format!(
+        "impl<C: ?Sized + {name}> {name} for crate::Traced<C>"
+    )));
+    out.extend([TokenTree::Group(Group::new(Delimiter::Brace, traced))]);
+    out.extend(parse(&format!(
+        "impl crate::Trace for dyn {name} {{ \
+           fn trace(code: &::std::sync::Arc<Self>) -> ::std::sync::Arc<Self> {{ \
+             ::std::sync::Arc::new(crate::Traced::new(code.clone())) }} }}"
+    )));
     let list: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
     out.extend(parse(&format!(
         "impl crate::ContractMethods for dyn {name} {{ const METHODS: &'static [&'static str] = &[{}]; }}",
@@ -127,6 +155,32 @@ fn expand(item: TokenStream) -> Expansion {
     )));
     out.extend(wire::expand(&name.to_string(), &wire_methods)?);
     Ok(out)
+}
+
+/// The body of a method of `impl Trait for Traced<C>`: the call forwarded, and noted while
+/// this thread records (`contracts::trace`). `params` are the parameters after `&self`.
+fn traced_body(contract: &str, method: &str, args: &[Ident], params: &[Vec<TokenTree>]) -> String {
+    let forwarded = format!(
+        "crate::Traced::code(self).{method}({})",
+        args.iter().map(|a| format!("{a},")).collect::<String>()
+    );
+    let mut arguments = String::new();
+    for (arg, param) in args.iter().zip(params) {
+        // `name: &dyn Fn…` or `name: &mut dyn FnMut…`: a closure, which has no `Debug`.
+        let closure = param.iter().take(5).any(|t| is_ident(t, "dyn"));
+        arguments.push_str(&if closure {
+            format!("crate::trace::Argument::closure(\"{arg}\"),")
+        } else {
+            format!("crate::trace::Argument::of(\"{arg}\", &{arg}),")
+        });
+    }
+    format!(
+        "if !crate::trace::is_recording() {{ return {forwarded}; }} \
+         let open_call = crate::trace::begin_call( \
+             const {{ crate::trace::lab_of_module(::core::module_path!()) }}, \
+             \"{contract}\", \"{method}\", ::std::vec![{arguments}]); \
+         open_call.finish(::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(|| {forwarded})))"
+    )
 }
 
 /// A method's name and its parameter list, checked to be `fn name(&self, …) -> …` with no

@@ -15,9 +15,11 @@ pub use raylab_types::{glam, math, sampling, scene};
 contract_macros::lab_modules!();
 
 mod part_slot;
+pub mod trace;
 pub mod wire;
 
 pub use contract_macros::{answer_keys, contract};
 pub use part_slot::{
     CallLog, ContractMethods, Mix, PartSlot, StudentFor, WAITING_FOR_LAB, Waiting, method_bit,
 };
+pub use trace::{Trace, Traced};

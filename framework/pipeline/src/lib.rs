@@ -11,6 +11,7 @@
 //! the render of a scene through a pipeline ([`render`]).
 
 pub mod builtin;
+pub mod inspect;
 pub mod job;
 pub mod path;
 pub mod photon;
@@ -26,8 +27,9 @@ use std::sync::Arc;
 use glam::{UVec2, Vec2, Vec3};
 
 use contracts::lab09::{self, Addressing, TextureFilter};
+use contracts::trace::{self, RayAnswer, RayHit, RayKind};
 use contracts::{
-    Waiting, lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11, lab12,
+    Trace, Waiting, lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11, lab12,
 };
 use raylab_core::math::Ray;
 
@@ -213,6 +215,31 @@ impl Pipeline {
     }
 }
 
+impl Pipeline {
+    /// This pipeline with the code of every lab slot [traced](contracts::Traced): while
+    /// [`contracts::trace::record`] runs on a thread, each call that thread makes is noted
+    /// (the pixel inspector, [`inspect`]); otherwise it renders as this one does, a call
+    /// costing one relaxed atomic load more. [`Self::part`] still gives the untraced code.
+    pub fn traced(&self) -> Pipeline {
+        Pipeline {
+            camera: Trace::trace(&self.camera),
+            intersection: self.intersection.as_ref().map(Trace::trace),
+            shading: Trace::trace(&self.shading),
+            shadows: Trace::trace(&self.shadows),
+            reflection: Trace::trace(&self.reflection),
+            radiometry: Trace::trace(&self.radiometry),
+            radiosity: Trace::trace(&self.radiosity),
+            antialiasing: Trace::trace(&self.antialiasing),
+            photon_mapping: Trace::trace(&self.photon_mapping),
+            texturing: Trace::trace(&self.texturing),
+            fresnel: Trace::trace(&self.fresnel),
+            ambient_occlusion: Trace::trace(&self.ambient_occlusion),
+            path_tracing: Trace::trace(&self.path_tracing),
+            ..self.clone()
+        }
+    }
+}
+
 /// A camera prepared for one render: the basis computed once through the pipeline.
 #[derive(Clone, Copy, Debug)]
 pub struct PreparedCamera {
@@ -250,19 +277,41 @@ impl Pipeline {
     /// The closest hit along `ray`, through the lab 02 slot; none along a ray that is not
     /// [traceable](Ray::is_traceable).
     pub fn trace_to_closest(&self, scene: &Scene, ray: &Ray) -> Option<Hit> {
-        match &self.intersection {
+        self.closest_hit(scene, ray, RayKind::Other)
+    }
+
+    /// [`Self::trace_to_closest`] for a ray of kind `kind`, which the pixel inspector notes
+    /// with its hit while it records.
+    #[inline]
+    fn closest_hit(&self, scene: &Scene, ray: &Ray, kind: RayKind) -> Option<Hit> {
+        let hit = match &self.intersection {
             Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_closest(ray),
+        };
+        if trace::is_recording() {
+            note_closest_hit(scene, ray, kind, hit.as_ref());
         }
+        hit
     }
 
     /// Whether anything blocks `ray`, through the lab 02 slot; nothing blocks a ray that is
     /// not [traceable](Ray::is_traceable).
     pub fn trace_to_any(&self, scene: &Scene, ray: &Ray) -> bool {
-        match &self.intersection {
+        self.blocked(scene, ray, RayKind::Other)
+    }
+
+    /// [`Self::trace_to_any`] for a ray of kind `kind`, which the pixel inspector notes while
+    /// it records.
+    #[inline]
+    fn blocked(&self, scene: &Scene, ray: &Ray, kind: RayKind) -> bool {
+        let blocked = match &self.intersection {
             Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_any(ray),
+        };
+        if trace::is_recording() {
+            trace::note_ray(kind, ray, RayAnswer::Any(blocked));
         }
+        blocked
     }
 
     /// Radiance arriving along a camera ray (the DTU `RayTracer::compute_pixel` body).
@@ -270,16 +319,45 @@ impl Pipeline {
         if self.lab >= 12 && self.view == View::Shaded {
             return self.path_traced(scene, ray, rng);
         }
-        self.radiance_at(scene, ray, 0, 1.0, rng)
+        self.radiance_at(scene, ray, RayKind::Camera, 0, 1.0, rng)
     }
 
-    /// Radiance along `ray` after `depth` bounces, travelling in a medium of index `ior`; NaN
-    /// along a ray that is not [traceable](Ray::is_traceable), so that the render marks the pixel.
-    fn radiance_at(&self, scene: &Scene, ray: &Ray, depth: u32, ior: f32, rng: &mut Rng) -> Vec3 {
+    /// Radiance along `ray` (of kind `kind`) after `depth` bounces, travelling in a medium of
+    /// index `ior`; NaN along a ray that is not [traceable](Ray::is_traceable), so that the
+    /// render marks the pixel. The pixel inspector notes it with the ray.
+    fn radiance_at(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        if !trace::is_recording() {
+            return self.radiance_along(scene, ray, kind, depth, ior, rng);
+        }
+        let mark = trace::mark();
+        let radiance = self.radiance_along(scene, ray, kind, depth, ior, rng);
+        trace::note_radiance(mark, radiance);
+        radiance
+    }
+
+    /// [`Self::radiance_at`], untraced.
+    #[inline]
+    fn radiance_along(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        ior: f32,
+        rng: &mut Rng,
+    ) -> Vec3 {
         if !ray.is_traceable() {
             return Vec3::NAN;
         }
-        let Some(mut hit) = self.trace_to_closest(scene, ray) else {
+        let Some(mut hit) = self.closest_hit(scene, ray, kind) else {
             return match &scene.environment {
                 Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
                 _ => scene.background,
@@ -369,7 +447,7 @@ impl Pipeline {
             lab11::HemisphereSampler::Rejection => ao.sample_hemisphere_rejection(n, rng),
             lab11::HemisphereSampler::Cosine => ao.sample_hemisphere_cosine(n, rng),
         };
-        let occluded = |ray: &Ray| self.trace_to_any(scene, ray);
+        let occluded = |ray: &Ray| self.blocked(scene, ray, RayKind::Occlusion);
         let occlusion = ao.ambient_occlusion(hit.position, n, rays, &draw, &occluded, rng);
         let light = self.environment_radiance(env, occlusion.bent_normal);
         ao.shade_ambient_occlusion(diffuse, &occlusion, light)
@@ -416,7 +494,8 @@ impl Pipeline {
             return Vec3::ZERO;
         }
         let reflected = self.reflection.reflected_ray(ray, hit);
-        self.radiance_at(scene, &reflected, hit.trace_depth + 1, hit.ior, rng)
+        let depth = hit.trace_depth + 1;
+        self.radiance_at(scene, &reflected, RayKind::Reflected, depth, hit.ior, rng)
     }
 
     /// Radiance along the refracted direction, or the reflected one under total internal
@@ -434,7 +513,8 @@ impl Pipeline {
         }
         match self.reflection.refracted_ray(ray, hit, material_ior) {
             Some((refracted, ior)) => {
-                self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng)
+                let depth = hit.trace_depth + 1;
+                self.radiance_at(scene, &refracted, RayKind::Refracted, depth, ior, rng)
             }
             None => self.trace_reflected(scene, ray, hit, rng),
         }
@@ -499,8 +579,9 @@ impl Pipeline {
             radiance += r * self.trace_reflected(scene, ray, hit, rng);
         }
         if r != 1.0 {
-            radiance +=
-                (1.0 - r) * self.radiance_at(scene, &refracted, hit.trace_depth + 1, ior, rng);
+            let depth = hit.trace_depth + 1;
+            radiance += (1.0 - r)
+                * self.radiance_at(scene, &refracted, RayKind::Refracted, depth, ior, rng);
         }
         radiance
     }
@@ -547,6 +628,9 @@ impl Pipeline {
                 }
             }
         };
+        if trace::is_recording() {
+            trace::note_texcoord(hit.texcoord);
+        }
         let mode = self.texture_addressing;
         let address = |c: f32| t.address(c, mode);
         let texel = match self.texture_filter {
@@ -611,7 +695,7 @@ impl Pipeline {
         if shadows {
             samples.retain(|s| {
                 let shadow_ray = self.shadows.shadow_ray(hit.position, s);
-                !self.trace_to_any(scene, &shadow_ray)
+                !self.blocked(scene, &shadow_ray, RayKind::Shadow)
             });
         }
         samples
@@ -644,6 +728,22 @@ impl Pipeline {
             out.push(sample);
         }
     }
+}
+
+/// Notes a closest-hit query for the pixel inspector: the ray, and the surface it found.
+#[cold]
+#[inline(never)]
+fn note_closest_hit(scene: &Scene, ray: &Ray, kind: RayKind, hit: Option<&Hit>) {
+    let hit = hit.map(|hit| RayHit {
+        distance: hit.distance,
+        position: hit.position,
+        geometric_normal: hit.geometric_normal,
+        shading_normal: hit.shading_normal,
+        material: scene.material(hit.material).name.clone(),
+        surface: hit.surface,
+        texcoord: None,
+    });
+    trace::note_ray(kind, ray, RayAnswer::Closest(hit));
 }
 
 /// A lab 02 [`Intersection`](lab02::Intersection) as the scene's primitive tests: the adapter

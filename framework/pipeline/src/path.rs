@@ -18,6 +18,7 @@ use glam::Vec3;
 use contracts::lab12::{
     BsdfValue, EmitterSample, PathHit, PathMaterial, PathVertex, SkyDistribution,
 };
+use contracts::trace::RayKind;
 use raylab_core::Error;
 use raylab_core::math::Ray;
 use raylab_core::sampling::Rng;
@@ -194,8 +195,15 @@ impl Pipeline {
         let count = lights(scene).count() + usize::from(sky.is_some());
         let choice = 1.0 / count.max(1) as f32;
         let emitters = emitters(scene);
+        // The path loop's first ray is the camera ray, the others its bounces.
+        let first = std::cell::Cell::new(true);
         let trace = |r: &Ray| {
-            let mut hit = self.path_hit(scene, emitters, sky, choice, r);
+            let kind = if first.replace(false) {
+                RayKind::Camera
+            } else {
+                RayKind::Bounce
+            };
+            let mut hit = self.path_hit(scene, emitters, sky, choice, r, kind);
             let light_pdf = match &mut hit {
                 PathHit::Surface(v) => &mut v.light_pdf,
                 PathHit::Escaped { light_pdf, .. } => light_pdf,
@@ -208,7 +216,7 @@ impl Pipeline {
             };
             hit
         };
-        let occluded = |r: &Ray| self.trace_to_any(scene, r);
+        let occluded = |r: &Ray| self.blocked(scene, r, RayKind::Shadow);
         let sample_light = |position: Vec3, rng: &mut Rng| -> Option<EmitterSample> {
             if count == 0 || strategy == PathSampling::Bsdf {
                 return None;
@@ -288,7 +296,7 @@ impl Pipeline {
     /// emitted radiance and the light sampler's density of it from the ray's origin; or the
     /// background.
     /// `choice` is the probability with which the light sampler chooses the emitting
-    /// triangles, or the sky.
+    /// triangles, or the sky; `kind` is the ray's, for the pixel inspector.
     fn path_hit(
         &self,
         scene: &Scene,
@@ -296,8 +304,9 @@ impl Pipeline {
         sky: Option<(&EnvironmentMap, &SkyDistribution)>,
         choice: f32,
         ray: &Ray,
+        kind: RayKind,
     ) -> PathHit {
-        let Some(mut hit) = self.trace_to_closest(scene, ray) else {
+        let Some(mut hit) = self.closest_hit(scene, ray, kind) else {
             let radiance = match &scene.environment {
                 Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
                 _ => scene.background,

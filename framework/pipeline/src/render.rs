@@ -55,36 +55,60 @@ pub fn render_pixel(
     y: u32,
 ) -> Vec3 {
     let spp = settings.samples_per_pixel;
-    let subdivided = pipeline.lab >= 7 && settings.pixel_subdivisions > 1;
     let mut sum = Vec3::ZERO;
     for s in 0..spp {
-        let mut rng = Rng::for_sample(settings.seed, x, y, s);
-        sum += if subdivided {
-            let jitters = pipeline
-                .antialiasing
-                .compute_jitters(settings.pixel_subdivisions, &mut rng);
-            pipeline
-                .antialiasing
-                .compute_pixel(UVec2::new(x, y), &jitters, &mut |raster| {
-                    let ray = pipeline.camera_ray(camera, raster);
-                    pipeline.radiance(scene, &ray, &mut rng)
-                })
-        } else {
-            let offset = if spp == 1 {
-                Vec2::splat(0.5)
-            } else {
-                rng.next_vec2()
-            };
-            let raster = Vec2::new(x as f32, y as f32) + offset;
-            let ray = pipeline.camera_ray(camera, raster);
-            pipeline.radiance(scene, &ray, &mut rng)
-        };
+        sum += render_sample(scene, pipeline, camera, settings, x, y, s);
     }
     sum / spp as f32
 }
 
+/// The radiance of sample `sample` of pixel `(x, y)`, drawn from that sample's own random
+/// numbers: [`render_pixel`] averages these, and the pixel inspector traces one.
+pub fn render_sample(
+    scene: &Scene,
+    pipeline: &Pipeline,
+    camera: &PreparedCamera,
+    settings: &RenderSettings,
+    x: u32,
+    y: u32,
+    sample: u32,
+) -> Vec3 {
+    let mut rng = Rng::for_sample(settings.seed, x, y, sample);
+    if pipeline.lab >= 7 && settings.pixel_subdivisions > 1 {
+        let jitters = pipeline
+            .antialiasing
+            .compute_jitters(settings.pixel_subdivisions, &mut rng);
+        pipeline
+            .antialiasing
+            .compute_pixel(UVec2::new(x, y), &jitters, &mut |raster| {
+                let ray = pipeline.camera_ray(camera, raster);
+                pipeline.radiance(scene, &ray, &mut rng)
+            })
+    } else {
+        let offset = if settings.samples_per_pixel == 1 {
+            Vec2::splat(0.5)
+        } else {
+            rng.next_vec2()
+        };
+        let raster = Vec2::new(x as f32, y as f32) + offset;
+        let ray = pipeline.camera_ray(camera, raster);
+        pipeline.radiance(scene, &ray, &mut rng)
+    }
+}
+
 /// Samples per pixel of each pass of a [`render_progressive`] (jittered within the pixel).
 pub const PASS_SAMPLES: u32 = 4;
+
+/// The settings of pass `pass` (from 0) of a [`render_progressive`] of `settings`:
+/// [`PASS_SAMPLES`] samples per pixel, seeded by `settings.seed + pass`. The pixel inspector
+/// takes them to trace a sample of that pass.
+pub fn pass_settings(settings: &RenderSettings, pass: u32) -> RenderSettings {
+    RenderSettings {
+        samples_per_pixel: PASS_SAMPLES,
+        seed: settings.seed.wrapping_add(u64::from(pass)),
+        ..*settings
+    }
+}
 
 /// The outcome of a progressive render.
 pub struct ProgressiveRender {
@@ -119,11 +143,7 @@ pub fn render_progressive(
     let mut worst_error = f32::INFINITY;
     let mut done = 0;
     for pass in 0..passes {
-        let pass_settings = RenderSettings {
-            samples_per_pixel: PASS_SAMPLES,
-            seed: settings.seed.wrapping_add(u64::from(pass)),
-            ..*settings
-        };
+        let pass_settings = pass_settings(settings, pass);
         let rendered = render_partial(scene, pipeline, &pass_settings)?;
         let film = &rendered.film;
         stats = raylab_core::catch_quietly("Exercise 12.9", || {
