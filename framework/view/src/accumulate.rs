@@ -1,0 +1,236 @@
+//! The render behind the page: passes through each pipeline, accumulated per pixel, restarted
+//! when the camera moves.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use pipeline::job::failure_lines;
+use pipeline::render::render_pixel;
+use raylab_core::Error;
+use raylab_core::render::{RenderSettings, render_partial_with, resolution};
+use raylab_core::scene::{CameraSetup, Scene};
+
+use crate::{Shown, ViewSettings};
+
+pub use pipeline::render::PASS_SAMPLES;
+
+/// Samples per pixel of the first pass after a start or a camera move: one, so that the first
+/// image comes as soon as it can.
+pub const FIRST_PASS_SAMPLES: u32 = 1;
+
+/// Passes after which the render stops until the camera moves.
+pub const MAX_PASSES: u32 = 1024;
+
+/// One pipeline's accumulated image.
+pub(crate) struct Accumulated {
+    /// What the page calls the pipeline.
+    pub name: String,
+    /// Per pixel, the sum of the samples' radiance.
+    pub sum: Vec<Vec3>,
+    /// Whether a sample of the pixel panicked (the pixel shows magenta).
+    pub panicked: Vec<bool>,
+    /// Samples per pixel so far.
+    pub samples: u32,
+    /// The lines naming what panicked in the last pass (`pipeline::job::failure_lines`).
+    pub failures: Vec<String>,
+}
+
+impl Accumulated {
+    /// The mean radiance of pixel `index`, `None` where a sample panicked.
+    pub fn mean(&self, index: usize) -> Option<Vec3> {
+        (!self.panicked[index] && self.samples > 0).then(|| self.sum[index] / self.samples as f32)
+    }
+}
+
+/// What the page sees: the camera and the images so far.
+pub(crate) struct State {
+    /// Counts the camera's moves: the images belong to this camera.
+    pub generation: u64,
+    /// The camera now.
+    pub camera: CameraSetup,
+    /// The scene's own camera.
+    pub initial_camera: CameraSetup,
+    /// Passes done by every pipeline for this camera.
+    pub passes: u32,
+    /// Each pipeline's image.
+    pub images: Vec<Accumulated>,
+    /// When this camera was set, and how long its first pass took.
+    pub camera_set: Instant,
+    /// Seconds from the camera's setting to its first pass's image.
+    pub first_pass_seconds: Option<f64>,
+}
+
+/// The state shared by the worker and the requests.
+pub(crate) struct Accumulator {
+    state: Mutex<State>,
+    changed: Condvar,
+    /// The camera's generation, read by every pixel of a pass: a pass of an older camera
+    /// stops at once.
+    current_generation: AtomicU64,
+    /// The image size.
+    pub width: u32,
+    /// The image size.
+    pub height: u32,
+    /// The scene's name.
+    pub scene_name: String,
+}
+
+impl Accumulator {
+    /// Starts the worker rendering `scene` through each of `shown`.
+    pub fn start(
+        scene: Scene,
+        shown: Vec<Shown>,
+        settings: &ViewSettings,
+    ) -> Result<Arc<Self>, Error> {
+        let render_settings = RenderSettings {
+            width: settings.width,
+            height: settings.height,
+            samples_per_pixel: PASS_SAMPLES,
+            pixel_subdivisions: 1,
+            seed: settings.seed,
+            progress: false,
+        };
+        render_settings.validate()?;
+        let pixels = (settings.width * settings.height) as usize;
+        let accumulator = Arc::new(Self {
+            state: Mutex::new(State {
+                generation: 0,
+                camera: scene.camera,
+                initial_camera: scene.camera,
+                passes: 0,
+                images: shown
+                    .iter()
+                    .map(|s| Accumulated {
+                        name: s.name.clone(),
+                        sum: vec![Vec3::ZERO; pixels],
+                        panicked: vec![false; pixels],
+                        samples: 0,
+                        failures: Vec::new(),
+                    })
+                    .collect(),
+                camera_set: Instant::now(),
+                first_pass_seconds: None,
+            }),
+            changed: Condvar::new(),
+            current_generation: AtomicU64::new(0),
+            width: settings.width,
+            height: settings.height,
+            scene_name: scene.name.clone(),
+        });
+        let worker = accumulator.clone();
+        std::thread::spawn(move || worker.render_forever(scene, shown, render_settings));
+        Ok(accumulator)
+    }
+
+    /// The state, whoever panicked while holding it (nothing does: a pixel's panic is caught
+    /// inside the render).
+    pub fn lock(&self) -> MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Moves the camera: the accumulation starts again; returns the new generation.
+    pub fn set_camera(&self, camera: CameraSetup) -> u64 {
+        let mut state = self.lock();
+        state.generation += 1;
+        self.current_generation
+            .store(state.generation, Ordering::SeqCst);
+        state.camera = camera;
+        state.passes = 0;
+        state.camera_set = Instant::now();
+        state.first_pass_seconds = None;
+        for image in &mut state.images {
+            image.sum.fill(Vec3::ZERO);
+            image.panicked.fill(false);
+            image.samples = 0;
+        }
+        self.changed.notify_all();
+        state.generation
+    }
+
+    /// Waits (at most `timeout`) until the state is no longer at `generation` and `passes`,
+    /// and returns it locked.
+    pub fn wait_for_change(
+        &self,
+        generation: u64,
+        passes: u32,
+        timeout: Duration,
+    ) -> MutexGuard<'_, State> {
+        let state = self.lock();
+        self.changed
+            .wait_timeout_while(state, timeout, |s| {
+                s.generation == generation && s.passes == passes
+            })
+            .map_or_else(|e| e.into_inner().0, |(state, _)| state)
+    }
+
+    /// The worker: renders pass after pass for the current camera, through every pipeline,
+    /// and starts again whenever the camera moves.
+    fn render_forever(&self, mut scene: Scene, shown: Vec<Shown>, settings: RenderSettings) {
+        loop {
+            let (generation, pass) = {
+                let state = self.lock();
+                let state = self
+                    .changed
+                    .wait_while(state, |s| s.passes >= MAX_PASSES)
+                    .unwrap_or_else(|e| e.into_inner());
+                scene.camera = state.camera;
+                (state.generation, state.passes)
+            };
+            let samples = if pass == 0 {
+                FIRST_PASS_SAMPLES
+            } else {
+                PASS_SAMPLES
+            };
+            let pass_settings = RenderSettings {
+                samples_per_pixel: samples,
+                seed: settings.seed.wrapping_add(u64::from(pass)),
+                ..settings
+            };
+            let mut rendered = Vec::with_capacity(shown.len());
+            for s in &shown {
+                // `pipeline::render::render_partial`, each pixel skipped once the camera
+                // has moved (the pass is then thrown away).
+                rendered.push(render_partial_with(
+                    &pass_settings,
+                    || {
+                        s.pipeline
+                            .prepare_camera(&scene, resolution(&pass_settings))
+                    },
+                    |camera, x, y| {
+                        if self.current_generation.load(Ordering::Relaxed) != generation {
+                            return Vec3::ZERO;
+                        }
+                        render_pixel(&scene, &s.pipeline, camera, &pass_settings, x, y)
+                    },
+                ));
+            }
+            let mut state = self.lock();
+            if state.generation != generation {
+                continue;
+            }
+            for (image, outcome) in state.images.iter_mut().zip(rendered) {
+                match outcome {
+                    Ok(partial) => {
+                        for (i, &radiance) in partial.film.pixels.iter().enumerate() {
+                            image.sum[i] += radiance * samples as f32;
+                            image.panicked[i] |= partial.panicked[i];
+                        }
+                        image.failures = failure_lines(&partial.failures, image.sum.len());
+                    }
+                    Err(e) => {
+                        image.panicked.fill(true);
+                        image.failures = vec![format!("error: {e}")];
+                    }
+                }
+                image.samples += samples;
+            }
+            state.passes += 1;
+            if state.first_pass_seconds.is_none() {
+                state.first_pass_seconds = Some(state.camera_set.elapsed().as_secs_f64());
+            }
+            self.changed.notify_all();
+        }
+    }
+}
