@@ -33,6 +33,8 @@ pub(crate) struct Accumulated {
     pub panicked: Vec<bool>,
     /// Samples per pixel so far.
     pub samples: u32,
+    /// Passes so far.
+    pub passes: u32,
     /// The lines naming what panicked in the last pass (`pipeline::job::failure_lines`).
     pub failures: Vec<String>,
 }
@@ -52,14 +54,26 @@ pub(crate) struct State {
     pub camera: CameraSetup,
     /// The scene's own camera.
     pub initial_camera: CameraSetup,
-    /// Passes done by every pipeline for this camera.
-    pub passes: u32,
+    /// Counts the images' changes for this camera (one per pipeline's pass).
+    pub updates: u64,
     /// Each pipeline's image.
     pub images: Vec<Accumulated>,
-    /// When this camera was set, and how long its first pass took.
+    /// When this camera was set.
     pub camera_set: Instant,
     /// Seconds from the camera's setting to its first pass's image.
     pub first_pass_seconds: Option<f64>,
+}
+
+impl State {
+    /// Passes done by every pipeline for this camera.
+    pub fn passes(&self) -> u32 {
+        self.images.iter().map(|i| i.passes).min().unwrap_or(0)
+    }
+
+    /// Passes done by the furthest pipeline for this camera: what the page has to show.
+    pub fn shown_passes(&self) -> u32 {
+        self.images.iter().map(|i| i.passes).max().unwrap_or(0)
+    }
 }
 
 /// The state shared by the worker and the requests.
@@ -99,7 +113,7 @@ impl Accumulator {
                 generation: 0,
                 camera: scene.camera,
                 initial_camera: scene.camera,
-                passes: 0,
+                updates: 0,
                 images: shown
                     .iter()
                     .map(|s| Accumulated {
@@ -107,6 +121,7 @@ impl Accumulator {
                         sum: vec![Vec3::ZERO; pixels],
                         panicked: vec![false; pixels],
                         samples: 0,
+                        passes: 0,
                         failures: Vec::new(),
                     })
                     .collect(),
@@ -137,46 +152,51 @@ impl Accumulator {
         self.current_generation
             .store(state.generation, Ordering::SeqCst);
         state.camera = camera;
-        state.passes = 0;
+        state.updates = 0;
         state.camera_set = Instant::now();
         state.first_pass_seconds = None;
         for image in &mut state.images {
             image.sum.fill(Vec3::ZERO);
             image.panicked.fill(false);
             image.samples = 0;
+            image.passes = 0;
         }
         self.changed.notify_all();
         state.generation
     }
 
-    /// Waits (at most `timeout`) until the state is no longer at `generation` and `passes`,
+    /// Waits (at most `timeout`) until the state is no longer at `generation` and `updates`,
     /// and returns it locked.
     pub fn wait_for_change(
         &self,
         generation: u64,
-        passes: u32,
+        updates: u64,
         timeout: Duration,
     ) -> MutexGuard<'_, State> {
         let state = self.lock();
         self.changed
             .wait_timeout_while(state, timeout, |s| {
-                s.generation == generation && s.passes == passes
+                s.generation == generation && s.updates == updates
             })
             .map_or_else(|e| e.into_inner().0, |(state, _)| state)
     }
 
-    /// The worker: renders pass after pass for the current camera, through every pipeline,
-    /// and starts again whenever the camera moves.
+    /// The worker: renders pass after pass for the current camera, through every pipeline
+    /// (the last, the reference beside the student's code, first: it is the quicker to show),
+    /// publishes each pipeline's pass as it is done, and starts again whenever the camera
+    /// moves.
     fn render_forever(&self, mut scene: Scene, shown: Vec<Shown>, settings: RenderSettings) {
-        loop {
-            let (generation, pass) = {
+        'camera: loop {
+            let (generation, pass, marked) = {
                 let state = self.lock();
                 let state = self
                     .changed
-                    .wait_while(state, |s| s.passes >= MAX_PASSES)
+                    .wait_while(state, |s| s.passes() >= MAX_PASSES)
                     .unwrap_or_else(|e| e.into_inner());
                 scene.camera = state.camera;
-                (state.generation, state.passes)
+                let marked: Vec<Vec<bool>> =
+                    state.images.iter().map(|i| i.panicked.clone()).collect();
+                (state.generation, state.passes(), marked)
             };
             let samples = if pass == 0 {
                 FIRST_PASS_SAMPLES
@@ -188,36 +208,43 @@ impl Accumulator {
                 seed: settings.seed.wrapping_add(u64::from(pass)),
                 ..settings
             };
-            let mut rendered = Vec::with_capacity(shown.len());
-            for s in &shown {
-                // `pipeline::render::render_partial`, each pixel skipped once the camera
-                // has moved (the pass is then thrown away).
-                rendered.push(render_partial_with(
+            for (index, s) in shown.iter().enumerate().rev() {
+                let marked = &marked[index];
+                // `pipeline::render::render_partial`, but each pixel skipped once the camera
+                // has moved (the pass is then thrown away), and a pixel already marked as
+                // panicked not computed again: it stays magenta, and a panic costs time.
+                let outcome = render_partial_with(
                     &pass_settings,
                     || {
                         s.pipeline
                             .prepare_camera(&scene, resolution(&pass_settings))
                     },
                     |camera, x, y| {
-                        if self.current_generation.load(Ordering::Relaxed) != generation {
+                        let pixel = (y * pass_settings.width + x) as usize;
+                        if marked[pixel]
+                            || self.current_generation.load(Ordering::Relaxed) != generation
+                        {
                             return Vec3::ZERO;
                         }
                         render_pixel(&scene, &s.pipeline, camera, &pass_settings, x, y)
                     },
-                ));
-            }
-            let mut state = self.lock();
-            if state.generation != generation {
-                continue;
-            }
-            for (image, outcome) in state.images.iter_mut().zip(rendered) {
+                );
+                let mut state = self.lock();
+                if state.generation != generation {
+                    continue 'camera;
+                }
+                let image = &mut state.images[index];
                 match outcome {
                     Ok(partial) => {
                         for (i, &radiance) in partial.film.pixels.iter().enumerate() {
                             image.sum[i] += radiance * samples as f32;
                             image.panicked[i] |= partial.panicked[i];
                         }
-                        image.failures = failure_lines(&partial.failures, image.sum.len());
+                        // The failures of the pixels computed in this pass; the ones
+                        // marked before are named by the earlier passes' lines.
+                        if pass == 0 || !partial.failures.is_empty() {
+                            image.failures = failure_lines(&partial.failures, image.sum.len());
+                        }
                     }
                     Err(e) => {
                         image.panicked.fill(true);
@@ -225,12 +252,13 @@ impl Accumulator {
                     }
                 }
                 image.samples += samples;
+                image.passes += 1;
+                state.updates += 1;
+                if state.first_pass_seconds.is_none() {
+                    state.first_pass_seconds = Some(state.camera_set.elapsed().as_secs_f64());
+                }
+                self.changed.notify_all();
             }
-            state.passes += 1;
-            if state.first_pass_seconds.is_none() {
-                state.first_pass_seconds = Some(state.camera_set.elapsed().as_secs_f64());
-            }
-            self.changed.notify_all();
         }
     }
 }

@@ -33,7 +33,7 @@ pub enum Route {
     Page,
     /// `/status`: the state as JSON (see [`status`]).
     Status,
-    /// `/wait?generation=G&passes=P`: the state once it differs from `G` and `P` (or after
+    /// `/wait?generation=G&updates=U`: the state once it differs from `G` and `U` (or after
     /// [`LONG_POLL`]).
     Wait,
     /// `/image?index=I`: pipeline `I`'s mean radiance, 4 little-endian `f32` per pixel, row by
@@ -114,8 +114,8 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
         Route::Status => json_answer(&status(accumulator, &accumulator.lock())),
         Route::Wait => {
             let generation = query.number::<u64>("generation")?;
-            let passes = query.number::<u32>("passes")?;
-            let state = accumulator.wait_for_change(generation, passes, LONG_POLL);
+            let updates = query.number::<u64>("updates")?;
+            let state = accumulator.wait_for_change(generation, updates, LONG_POLL);
             json_answer(&status(accumulator, &state))
         }
         Route::Image => {
@@ -139,7 +139,7 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
                 .with_header(header("Content-Type", "application/octet-stream"))
                 .with_header(header("Cache-Control", "no-store"))
                 .with_header(header("X-Generation", &state.generation.to_string()))
-                .with_header(header("X-Passes", &state.passes.to_string()))
+                .with_header(header("X-Passes", &image.passes.to_string()))
         }
         Route::Camera => {
             let eye = query.point("eye")?;
@@ -188,7 +188,6 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
                 "x": x,
                 "y": y,
                 "generation": state.generation,
-                "samples": state.images.first().map_or(0, |i| i.samples),
                 "pipelines": pipelines,
             }))
         }
@@ -209,13 +208,15 @@ fn status(accumulator: &Accumulator, state: &State) -> Value {
         "width": accumulator.width,
         "height": accumulator.height,
         "generation": state.generation,
-        "passes": state.passes,
-        "samples": state.images.first().map_or(0, |i| i.samples),
+        "updates": state.updates,
+        "passes": state.shown_passes(),
         "first_pass_seconds": state.first_pass_seconds,
         "camera": camera(&state.camera),
         "initial_camera": camera(&state.initial_camera),
         "pipelines": state.images.iter().map(|i| json!({
             "name": i.name,
+            "passes": i.passes,
+            "samples": i.samples,
             "failures": i.failures,
         })).collect::<Vec<_>>(),
     })

@@ -80,7 +80,7 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
         "/pixel?x",
         "/image?index=1",
         "/image?index=99999999999999999999999",
-        "/wait?generation=abc&passes=0",
+        "/wait?generation=abc&updates=0",
         "/camera?eye=NaN,0,0&look=0,0,0&up=0,1,0",
         "/camera?eye=inf,0,0&look=0,0,0&up=0,1,0",
         "/camera?eye=1e30,0,0&look=0,0,0&up=0,1,0",
@@ -113,7 +113,7 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     assert!((400..500).contains(&send(&address, huge.as_bytes()).0));
 
     // Still serving: the first pass comes, every pixel of it marked as panicked.
-    let (status, state) = get(&address, "/wait?generation=0&passes=0");
+    let (status, state) = get(&address, "/wait?generation=0&updates=0");
     assert_eq!(status, 200, "{state}");
     let state: serde_json::Value = serde_json::from_str(&state).unwrap();
     assert!(state["passes"].as_u64().unwrap() >= 1, "{state}");
@@ -141,4 +141,5 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     let moved: serde_json::Value = serde_json::from_str(&moved).unwrap();
     assert_eq!(moved["generation"], 1);
     assert_eq!(moved["passes"], 0);
+    assert_eq!(moved["updates"], 0);
 }

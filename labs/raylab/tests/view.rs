@@ -246,7 +246,13 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
         "the moved camera's first update shows {restarted} passes, the old one had {before}"
     );
 
-    // A click shows the pixel's mean radiance in both pipelines.
+    // A click, once both pipelines have a pass of the moved camera, shows the pixel's mean
+    // radiance in both.
+    browser.wait_for(
+        "window.raylabView.updates.some(u => u.generation > 0 && u.samples > 0)",
+        timeout,
+        "both images of the moved camera",
+    );
     browser.mouse("mousePressed", left + 96.5, top + 60.5, 1);
     browser.mouse("mouseReleased", left + 96.5, top + 60.5, 0);
     browser.wait_for(
@@ -309,4 +315,28 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
     assert!(magenta < 192 * 150, "{magenta} magenta pixels");
     drop(browser);
     drop(view);
+}
+
+#[test]
+fn a_bad_size_or_scene_is_one_error_and_no_server() {
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .arg("view")
+            .args(args)
+            .stdin(Stdio::null())
+            .output()
+            .expect("raylab runs");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (ok, stdout, stderr) = run(&["--width", "0"]);
+    assert!(!ok && stdout.is_empty(), "{stdout}");
+    assert!(stderr.contains("--width 0"), "{stderr}");
+    let (ok, stdout, stderr) = run(&["--lab", "12", "--scene", "no-such-scene.toml"]);
+    assert!(!ok, "{stdout}");
+    assert!(!stdout.contains("http://"), "{stdout}");
+    assert!(stderr.contains("no-such-scene.toml"), "{stderr}");
 }
