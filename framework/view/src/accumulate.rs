@@ -2,7 +2,7 @@
 //! when the camera moves.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, RwLock};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
@@ -89,6 +89,11 @@ pub(crate) struct Accumulator {
     pub height: u32,
     /// The scene's name.
     pub scene_name: String,
+    /// The scene, its camera the one of the pass under way (the worker sets it at the start
+    /// of each pass).
+    scene: RwLock<Scene>,
+    /// The pipelines, in the page's order.
+    shown: Vec<Shown>,
 }
 
 impl Accumulator {
@@ -133,9 +138,11 @@ impl Accumulator {
             width: settings.width,
             height: settings.height,
             scene_name: scene.name.clone(),
+            scene: RwLock::new(scene),
+            shown,
         });
         let worker = accumulator.clone();
-        std::thread::spawn(move || worker.render_forever(scene, shown, render_settings));
+        std::thread::spawn(move || worker.render_forever(render_settings));
         Ok(accumulator)
     }
 
@@ -143,6 +150,16 @@ impl Accumulator {
     /// inside the render).
     pub fn lock(&self) -> MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Calls `f` with the scene (its camera the one of the pass under way, which may still be
+    /// the one before the last [`Self::set_camera`]) and the pipelines in the page's order:
+    /// for a route that traces a pixel itself, such as a pixel inspector.
+    pub fn with_scene<T>(&self, f: impl FnOnce(&Scene, &[Shown]) -> T) -> T {
+        f(
+            &self.scene.read().unwrap_or_else(|e| e.into_inner()),
+            &self.shown,
+        )
     }
 
     /// Moves the camera: the accumulation starts again; returns the new generation.
@@ -185,19 +202,21 @@ impl Accumulator {
     /// (the last, the reference beside the student's code, first: it is the quicker to show),
     /// publishes each pipeline's pass as it is done, and starts again whenever the camera
     /// moves.
-    fn render_forever(&self, mut scene: Scene, shown: Vec<Shown>, settings: RenderSettings) {
+    fn render_forever(&self, settings: RenderSettings) {
+        let shown = &self.shown;
         'camera: loop {
-            let (generation, pass, marked) = {
+            let (generation, pass, marked, camera) = {
                 let state = self.lock();
                 let state = self
                     .changed
                     .wait_while(state, |s| s.passes() >= MAX_PASSES)
                     .unwrap_or_else(|e| e.into_inner());
-                scene.camera = state.camera;
                 let marked: Vec<Vec<bool>> =
                     state.images.iter().map(|i| i.panicked.clone()).collect();
-                (state.generation, state.passes(), marked)
+                (state.generation, state.passes(), marked, state.camera)
             };
+            // Set with the state unlocked: a request holding the scene may wait for the state.
+            self.scene.write().unwrap_or_else(|e| e.into_inner()).camera = camera;
             let samples = if pass == 0 {
                 FIRST_PASS_SAMPLES
             } else {
@@ -208,6 +227,7 @@ impl Accumulator {
                 seed: settings.seed.wrapping_add(u64::from(pass)),
                 ..settings
             };
+            let scene = self.scene.read().unwrap_or_else(|e| e.into_inner());
             for (index, s) in shown.iter().enumerate().rev() {
                 let marked = &marked[index];
                 // `pipeline::render::render_partial`, but each pixel skipped once the camera

@@ -42,7 +42,8 @@ pub enum Route {
     /// `/camera?eye=X,Y,Z&look=X,Y,Z&up=X,Y,Z`: moves the camera (the accumulation restarts)
     /// and answers the state.
     Camera,
-    /// `/pixel?x=X&y=Y`: the pixel's mean radiance in each pipeline and its samples, as JSON.
+    /// `/pixel?x=X&y=Y`: the pixel's mean radiance in each pipeline and its samples, and the
+    /// camera ray through its centre (by the first pipeline's camera code), as JSON.
     Pixel,
 }
 
@@ -170,6 +171,26 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
                     accumulator.width, accumulator.height
                 ));
             }
+            // The ray through the pixel's centre, by the first pipeline's camera code (which
+            // may panic: a student's unfinished Exercise 1.2, say).
+            let ray = accumulator.with_scene(|scene, shown| {
+                let resolution = glam::UVec2::new(accumulator.width, accumulator.height);
+                let raster = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                shown.first().map(|s| {
+                    raylab_core::catch_quietly("the camera ray", || {
+                        let camera = s.pipeline.prepare_camera(scene, resolution);
+                        s.pipeline.camera_ray(&camera, raster)
+                    })
+                })
+            });
+            let ray = match ray {
+                Some(Ok(ray)) => json!({
+                    "origin": ray.origin.to_array(),
+                    "direction": ray.direction.to_array(),
+                }),
+                Some(Err(e)) => json!({ "panicked": e.to_string() }),
+                None => Value::Null,
+            };
             let state = accumulator.lock();
             let index = (y * accumulator.width + x) as usize;
             let pipelines: Vec<Value> = state
@@ -188,6 +209,7 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
                 "x": x,
                 "y": y,
                 "generation": state.generation,
+                "camera_ray": ray,
                 "pipelines": pipelines,
             }))
         }

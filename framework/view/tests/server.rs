@@ -134,6 +134,8 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     let pixel: serde_json::Value = serde_json::from_str(&pixel).unwrap();
     assert_eq!(pixel["pipelines"][0]["panicked"], true, "{pixel}");
     assert!(pixel["pipelines"][0]["radiance"].is_null(), "{pixel}");
+    let ray = pixel["camera_ray"]["panicked"].to_string();
+    assert!(ray.contains("the camera ray"), "{pixel}");
 
     // A camera move restarts the accumulation.
     let (status, moved) = get(&address, "/camera?eye=0.3,0.3,-1&look=0.3,0.3,0&up=0,1,0");

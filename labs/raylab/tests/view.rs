@@ -286,6 +286,14 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
     assert!(shown.contains("Reference: mean radiance"), "{shown}");
     // The stubs of lab 12 are unfinished: the student's pixel is marked, not computed.
     assert!(shown.contains("Student: panicked (magenta)"), "{shown}");
+    // Lab 12's program has the key's camera: the ray through the pixel's centre.
+    assert!(shown.contains("camera ray from "), "{shown}");
+    let direction = &answer["camera_ray"]["direction"];
+    let length = (0..3)
+        .map(|i| direction[i].as_f64().unwrap().powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!((length - 1.0).abs() < 1e-3, "{answer}");
 
     // The screenshot shows the image: many colours where the canvas is.
     let shot = browser.call("Page.captureScreenshot", json!({"format": "png"}));
