@@ -60,6 +60,10 @@ pub struct ViewJob {
     pub whose: String,
     /// Also render the answer key beside it, when the program holds it.
     pub compare: bool,
+    /// End the program when its standard input closes: `raylab view` holds the other end,
+    /// so the server ends with the command however the command ends.
+    #[serde(default)]
+    pub end_with_stdin: bool,
 }
 
 /// A lab's report: where and how its figures are made (`raylab report`).

@@ -19,6 +19,12 @@ pub fn serve(job: &ViewJob, own: Pipeline, key: Option<Pipeline>) -> Result<(), 
             reason: "expected a lab of the course".into(),
         });
     }
+    if job.end_with_stdin {
+        std::thread::spawn(|| {
+            let _ = std::io::copy(&mut std::io::stdin().lock(), &mut std::io::sink());
+            std::process::exit(0)
+        });
+    }
     let scene = load_scene(&job.scene)?;
     if let Some(warning) = empty_scene_warning(&scene, &job.scene) {
         eprintln!("{warning}");

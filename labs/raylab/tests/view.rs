@@ -322,7 +322,19 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
     assert!(magenta > 192 * 60, "{magenta} magenta pixels");
     assert!(magenta < 192 * 150, "{magenta} magenta pixels");
     drop(browser);
-    drop(view);
+
+    // The server ends with the command, even when only the command is killed.
+    let mut view = view;
+    view.0.kill().unwrap();
+    let address = url.trim_start_matches("http://").trim_end_matches('/');
+    let start = Instant::now();
+    while std::net::TcpStream::connect(address).is_ok() {
+        assert!(
+            start.elapsed() < Duration::from_secs(20),
+            "the lab's program still serves {url} after raylab was killed"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
 }
 
 #[test]
