@@ -49,7 +49,9 @@ fn each_crate_depends_only_on_the_layers_below_it() {
             "raylab-core" => vec!["raylab-types"],
             "contracts" => vec!["raylab-types", "contract-macros"],
             "pipeline" => vec!["raylab-core", "contracts", "course"],
-            "grading" => vec!["course", "raylab-core", "contracts", "pipeline"],
+            // `view` only behind grading's `view` feature (a lab program built for `raylab view`).
+            "grading" => vec!["course", "raylab-core", "contracts", "pipeline", "view"],
+            "view" => vec!["raylab-core", "pipeline"],
             "figures" => vec!["course", "raylab-core", "pipeline", "grading"],
             // The command line links no lab's code, nor its checks: what needs them runs in
             // the lab's program (`cargo test -p labNN`), so a broken lab stops only its own row.
@@ -98,6 +100,7 @@ fn each_crate_depends_only_on_the_layers_below_it() {
         "pipeline",
         "grading",
         "figures",
+        "view",
         "raylab",
     ] {
         assert!(deps.contains_key(framework), "no crate {framework}");
@@ -136,5 +139,20 @@ fn a_lab_s_tests_build_no_other_lab() {
             others.is_empty(),
             "`cargo test -p {name}` builds other labs' crates: {others:?}"
         );
+    }
+}
+
+/// A lab's plain tests build no web server: `raylab view`'s crate and its HTTP server come only
+/// with the lab's `view` feature (issue 35: a lab's first test build stays short).
+#[test]
+fn a_lab_s_tests_build_no_web_server() {
+    for lab in course::labs() {
+        let built = packages_built_by_tests_of(&lab.to_string());
+        for server in ["view", "tiny_http"] {
+            assert!(
+                !built.contains(server),
+                "`cargo test -p {lab}` builds {server}"
+            );
+        }
     }
 }

@@ -89,6 +89,24 @@ pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
             };
             finish(report(&job, ctx.base.clone().with_part(subject)));
         }
+        Some(Task::View(job)) => {
+            #[cfg(feature = "view")]
+            {
+                // The key beside the student's code, when the program holds it.
+                let key = ctx.key().filter(|_| job.compare).cloned();
+                finish(crate::view_task::serve(
+                    &job,
+                    ctx.base.clone().with_part(subject),
+                    key,
+                ));
+            }
+            #[cfg(not(feature = "view"))]
+            {
+                let _ = job;
+                eprintln!("error: this program of {lab} was built without its `view` feature");
+                std::process::exit(2)
+            }
+        }
         Some(Task::Golden(dir)) => {
             if !ctx.has_key(lab) {
                 eprintln!("error: golden data comes from the answer key: build with `reference`");

@@ -18,6 +18,8 @@ mod strata;
 pub mod strategies;
 pub mod task;
 pub mod verdict;
+#[cfg(feature = "view")]
+pub mod view_task;
 
 pub use charged_once::judge;
 pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};

@@ -36,6 +36,34 @@ pub enum Task {
     /// the lab's `reference` feature) into this lab directory, and beside each snapshot image
     /// its PNG; answer with the paths written, one per line.
     Golden(PathBuf),
+    /// Serve the page of `raylab view` until stopped (a program built with the lab's `view`
+    /// feature).
+    View(ViewJob),
+}
+
+/// `raylab view`: what the page shows and where it is served.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ViewJob {
+    /// A built-in scene's name, a scene file (.toml) or an OBJ file.
+    pub scene: String,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The seed of the first pass.
+    pub seed: u64,
+    /// The lab whose features the pipeline uses.
+    pub lab: u32,
+    /// The port on 127.0.0.1; 0 lets the system choose.
+    pub port: u16,
+    /// Whose code the program renders with, in words ("Student", "Reference").
+    pub whose: String,
+    /// Also render the answer key beside it, when the program holds it.
+    pub compare: bool,
+    /// End the program when its standard input closes: `raylab view` holds the other end,
+    /// so the server ends with the command however the command ends.
+    #[serde(default)]
+    pub end_with_stdin: bool,
 }
 
 /// A lab's report: where and how its figures are made (`raylab report`).

@@ -22,6 +22,7 @@ mod reset;
 #[cfg(feature = "instructor")]
 mod similarity;
 mod status;
+mod view;
 mod watch;
 
 use std::process::ExitCode;
@@ -48,6 +49,9 @@ enum Command {
     Hint(hint::HintArgs),
     /// Re-run a lab's checks whenever its sources change, and show the next exercise to do.
     Watch(watch::WatchArgs),
+    /// Watch a render converge in the browser: serve a page on 127.0.0.1 (the URL is printed)
+    /// with your code's image beside the reference's, camera controls and each pixel's value.
+    View(view::ViewArgs),
     /// Put one exercise's function back as the handout had it (e.g. `raylab reset 1.2`),
     /// leaving the rest of your code as it is.
     Reset(reset::ResetArgs),
@@ -108,6 +112,7 @@ fn main() -> ExitCode {
         Some(Command::Status(args)) => status::run(&args),
         Some(Command::Hint(args)) => hint::run(&args),
         Some(Command::Watch(args)) => watch::run(&args),
+        Some(Command::View(args)) => view::run(&args),
         Some(Command::Reset(args)) => reset::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         #[cfg(feature = "instructor")]

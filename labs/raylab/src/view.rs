@@ -1,0 +1,100 @@
+//! `raylab view`: a page on 127.0.0.1 that shows a render converging, served by the lab's
+//! program built with its `view` feature (the `view` crate), so the command line links no
+//! lab's code and `cargo test -p labNN` never builds the web server.
+
+use std::process::Stdio;
+
+use clap::Args;
+use course::LabId;
+use grading::task::{Task, ViewJob};
+use raylab_core::Error;
+
+use crate::lab_program::LabProgram;
+use crate::render::PipelineChoice;
+
+/// Options of `raylab view`.
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// Scene: a built-in name (default, cornell, cornell-ceiling, cornell-spheres), a scene
+    /// file (.toml) or an OBJ file.
+    #[arg(long, short, default_value = "cornell")]
+    pub scene: String,
+    /// The lab whose features (and, with --pipeline student, whose code) to use; default: the
+    /// last lab.
+    #[arg(long)]
+    pub lab: Option<LabId>,
+    /// Whose code renders; with `student`, the reference is shown beside it where the tree
+    /// holds the lab's solution.
+    #[arg(long, value_enum, default_value_t = PipelineChoice::Student)]
+    pub pipeline: PipelineChoice,
+    /// The port on 127.0.0.1 (0: a free one, printed).
+    #[arg(long, default_value_t = 0)]
+    pub port: u16,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub height: u32,
+    /// The seed of the first pass (pass p uses seed + p).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+/// The largest image side `raylab view` renders.
+pub const MAX_SIDE: u32 = 4096;
+
+/// Runs `raylab view`: builds the lab's program with its `view` feature (and `reference` for
+/// the reference pipeline where the tree holds the solution) and runs it until it is stopped.
+pub fn run(args: &ViewArgs) -> Result<(), Error> {
+    let lab = args.lab.unwrap_or_else(course::last);
+    crate::labs::check_lab(lab)?;
+    for (what, side) in [("--width", args.width), ("--height", args.height)] {
+        if side == 0 || side > MAX_SIDE {
+            return Err(Error::Invalid {
+                what: format!("{what} {side}"),
+                reason: format!("expected a whole number from 1 to {MAX_SIDE}"),
+            });
+        }
+    }
+    let has_solution = crate::render::has_solution(lab);
+    let job = ViewJob {
+        scene: args.scene.clone(),
+        width: args.width,
+        height: args.height,
+        seed: args.seed,
+        lab: lab.number(),
+        port: args.port,
+        whose: format!("{:?}", args.pipeline),
+        compare: args.pipeline == PipelineChoice::Student && has_solution,
+        end_with_stdin: true,
+    };
+    if let Some(note) = crate::render::student_code_note(args.pipeline, lab) {
+        eprintln!("note: {note}");
+    }
+    let features: &[&str] = match args.pipeline {
+        PipelineChoice::Reference if has_solution => &["view", "reference"],
+        _ => &["view"],
+    };
+    let program = LabProgram::build(lab, features).map_err(|e| Error::Invalid {
+        what: format!("{lab}"),
+        reason: e.to_string(),
+    })?;
+    let mut server = program
+        .command(&Task::View(job))
+        .stdin(Stdio::piped())
+        .spawn()
+        .map_err(|e| Error::io(&program.executable, e))?;
+    // Held until this command ends: the pipe then closes and the server ends with it.
+    let _held = server.stdin.take();
+    let status = server
+        .wait()
+        .map_err(|e| Error::io(&program.executable, e))?;
+    if status.success() {
+        return Ok(());
+    }
+    Err(Error::Invalid {
+        what: format!("{lab}'s program"),
+        reason: format!("it stopped ({status}); its messages are above"),
+    })
+}
