@@ -94,6 +94,8 @@ pub(crate) struct Accumulator {
     scene: RwLock<Scene>,
     /// The pipelines, in the page's order.
     shown: Vec<Shown>,
+    /// The settings of a camera's first pass, whose samples the pixel inspector traces again.
+    pub first_pass: RenderSettings,
 }
 
 impl Accumulator {
@@ -140,6 +142,10 @@ impl Accumulator {
             scene_name: scene.name.clone(),
             scene: RwLock::new(scene),
             shown,
+            first_pass: RenderSettings {
+                samples_per_pixel: FIRST_PASS_SAMPLES,
+                ..render_settings
+            },
         });
         let worker = accumulator.clone();
         std::thread::spawn(move || worker.render_forever(render_settings));

@@ -172,16 +172,33 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
                 ));
             }
             // The ray through the pixel's centre, by the first pipeline's camera code (which
-            // may panic: a student's unfinished Exercise 1.2, say).
-            let ray = accumulator.with_scene(|scene, shown| {
+            // may panic: a student's unfinished Exercise 1.2, say); and each pipeline's first
+            // sample of the pixel traced again, call by call (the inspector).
+            let (ray, inspections) = accumulator.with_scene(|scene, shown| {
                 let resolution = glam::UVec2::new(accumulator.width, accumulator.height);
                 let raster = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                shown.first().map(|s| {
+                let ray = shown.first().map(|s| {
                     raylab_core::catch_quietly("the camera ray", || {
                         let camera = s.pipeline.prepare_camera(scene, resolution);
                         s.pipeline.camera_ray(&camera, raster)
                     })
-                })
+                });
+                let settings = &accumulator.first_pass;
+                let inspections: Vec<Value> = shown
+                    .iter()
+                    .map(|s| {
+                        let traced =
+                            pipeline::inspect::inspect_pixel(scene, &s.pipeline, settings, x, y, 0);
+                        json!({
+                            "name": s.name,
+                            "inspection": match traced {
+                                Ok(inspection) => serde_json::to_value(inspection).unwrap_or(Value::Null),
+                                Err(e) => json!({ "error": e.to_string() }),
+                            },
+                        })
+                    })
+                    .collect();
+                (ray, inspections)
             });
             let ray = match ray {
                 Some(Ok(ray)) => json!({
@@ -211,6 +228,7 @@ fn answer_route(route: Route, query: &str, accumulator: &Accumulator) -> Result<
                 "generation": state.generation,
                 "camera_ray": ray,
                 "pipelines": pipelines,
+                "inspections": inspections,
             }))
         }
     })

@@ -295,6 +295,30 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
         .sqrt();
     assert!((length - 1.0).abs() < 1e-3, "{answer}");
 
+    // The inspector: the reference's sample ray by ray and call by call, from its camera ray
+    // to the path tracer's exercise; the student's names the exercise whose stub stopped it.
+    let inspections = answer["inspections"].as_array().unwrap();
+    assert_eq!(inspections.len(), 2, "{answer}");
+    let tree = browser
+        .eval("document.getElementById('inspector').textContent")
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(tree.contains("camera ray from "), "{tree}");
+    assert!(tree.contains("→ hit at t = "), "{tree}");
+    assert!(
+        tree.contains("[12."),
+        "an exercise of lab 12 computed it: {tree}"
+    );
+    let culprit = &inspections[0]["inspection"]["culprit"];
+    assert!(
+        culprit["exercise"]["id"]
+            .as_str()
+            .is_some_and(|id| id.starts_with("12.")),
+        "the student's stub names its exercise: {culprit}"
+    );
+    assert!(tree.contains("panicked"), "{tree}");
+
     // The screenshot shows the image: many colours where the canvas is.
     let shot = browser.call("Page.captureScreenshot", json!({"format": "png"}));
     let png = base64::engine::general_purpose::STANDARD
