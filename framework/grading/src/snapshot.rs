@@ -32,6 +32,8 @@ pub struct SnapshotReport {
     pub pixels: usize,
     /// Largest channel difference.
     pub max_error: f32,
+    /// The pixel furthest outside the tolerance (a NaN or infinite one first), `(x, y)`.
+    pub worst: Option<(u32, u32)>,
 }
 
 impl SnapshotReport {
@@ -54,12 +56,22 @@ pub fn compare_snapshot(render: &Film, reference: &Film, tol: &PixelTolerance) -
         non_finite: render.non_finite_count(),
         pixels: reference.pixels.len(),
         max_error: 0.0,
+        worst: None,
     };
-    for (&got, &expected) in render.pixels.iter().zip(&reference.pixels) {
+    let mut worst_error = 1.0f32;
+    for (i, (&got, &expected)) in render.pixels.iter().zip(&reference.pixels).enumerate() {
         let diff = (got - expected).abs().max_element();
-        let within = pixel_error(got, expected, tol) <= 1.0; // false for NaN
+        let error = pixel_error(got, expected, tol);
+        let within = error <= 1.0; // false for NaN
         if !within {
             report.outliers += 1;
+            // A NaN error is the worst of all.
+            let error = if error.is_nan() { f32::INFINITY } else { error };
+            if error > worst_error || report.worst.is_none() {
+                worst_error = error;
+                let i = i as u32;
+                report.worst = Some((i % render.width, i / render.width));
+            }
         }
         if diff.is_finite() {
             report.max_error = report.max_error.max(diff);
@@ -158,13 +170,35 @@ impl LabContext {
                     .collect::<String>()
             })
             .unwrap_or_else(|e| format!(" (could not write images: {e})"));
+        let look = report
+            .worst
+            .and_then(|pixel| self.view_command(name, render, pixel))
+            .map(|command| {
+                format!("\n  see it, and the worst pixel's every ray and call: {command}")
+            })
+            .unwrap_or_default();
         Err(format!(
-            "the rendered image '{name}' differs from the reference: {} of {} pixels outside the tolerance (at most {:.2}% may be), {} NaN/infinite, largest difference {:.4}.\n  images:{images}",
+            "the rendered image '{name}' differs from the reference: {} of {} pixels outside the tolerance (at most {:.2}% may be), {} NaN/infinite, largest difference {:.4}.\n  images:{images}{look}",
             report.outliers,
             report.pixels,
             100.0 * tol.max_outlier_fraction,
             report.non_finite,
             report.max_error
+        ))
+    }
+
+    /// The command that opens snapshot `name` (of a built-in scene: its name's first word) in
+    /// `raylab view` at the render's size, inspecting `pixel`; `None` for another scene.
+    fn view_command(&self, name: &str, render: &Film, (x, y): (u32, u32)) -> Option<String> {
+        let scene = raylab_core::scene::BUILTIN_SCENES
+            .iter()
+            .filter(|scene| name == **scene || name.starts_with(&format!("{scene}-")))
+            .max_by_key(|scene| scene.len())?;
+        Some(format!(
+            "cargo run -p raylab -- view --lab {} --scene {scene} --width {} --height {} --pixel {x},{y}",
+            self.lab.number(),
+            render.width,
+            render.height
         ))
     }
 }
@@ -277,4 +311,55 @@ pub fn write_reference_pngs(written: &[PathBuf]) -> Result<Vec<PathBuf>, Error> 
             Ok(png)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failing image of a built-in scene names its worst pixel and the command that opens it
+    /// in `raylab view` there; another scene's names no command.
+    #[test]
+    fn a_failing_image_names_its_worst_pixel_and_the_view_of_it() {
+        let dir = std::env::temp_dir().join(format!("raylab-snapshot-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("snapshots")).unwrap();
+        let reference = Film::new(4, 3);
+        for name in ["cornell-spheres-flat", "textured-nearest"] {
+            raylab_core::film::write_exr(&reference, &dir.join(format!("snapshots/{name}.exr")))
+                .unwrap();
+        }
+        let mut ctx = LabContext::new(course::LabId::of(3), &dir, pipeline::Pipeline::waiting(3));
+        ctx.failure_dir = dir.join("failures");
+        let mut render = Film::new(4, 3);
+        render.pixels[4 + 2] = Vec3::splat(0.5);
+        render.pixels[2 * 4 + 3] = Vec3::splat(0.9);
+        let tol = PixelTolerance {
+            abs: 1e-3,
+            rel: 0.0,
+            max_outlier_fraction: 0.0,
+        };
+        assert_eq!(
+            compare_snapshot(&render, &reference, &tol).worst,
+            Some((3, 2))
+        );
+        render.pixels[0] = Vec3::NAN;
+        assert_eq!(
+            compare_snapshot(&render, &reference, &tol).worst,
+            Some((0, 0))
+        );
+        let message = ctx
+            .check_snapshot("cornell-spheres-flat", &render, &tol)
+            .unwrap_err();
+        assert!(
+            message.ends_with(
+                "cargo run -p raylab -- view --lab 3 --scene cornell-spheres --width 4 --height 3 --pixel 0,0"
+            ),
+            "{message}"
+        );
+        let message = ctx
+            .check_snapshot("textured-nearest", &render, &tol)
+            .unwrap_err();
+        assert!(!message.contains("raylab -- view"), "{message}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -64,6 +64,10 @@ pub struct ViewJob {
     /// so the server ends with the command however the command ends.
     #[serde(default)]
     pub end_with_stdin: bool,
+    /// A pixel the page inspects as it opens, in the difference view where there is one (the
+    /// worst pixel of a failing image check).
+    #[serde(default)]
+    pub inspect: Option<[u32; 2]>,
 }
 
 /// A lab's report: where and how its figures are made (`raylab report`).

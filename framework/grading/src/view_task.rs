@@ -44,6 +44,7 @@ pub fn serve(job: &ViewJob, own: Pipeline, key: Option<Pipeline>) -> Result<(), 
         height: job.height,
         seed: job.seed,
         port: job.port,
+        inspect: job.inspect,
     };
     view::serve(scene, shown, &settings)
 }

@@ -96,6 +96,8 @@ pub(crate) struct Accumulator {
     shown: Vec<Shown>,
     /// The settings of a camera's first pass, whose samples the pixel inspector traces again.
     pub first_pass: RenderSettings,
+    /// A pixel the page inspects as it opens.
+    pub inspect: Option<[u32; 2]>,
 }
 
 impl Accumulator {
@@ -146,6 +148,9 @@ impl Accumulator {
                 samples_per_pixel: FIRST_PASS_SAMPLES,
                 ..render_settings
             },
+            inspect: settings
+                .inspect
+                .filter(|[x, y]| *x < settings.width && *y < settings.height),
         });
         let worker = accumulator.clone();
         std::thread::spawn(move || worker.render_forever(render_settings));

@@ -48,6 +48,8 @@ pub struct ViewSettings {
     pub seed: u64,
     /// The port on 127.0.0.1; 0 lets the system choose a free one.
     pub port: u16,
+    /// A pixel the page inspects as it opens.
+    pub inspect: Option<[u32; 2]>,
 }
 
 /// Serves the page on 127.0.0.1 until the process is stopped: prints its address as

@@ -245,6 +245,7 @@ fn status(accumulator: &Accumulator, state: &State) -> Value {
     };
     json!({
         "scene": accumulator.scene_name,
+        "inspect": accumulator.inspect,
         "width": accumulator.width,
         "height": accumulator.height,
         "generation": state.generation,

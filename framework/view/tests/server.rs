@@ -54,6 +54,7 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
         height: 24,
         seed: 0,
         port: 0,
+        inspect: None,
     };
     let view = View::start(scene, shown, &settings).unwrap();
     let url = view.url.clone();

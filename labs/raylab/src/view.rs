@@ -39,6 +39,18 @@ pub struct ViewArgs {
     /// The seed of the first pass (pass p uses seed + p).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// A pixel to inspect as the page opens, `X,Y` (a failing image check names its worst);
+    /// the page shows the difference view where the reference is beside the student's.
+    #[arg(long, value_name = "X,Y", value_parser = parse_pixel)]
+    pub pixel: Option<[u32; 2]>,
+}
+
+/// `X,Y` as a pixel.
+fn parse_pixel(text: &str) -> Result<[u32; 2], String> {
+    let parsed = text
+        .split_once(',')
+        .and_then(|(x, y)| Some([x.trim().parse().ok()?, y.trim().parse().ok()?]));
+    parsed.ok_or_else(|| format!("expected X,Y (two whole numbers), not {text:?}"))
 }
 
 /// The largest image side `raylab view` renders.
@@ -49,6 +61,14 @@ pub const MAX_SIDE: u32 = 4096;
 pub fn run(args: &ViewArgs) -> Result<(), Error> {
     let lab = args.lab.unwrap_or_else(course::last);
     crate::labs::check_lab(lab)?;
+    if let Some([x, y]) = args.pixel
+        && (x >= args.width || y >= args.height)
+    {
+        return Err(Error::Invalid {
+            what: format!("--pixel {x},{y}"),
+            reason: format!("outside the {}×{} image", args.width, args.height),
+        });
+    }
     for (what, side) in [("--width", args.width), ("--height", args.height)] {
         if side == 0 || side > MAX_SIDE {
             return Err(Error::Invalid {
@@ -68,6 +88,7 @@ pub fn run(args: &ViewArgs) -> Result<(), Error> {
         whose: format!("{:?}", args.pipeline),
         compare: args.pipeline == PipelineChoice::Student && has_solution,
         end_with_stdin: true,
+        inspect: args.pixel,
     };
     if let Some(note) = crate::render::student_code_note(args.pipeline, lab) {
         eprintln!("note: {note}");

@@ -40,7 +40,11 @@ impl Browser {
     /// Starts headless Chromium with its debugging pipe on this process's pipes (the shell maps
     /// them to descriptors 3 and 4) and opens a blank page of `width × height`.
     fn start(width: u32, height: u32) -> Self {
-        let profile = std::env::temp_dir().join(format!("raylab-view-test-{}", std::process::id()));
+        // A profile of each browser's own: the tests run side by side.
+        static BROWSERS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = BROWSERS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let profile =
+            std::env::temp_dir().join(format!("raylab-view-test-{}-{n}", std::process::id()));
         let mut child = Command::new("sh")
             .arg("-c")
             .arg(r#"exec "$0" "$@" 3<&0 4>&1 0</dev/null 1>/dev/null"#)
@@ -361,6 +365,44 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
     }
 }
 
+/// The command a failing image check prints: the page opens on the difference view with the
+/// worst pixel inspected, no click needed.
+#[test]
+fn the_view_opened_on_a_pixel_inspects_it() {
+    if !grading::prerequisite::program_or_skip(
+        "the view's browser test",
+        "chromium",
+        "apt-get install chromium",
+    ) {
+        return;
+    }
+    let (_view, url) = start_view(&[
+        "--lab", "12", "--scene", "cornell", "--width", "64", "--height", "48", "--pixel", "40,20",
+    ]);
+    let mut browser = Browser::start(800, 600);
+    browser.call("Page.navigate", json!({"url": url}));
+    browser.wait_for(
+        "document.getElementById('inspector').textContent.includes('camera ray from')",
+        Duration::from_secs(60),
+        "the pixel inspected as the page opens",
+    );
+    let answer: Value = serde_json::from_str(
+        browser
+            .eval("document.getElementById('pixel-info').dataset.answer")
+            .as_str()
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        (answer["x"].as_u64(), answer["y"].as_u64()),
+        (Some(40), Some(20))
+    );
+    assert_eq!(
+        browser.eval("document.getElementById('mode').value"),
+        "difference"
+    );
+}
+
 #[test]
 fn a_bad_size_or_scene_is_one_error_and_no_server() {
     let run = |args: &[&str]| {
@@ -376,6 +418,8 @@ fn a_bad_size_or_scene_is_one_error_and_no_server() {
             String::from_utf8_lossy(&out.stderr).into_owned(),
         )
     };
+    let (ok, _, stderr) = run(&["--width", "8", "--height", "8", "--pixel", "8,0"]);
+    assert!(!ok && stderr.contains("--pixel 8,0"), "{stderr}");
     let (ok, stdout, stderr) = run(&["--width", "0"]);
     assert!(!ok && stdout.is_empty(), "{stdout}");
     assert!(stderr.contains("--width 0"), "{stderr}");
