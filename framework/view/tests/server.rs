@@ -143,6 +143,8 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     assert_eq!(status, 200, "{moved}");
     let moved: serde_json::Value = serde_json::from_str(&moved).unwrap();
     assert_eq!(moved["generation"], 1);
-    assert_eq!(moved["passes"], 0);
-    assert_eq!(moved["updates"], 0);
+    // The worker may have finished the new camera's first pass (a few milliseconds at 32 × 24)
+    // before the answer was written, but not more.
+    assert!(moved["passes"].as_u64() <= Some(1), "{moved}");
+    assert!(moved["updates"].as_u64() <= Some(1), "{moved}");
 }
