@@ -70,6 +70,12 @@ impl State {
         self.images.iter().map(|i| i.passes).min().unwrap_or(0)
     }
 
+    /// Whether every pixel of every pipeline panicked in a pass of this camera: a later pass
+    /// would compute nothing (marked pixels are not computed again).
+    pub fn all_marked(&self) -> bool {
+        self.passes() > 0 && self.images.iter().all(|i| i.panicked.iter().all(|&p| p))
+    }
+
     /// Passes done by the furthest pipeline for this camera: what the page has to show.
     pub fn shown_passes(&self) -> u32 {
         self.images.iter().map(|i| i.passes).max().unwrap_or(0)
@@ -220,7 +226,7 @@ impl Accumulator {
                 let state = self.lock();
                 let state = self
                     .changed
-                    .wait_while(state, |s| s.passes() >= MAX_PASSES)
+                    .wait_while(state, |s| s.passes() >= MAX_PASSES || s.all_marked())
                     .unwrap_or_else(|e| e.into_inner());
                 let marked: Vec<Vec<bool>> =
                     state.images.iter().map(|i| i.panicked.clone()).collect();
