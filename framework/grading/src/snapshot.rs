@@ -272,8 +272,14 @@ impl LabContext {
             Err(e) => format!(" (could not write images: {e})"),
         };
         let (z, x, y) = report.worst;
+        let look = self
+            .view_command(name, &student.mean, (x, y))
+            .map(|command| {
+                format!("\n  see it, and the worst pixel's every ray and call: {command}")
+            })
+            .unwrap_or_default();
         Err(format!(
-            "{what}: the mean of {} renders differs from the reference beyond its noise: {} of {} pixels are more than {:.1} standard errors from the reference mean (at most {:.1}% may be), {} NaN/infinite; the worst is pixel ({x}, {y}) at {z:.1} standard errors: {} against {} (standard deviation of one render {}). Overall the image is {:.3}× as bright as the reference.\n  images:{images}",
+            "{what}: the mean of {} renders differs from the reference beyond its noise: {} of {} pixels are more than {:.1} standard errors from the reference mean (at most {:.1}% may be), {} NaN/infinite; the worst is pixel ({x}, {y}) at {z:.1} standard errors: {} against {} (standard deviation of one render {}). Overall the image is {:.3}× as bright as the reference.\n  images:{images}{look}",
             student.renders,
             report.outliers,
             report.pixels,
@@ -360,6 +366,36 @@ mod tests {
             .check_snapshot("textured-nearest", &render, &tol)
             .unwrap_err();
         assert!(!message.contains("raylab -- view"), "{message}");
+
+        // A Monte Carlo snapshot names its worst pixel by its Z-score.
+        let mut variance = Film::new(4, 3);
+        variance.pixels.fill(Vec3::splat(0.01));
+        raylab_core::film::write_exr(&reference, &dir.join("snapshots/cornell-area-mean.exr"))
+            .unwrap();
+        raylab_core::film::write_exr(&variance, &dir.join("snapshots/cornell-area-variance.exr"))
+            .unwrap();
+        let mut mean = Film::new(4, 3);
+        mean.pixels[2 * 4 + 1] = Vec3::splat(3.0);
+        let student = crate::stats::RenderStatistics {
+            renders: 16,
+            mean,
+            variance,
+        };
+        let tol = crate::stats::NoiseTolerance {
+            family_alpha: 1e-6,
+            abs: 0.0,
+            rel: 0.0,
+            max_outlier_fraction: 0.0,
+        };
+        let message = ctx
+            .check_noisy_snapshot("cornell-area", &student, 16, &tol, "the soft shadows")
+            .unwrap_err();
+        assert!(
+            message.ends_with(
+                "cargo run -p raylab -- view --lab 3 --scene cornell --width 4 --height 3 --pixel 1,2"
+            ),
+            "{message}"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
