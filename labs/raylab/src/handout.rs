@@ -10,7 +10,8 @@
 //! - a lab whose solution is not released has nothing for its `reference` feature to switch
 //!   to: its program says so and stops;
 //! - the instructor's parts stay behind: `tests/`, each lab's tests but its program
-//!   (`labs/labNN/tests/checks.rs`; the mutant corpus holds solutions), `.ci/`,
+//!   (`labs/labNN/tests/checks.rs`; the mutant corpus holds solutions), the command line's
+//!   tests (`labs/raylab/tests/`: the similarity test's class holds lab 2 solutions), `.ci/`,
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
 //!
 //! The handout is a git repository, and releases are its commits (`release`): students clone
@@ -231,6 +232,9 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
     write(&out.join("README.md"), &readme(&options.released))?;
 
     copy_dir(&root.join("labs/raylab"), &out.join("labs/raylab"))?;
+    // The command line's tests are the instructors' (their fixtures hold solutions of labs).
+    let cli_tests = out.join("labs/raylab/tests");
+    fs::remove_dir_all(&cli_tests).map_err(io(&cli_tests))?;
     let cli_manifest = out.join("labs/raylab/Cargo.toml");
     write(
         &cli_manifest,

@@ -553,6 +553,10 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     assert_eq!(git(&handout, &["branch", "--show-current"]).trim(), "main");
     assert!(!handout.join("reference/src/lab01.rs").exists());
 
+    // No solution rides along with the command line's tests (the similarity test's class).
+    assert!(!handout.join("labs/raylab/tests").exists());
+    assert!(!handout.join("reference/src/lab02.rs").exists());
+
     // The student clones the handout and commits work on lab 1.
     git(&dir, &["clone", "--quiet", h, s]);
     let lab01 = student.join("labs/lab01/src/lib.rs");

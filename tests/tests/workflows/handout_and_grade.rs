@@ -99,6 +99,8 @@ fn handout_then_grade_four_submissions() {
         "the mutant corpus holds solutions"
     );
     assert!(!handout.join(".ci").exists());
+    // The command line's tests are the instructors': their fixtures hold solutions of lab 2.
+    assert!(!handout.join("labs/raylab/tests").exists());
     for lab in [1, 2, 3, 4, 7] {
         assert!(
             !handout
