@@ -190,6 +190,12 @@ fn start_view(args: &[&str]) -> (Running, String) {
     }
 }
 
+/// The `/pixel` answer the page shows, as it keeps it.
+fn pixel_answer(browser: &mut Browser) -> Value {
+    let answer = browser.eval("document.getElementById('pixel-info').dataset.answer");
+    serde_json::from_str(answer.as_str().expect("the page holds a pixel's answer")).unwrap()
+}
+
 #[test]
 fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
     if !grading::prerequisite::program_or_skip(
@@ -264,13 +270,7 @@ fn the_view_converges_moves_and_answers_a_pixel_in_chromium() {
         timeout,
         "the pixel's answer",
     );
-    let answer: Value = serde_json::from_str(
-        browser
-            .eval("document.getElementById('pixel-info').dataset.answer")
-            .as_str()
-            .unwrap(),
-    )
-    .unwrap();
+    let answer = pixel_answer(&mut browser);
     assert_eq!(
         (answer["x"].as_u64(), answer["y"].as_u64()),
         (Some(96), Some(60))
@@ -386,13 +386,7 @@ fn the_view_opened_on_a_pixel_inspects_it() {
         Duration::from_secs(60),
         "the pixel inspected as the page opens",
     );
-    let answer: Value = serde_json::from_str(
-        browser
-            .eval("document.getElementById('pixel-info').dataset.answer")
-            .as_str()
-            .unwrap(),
-    )
-    .unwrap();
+    let answer = pixel_answer(&mut browser);
     assert_eq!(
         (answer["x"].as_u64(), answer["y"].as_u64()),
         (Some(40), Some(20))
