@@ -1,8 +1,8 @@
 //! `raylab bench`: throughput of the framework's ray-tracing core (BVH plus built-in
 //! intersection kernels) in rays per second, for closest-hit and any-hit queries, on camera
 //! rays and on one diffuse bounce per hit, on 1 and 2 threads; the BVH build time; and the same
-//! figures for peers on the very same rays — obvhs (pure Rust) always, Embree 3 with the
-//! `embree` feature, both in its default mode and in its robust one (which, like the core,
+//! figures for peers on the very same rays — obvhs (pure Rust) with the `obvhs` feature, Embree 3
+//! with the `embree` feature, both in its default mode and in its robust one (which, like the core,
 //! lets no ray slip through shared edges) — with a check that every engine finds the same hits.
 //! docs/performance.md explains the measurement and records the figures.
 
@@ -10,6 +10,7 @@ mod agreement;
 mod engine;
 #[cfg(feature = "embree")]
 mod peer_embree;
+#[cfg(feature = "obvhs")]
 mod peer_obvhs;
 mod scenes;
 
@@ -25,6 +26,7 @@ use rayon::prelude::*;
 
 use agreement::compare;
 use engine::{Core, Engine, SceneQuery, Work, check_triangles_only};
+#[cfg(feature = "obvhs")]
 use peer_obvhs::{Kernel, Obvhs};
 use scenes::{bumpy_sphere, camera_rays, diffuse_rays, mesh_scene, triangles};
 
@@ -105,9 +107,11 @@ fn engines<'a>(scene: &'a Scene, tris: &[[Vec3; 3]], runs: usize) -> Result<Vec<
     timed("Embree 3, robust", &mut || {
         Ok(Box::new(peer_embree::Embree::build(tris, true)?))
     })?;
+    #[cfg(feature = "obvhs")]
     timed("obvhs", &mut || {
         Ok(Box::new(Obvhs::build(tris, Kernel::Obvhs)))
     })?;
+    #[cfg(feature = "obvhs")]
     timed("obvhs + raylab kernel", &mut || {
         Ok(Box::new(Obvhs::build(tris, Kernel::Framework)))
     })?;

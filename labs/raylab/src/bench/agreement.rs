@@ -79,7 +79,8 @@ mod tests {
     use raylab_core::glam::Vec3;
     use raylab_core::scene::builtin_scene;
 
-    use super::super::engine::Core;
+    use super::super::engine::{Core, SceneQuery};
+    #[cfg(feature = "obvhs")]
     use super::super::peer_obvhs::{Kernel, Obvhs};
     use super::super::scenes::{bumpy_sphere, camera_rays, diffuse_rays, mesh_scene, triangles};
     use super::*;
@@ -95,14 +96,16 @@ mod tests {
         assert!(!same_hit(hit(100.0), hit(100.02)));
     }
 
-    /// The framework's core and obvhs (with both triangle tests) agree on camera and diffuse rays
-    /// through the Cornell box and a small bumpy sphere.
+    /// The core's BVH, the scene's own queries and, with the `obvhs` feature, obvhs (with both
+    /// triangle tests) agree on camera and diffuse rays through the Cornell box and a small
+    /// bumpy sphere.
     #[test]
-    fn core_and_obvhs_agree() {
+    fn core_and_peers_agree() {
         let cornell = builtin_scene("cornell").unwrap();
         let sphere = mesh_scene("sphere", bumpy_sphere(30, 40)).unwrap();
         for scene in [&cornell, &sphere] {
             let core = Core::build(&triangles(scene));
+            #[cfg(feature = "obvhs")]
             let tris = triangles(scene);
             let primary = camera_rays(scene, 48);
             let diffuse = diffuse_rays(scene, &primary);
@@ -111,6 +114,13 @@ mod tests {
                 let reference: Vec<_> = rays.iter().map(|r| core.closest(r)).collect();
                 assert!(reference.iter().any(Option::is_some));
                 assert_eq!(compare(&core, rays, &reference).closest_agree, rays.len());
+                let query = compare(&SceneQuery(scene), rays, &reference);
+                assert!(
+                    query.closest_rate() > 0.999 && query.any_rate() > 0.999,
+                    "{}: {query:?}",
+                    scene.name
+                );
+                #[cfg(feature = "obvhs")]
                 for kernel in [Kernel::Obvhs, Kernel::Framework] {
                     let a = compare(&Obvhs::build(&tris, kernel), rays, &reference);
                     assert!(
