@@ -14,6 +14,7 @@ mod error;
 pub mod film;
 pub mod geometry;
 mod panic;
+pub mod progress;
 pub mod render;
 pub mod scene;
 #[cfg(test)]

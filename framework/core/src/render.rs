@@ -10,6 +10,7 @@ use crate::Error;
 use crate::film::{Film, ToneMap};
 pub use crate::panic::CaughtPanic;
 use crate::panic::catch_panic;
+use crate::progress::Progress;
 
 /// Side length of a render tile in pixels.
 pub const TILE_SIZE: u32 = 16;
@@ -314,16 +315,7 @@ pub fn render_tiles<T: Send>(
     let tiles: Vec<(u32, u32)> = (0..settings.height.div_ceil(TILE_SIZE))
         .flat_map(|ty| (0..settings.width.div_ceil(TILE_SIZE)).map(move |tx| (tx, ty)))
         .collect();
-    let bar = if settings.progress {
-        indicatif::ProgressBar::new(tiles.len() as u64).with_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} tiles, {elapsed} (eta {eta})",
-            )
-            .expect("the template is valid"),
-        )
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = Progress::new(tiles.len() as u64, settings.progress);
     let rendered = tiles
         .par_iter()
         .map(|&(tx, ty)| {
@@ -335,10 +327,10 @@ pub fn render_tiles<T: Send>(
                     out.push((x, y, pixel(x, y)));
                 }
             }
-            bar.inc(1);
+            bar.inc();
             out
         })
         .collect();
-    bar.finish_and_clear();
+    bar.finish();
     rendered
 }
