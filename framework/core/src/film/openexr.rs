@@ -848,8 +848,8 @@ pub(crate) fn encode(film: &Film) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::{
-        Bytes, Film, LoadBudget, Vec3, decode, encode, half_to_f32, predict, read_header,
-        read_offsets, unpredict,
+        Bytes, Film, Levels as LevelMode, LoadBudget, Vec3, decode, encode, half_to_f32, predict,
+        read_header, read_offsets, unpredict,
     };
     use exr::prelude::*;
     use std::path::{Path, PathBuf};
@@ -1051,45 +1051,71 @@ mod tests {
     }
 
     #[test]
-    fn reads_level_zero_of_a_mip_map() {
-        let (width, height) = (9, 6);
-        let level = |c: usize, w: usize, h: usize| {
-            FlatSamples::F32((0..w * h).map(|i| value(c, i) + w as f32).collect())
+    fn reads_level_zero_of_mip_and_rip_maps() {
+        use exr::math::RoundingMode;
+        let size = Vec2(9, 6);
+        // Each level's samples differ with its size, so a wrong level shows.
+        let level = |c: usize, at: Vec2<usize>| {
+            FlatSamples::F32(
+                (0..at.area())
+                    .map(|i| value(c, i) + at.width() as f32)
+                    .collect(),
+            )
         };
-        let channels = ["B", "G", "R"]
-            .iter()
-            .enumerate()
-            .map(|(c, name)| {
-                AnyChannel::new(
-                    *name,
-                    Levels::Mip {
-                        rounding_mode: exr::math::RoundingMode::Down,
-                        level_data: vec![
-                            level(c, 9, 6),
-                            level(c, 4, 3),
-                            level(c, 2, 1),
-                            level(c, 1, 1),
-                        ],
-                    },
-                )
-            })
-            .collect();
-        let layer = Layer::new(
-            (width, height),
-            LayerAttributes::named("mip"),
-            Encoding {
-                compression: Compression::ZIP16,
-                blocks: Blocks::Tiles(Vec2(4, 4)),
-                line_order: LineOrder::Increasing,
-            },
-            AnyChannels::sort(channels),
-        );
-        let mut bytes = Vec::new();
-        Image::from_layer(layer)
-            .write()
-            .to_buffered(std::io::Cursor::new(&mut bytes))
-            .unwrap();
-        assert_same_as_exr(&bytes, "mip map");
+        for mip in [true, false] {
+            let channels = ["B", "G", "R"]
+                .iter()
+                .enumerate()
+                .map(|(c, name)| {
+                    let levels = if mip {
+                        Levels::Mip {
+                            rounding_mode: RoundingMode::Down,
+                            level_data: exr::meta::mip_map_levels(RoundingMode::Down, size)
+                                .map(|(_, at)| level(c, at))
+                                .collect(),
+                        }
+                    } else {
+                        Levels::Rip {
+                            rounding_mode: RoundingMode::Up,
+                            level_data: RipMaps {
+                                map_data: exr::meta::rip_map_levels(RoundingMode::Up, size)
+                                    .map(|(_, at)| level(c, at))
+                                    .collect(),
+                                level_count: Vec2(5, 4),
+                            },
+                        }
+                    };
+                    AnyChannel::new(*name, levels)
+                })
+                .collect();
+            let layer = Layer::new(
+                size,
+                LayerAttributes::named("levels"),
+                Encoding {
+                    compression: Compression::ZIP16,
+                    blocks: Blocks::Tiles(Vec2(4, 4)),
+                    line_order: LineOrder::Increasing,
+                },
+                AnyChannels::sort(channels),
+            );
+            let mut bytes = Vec::new();
+            Image::from_layer(layer)
+                .write()
+                .to_buffered(std::io::Cursor::new(&mut bytes))
+                .unwrap();
+            let mut reader = Bytes {
+                bytes: &bytes,
+                at: 0,
+            };
+            let tiles = read_header(&mut reader).unwrap().tiles.unwrap();
+            let mode = if mip {
+                LevelMode::MipMap
+            } else {
+                LevelMode::RipMap
+            };
+            assert_eq!(tiles.levels, mode);
+            assert_same_as_exr(&bytes, &format!("{mode:?}"));
+        }
     }
 
     #[test]
