@@ -1,9 +1,8 @@
-//! Image files decoded under the load budget, each format by its own crate: PNG by `png`,
-//! JPEG by `zune-jpeg`, OpenEXR by `exr`, Radiance HDR by the framework's reader
-//! ([`RgbeImage`]). An image's header is read and its size checked against the budget before a
-//! decoder allocates its pixels, the decoders run with their own limits set and behind
-//! `catch_unwind`, so a malformed file ends in an error naming it, never in a panic, an abort
-//! or an exhausted memory.
+//! Image files decoded under the load budget: PNG by `png`, JPEG by `zune-jpeg`, OpenEXR and
+//! Radiance HDR by the framework's own readers (`openexr.rs`, [`RgbeImage`]). An image's header
+//! is read and its size checked against the budget before a decoder allocates its pixels, the
+//! decoders run with their own limits set and behind `catch_unwind`, so a malformed file ends in
+//! an error naming it, never in a panic, an abort or an exhausted memory.
 
 use std::io::Cursor;
 use std::path::Path;
@@ -81,7 +80,7 @@ fn decode_image_reason(path: &Path, budget: &LoadBudget) -> Result<DecodedImage,
     let decoded = crate::panic::catch_panic(|| match format {
         Format::Png => decode_png(&bytes, budget),
         Format::Jpeg => decode_jpeg(&bytes, budget),
-        Format::OpenExr => decode_exr(&bytes, budget),
+        Format::OpenExr => super::openexr::decode(&bytes, budget),
         Format::Hdr => decode_hdr(&bytes, budget),
     })
     .map_err(|caught| {
@@ -99,7 +98,7 @@ fn decode_image_reason(path: &Path, budget: &LoadBudget) -> Result<DecodedImage,
 
 /// Refuses an image of `width × height` pixels whose decoder output takes
 /// `decoder_bytes_per_pixel` bytes a pixel when it is over the pixel or memory budget.
-fn check_size(
+pub(crate) fn check_size(
     width: u64,
     height: u64,
     decoder_bytes_per_pixel: u64,
@@ -241,154 +240,6 @@ fn rgbe_to_rgb([r, g, b, e]: [u8; 4]) -> Vec3 {
     Vec3::new(f32::from(r), f32::from(g), f32::from(b)) * scale
 }
 
-fn decode_exr(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String> {
-    use exr::prelude::*;
-    check_exr_header(bytes, budget)?;
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .rgb_channels(
-            |resolution, _| DisplayPixels::new(resolution),
-            |pixels: &mut DisplayPixels, position, (r, g, b): (f32, f32, f32)| {
-                pixels.set(position, Vec3::new(r, g, b));
-            },
-        )
-        .first_valid_layer()
-        .all_attributes()
-        .from_buffered(Cursor::new(bytes))
-        .map_err(|e| e.to_string())?;
-    // The pixels of the data window, placed in the display window (what the file shows):
-    // outside the data window the image is black.
-    let layer = &image.layer_data;
-    let display = image.attributes.display_window;
-    let offset = layer.attributes.layer_position - display.position;
-    let (width, height) = (display.size.width(), display.size.height());
-    check_size(width as u64, height as u64, 12, budget)?;
-    let data = &layer.channel_data.pixels;
-    let mut rgb = vec![Vec3::ZERO; width * height];
-    for y in 0..data.height {
-        for x in 0..data.width {
-            let (dx, dy) = (x as i64 + offset.x() as i64, y as i64 + offset.y() as i64);
-            if (0..width as i64).contains(&dx) && (0..height as i64).contains(&dy) {
-                rgb[dy as usize * width + dx as usize] = data.pixels[y * data.width + x];
-            }
-        }
-    }
-    Ok(DecodedImage {
-        width: width as u32,
-        height: height as u32,
-        rgb,
-        is_float: true,
-    })
-}
-
-/// The pixels of an OpenEXR layer's data window as the decoder delivers them.
-struct DisplayPixels {
-    width: usize,
-    height: usize,
-    pixels: Vec<Vec3>,
-}
-
-impl DisplayPixels {
-    fn new(resolution: exr::math::Vec2<usize>) -> Self {
-        Self {
-            width: resolution.width(),
-            height: resolution.height(),
-            pixels: vec![Vec3::ZERO; resolution.area()],
-        }
-    }
-
-    fn set(&mut self, at: exr::math::Vec2<usize>, value: Vec3) {
-        self.pixels[at.y() * self.width + at.x()] = value;
-    }
-}
-
-/// Checks an OpenEXR file's headers (read with the `exr` crate's metadata reader, which reads
-/// no pixels) against the budget before the pixels are decoded: the data and display windows
-/// of every part, their channels, tiles and levels, and the compression. Only the compressions
-/// whose decoders in exr 1.74 allocate no more than the window's pixels are read: none, RLE
-/// and ZIP (the ones raylab writes, and most tools' default); the others are refused (see
-/// docs/architecture.md, "Decisions").
-fn check_exr_header(bytes: &[u8], budget: &LoadBudget) -> Result<(), String> {
-    use exr::compression::Compression;
-    use exr::meta::BlockDescription;
-    use exr::meta::attribute::LevelMode;
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
-        .map_err(|e| format!("not a readable OpenEXR header: {e}"))?;
-    let parts = meta.headers.len();
-    let mut total_pixels = 0u64;
-    let mut total_bytes = 0u64;
-    for (i, header) in meta.headers.iter().enumerate() {
-        let part = if parts > 1 {
-            format!("part {i}: ")
-        } else {
-            String::new()
-        };
-        if header.deep {
-            return Err(format!(
-                "{part}deep OpenEXR data is not an image raylab reads"
-            ));
-        }
-        match header.compression {
-            Compression::Uncompressed
-            | Compression::RLE
-            | Compression::ZIP1
-            | Compression::ZIP16 => {}
-            other => {
-                return Err(format!(
-                    "{part}the file uses {other}, which raylab does not read (its decoder can \
-                     exhaust memory or panic on a malformed file); save it with ZIP, RLE or no \
-                     compression"
-                ));
-            }
-        }
-        let window = header.layer_size;
-        let display = header.shared_attributes.display_window.size;
-        let mut levels = 1;
-        if let BlockDescription::Tiles(tiles) = &header.blocks {
-            let tile = tiles.tile_size;
-            if (tile.0 as u64).saturating_mul(tile.1 as u64) > budget.max_pixels {
-                return Err(format!(
-                    "{part}the tiles are {} × {} pixels; the load budget allows at most {} pixels",
-                    tile.0, tile.1, budget.max_pixels
-                ));
-            }
-            levels = match tiles.level_mode {
-                LevelMode::Singular => 1,
-                // The smaller levels of a mip map add up to a third of the image, those of a
-                // rip map to three times it.
-                LevelMode::MipMap => 2,
-                LevelMode::RipMap => 4,
-            };
-        }
-        for (w, h) in [(window.0, window.1), (display.0, display.1)] {
-            check_size(w as u64, h as u64, 16, budget).map_err(|e| format!("{part}{e}"))?;
-        }
-        let pixels = (window.0 as u64).saturating_mul(window.1 as u64);
-        let channels = header.channels.list.len() as u64;
-        total_pixels = total_pixels.saturating_add(pixels.saturating_mul(levels));
-        total_bytes = total_bytes.saturating_add(
-            pixels
-                .saturating_mul(levels)
-                .saturating_mul(channels.saturating_mul(4)),
-        );
-    }
-    if total_pixels > budget.max_pixels {
-        return Err(format!(
-            "the {parts} parts of the file hold {total_pixels} pixels; the load budget allows at most {}",
-            budget.max_pixels
-        ));
-    }
-    if total_bytes > budget.max_decode_bytes {
-        return Err(format!(
-            "the channels of the file take {} MiB; the load budget allows {} MiB",
-            total_bytes >> 20,
-            budget.max_decode_bytes >> 20
-        ));
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -407,7 +258,7 @@ mod tests {
             files.sort();
             for path in files {
                 if path.ends_with("piz.exr") {
-                    // A compression the framework refuses (see `check_exr_header`).
+                    // A compression the framework refuses (see `openexr.rs`).
                     assert!(decode_image(&path, &LoadBudget::DEFAULT).is_err());
                     continue;
                 }

@@ -188,32 +188,21 @@ pub fn write_srgb8_png(bytes: &[u8], width: u32, height: u32, path: &Path) -> Re
     io::Write::flush(&mut out).map_err(|e| Error::io(path, e))
 }
 
-/// Writes the film's linear radiance, unmodified, as a 32-bit float OpenEXR file (one
-/// uncompressed RGB layer).
+/// Writes the film's linear radiance, unmodified, as a 32-bit float OpenEXR file (one part of
+/// R, G, B scanlines, ZIP-compressed; see `openexr.rs`).
 pub fn write_exr(film: &Film, path: &Path) -> Result<(), Error> {
-    use exr::prelude::{Image, SpecificChannels, WritableImage};
     create_parent(path)?;
-    let failed = |reason: String| Error::ImageOutput {
+    let failed = |reason: &str| Error::ImageOutput {
         path: path.to_path_buf(),
-        reason,
+        reason: reason.into(),
     };
     if film.pixels.len() != film.width as usize * film.height as usize {
-        return Err(failed("pixel count does not match the size".into()));
+        return Err(failed("pixel count does not match the size"));
     }
-    let width = film.width as usize;
-    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    let mut out = io::BufWriter::new(file);
-    Image::from_channels(
-        (width, film.height as usize),
-        SpecificChannels::rgb(|p: exr::math::Vec2<usize>| {
-            let c = film.pixels[p.y() * width + p.x()];
-            (c.x, c.y, c.z)
-        }),
-    )
-    .write()
-    .to_buffered(&mut out)
-    .map_err(|e| failed(e.to_string()))?;
-    io::Write::flush(&mut out).map_err(|e| Error::io(path, e))
+    if film.pixels.is_empty() || film.width > i32::MAX as u32 || film.height > i32::MAX as u32 {
+        return Err(failed("an OpenEXR image has 1 to 2³¹ − 1 pixels a side"));
+    }
+    std::fs::write(path, super::openexr::encode(film)).map_err(|e| Error::io(path, e))
 }
 
 /// Reads a float image (OpenEXR, or any format the loaders decode) into a film, under the

@@ -4,6 +4,7 @@
 mod color;
 mod decode;
 mod image_io;
+mod openexr;
 mod rgbe;
 mod tonemap;
 
