@@ -151,7 +151,7 @@ pub(crate) fn one_line(message: &str) -> String {
         .join("; ")
 }
 
-fn create_parent(path: &Path) -> Result<(), Error> {
+pub(super) fn create_parent(path: &Path) -> Result<(), Error> {
     match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => {
             std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))

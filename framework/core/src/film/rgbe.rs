@@ -4,7 +4,10 @@
 
 use std::path::Path;
 
-use super::image_io::{LoadBudget, read_bounded};
+use glam::Vec3;
+
+use super::Film;
+use super::image_io::{LoadBudget, create_parent, read_bounded};
 use crate::Error;
 
 /// The pixels of a Radiance file as stored: `[r, g, b, e]` per pixel, row by row from the top.
@@ -30,6 +33,51 @@ impl RgbeImage {
         let budget = LoadBudget::current();
         let bytes = read_bounded(path, &budget).map_err(|e| fail(e.to_string()))?;
         Self::parse(&bytes, &budget).map_err(fail)
+    }
+
+    /// The pixels of `film` in Radiance's shared-exponent form: the largest channel's exponent
+    /// `e` (with 2^(e−1) ≤ max < 2^e) and each channel's mantissa under it, truncated to 8 bits
+    /// (Ward's `float2rgbe`, as the `image` crate's encoder converts); black where no channel is
+    /// positive.
+    pub fn from_film(film: &Film) -> Self {
+        Self {
+            width: film.width,
+            height: film.height,
+            pixels: film.pixels.iter().map(|&c| rgb_to_rgbe(c)).collect(),
+        }
+    }
+
+    /// The bytes of a Radiance file of these pixels: the header, then each row run-length
+    /// encoded channel by channel (new-style scanlines), or flat where the width is outside
+    /// the 8–32 767 pixels new-style scanlines can hold.
+    pub fn encode(&self) -> Vec<u8> {
+        let mut out = format!(
+            "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {} +X {}\n",
+            self.height, self.width
+        )
+        .into_bytes();
+        let w = self.width as usize;
+        if w == 0 {
+            return out;
+        }
+        for row in self.pixels.chunks(w) {
+            if !(8..0x8000).contains(&w) {
+                out.extend(row.iter().flatten());
+                continue;
+            }
+            out.extend([2, 2, (w >> 8) as u8, (w & 0xff) as u8]);
+            for c in 0..4 {
+                let channel: Vec<u8> = row.iter().map(|p| p[c]).collect();
+                encode_runs(&channel, &mut out);
+            }
+        }
+        out
+    }
+
+    /// Writes the Radiance file `path` (see [`RgbeImage::encode`]).
+    pub fn write(&self, path: &Path) -> Result<(), Error> {
+        create_parent(path)?;
+        std::fs::write(path, self.encode()).map_err(|e| Error::io(path, e))
     }
 
     /// Parses the bytes of a Radiance file (see [`RgbeImage::read`]).
@@ -170,6 +218,48 @@ impl RgbeImage {
     }
 }
 
+/// `[r, g, b, e]` of a linear colour (see [`RgbeImage::from_film`]).
+fn rgb_to_rgbe(c: Vec3) -> [u8; 4] {
+    let max = c.max_element();
+    if max.is_nan() || max <= 0.0 {
+        return [0; 4];
+    }
+    let exponent = (max.log2().floor() as i32)
+        .saturating_add(1)
+        .clamp(-128, 127);
+    let scale = 256.0 / f32::powi(2.0, exponent);
+    let m = |v: f32| (v * scale).clamp(0.0, 255.0) as u8;
+    [m(c.x), m(c.y), m(c.z), (exponent + 128) as u8]
+}
+
+/// One channel of a new-style scanline: runs of 3 to 127 equal bytes as (128 + n, byte), the
+/// rest as literal records of at most 128 bytes.
+fn encode_runs(channel: &[u8], out: &mut Vec<u8>) {
+    let run_at = |i: usize| {
+        let value = channel[i];
+        channel[i..]
+            .iter()
+            .take(127)
+            .take_while(|&&b| b == value)
+            .count()
+    };
+    let mut i = 0;
+    while i < channel.len() {
+        let run = run_at(i);
+        if run >= 3 {
+            out.extend([128 + run as u8, channel[i]]);
+            i += run;
+            continue;
+        }
+        let start = i;
+        while i < channel.len() && i - start < 128 && run_at(i) < 3 {
+            i += 1;
+        }
+        out.push((i - start) as u8);
+        out.extend(&channel[start..i]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,5 +319,64 @@ mod tests {
         let e = RgbeImage::parse(b"#?RADIANCE\n\n-Y 2 +X 2\n\x01\x02", &LoadBudget::DEFAULT)
             .unwrap_err();
         assert!(e.contains("ends early"), "{e}");
+    }
+
+    /// A film of runs longer than a record holds, literal stretches, black, negative and
+    /// tiny values, at widths written run-length encoded (20, 300) and flat (5).
+    fn film_of_runs(width: u32, height: u32) -> Film {
+        let mut film = Film::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                let c = match (x / 7 + y) % 4 {
+                    0 => Vec3::new(0.25, 1.5, 3.0),
+                    1 => Vec3::new(x as f32 * 0.37, 1e-6 * y as f32, -1.0),
+                    2 => Vec3::ZERO,
+                    _ => Vec3::new(1e4, 0.1, (x * y) as f32),
+                };
+                film.set(x, y, c);
+            }
+        }
+        film
+    }
+
+    #[test]
+    fn written_files_read_back_as_the_pixels_written() {
+        for (w, h) in [(20, 3), (300, 2), (5, 4), (8, 1)] {
+            let image = RgbeImage::from_film(&film_of_runs(w, h));
+            let back = RgbeImage::parse(&image.encode(), &LoadBudget::DEFAULT).unwrap();
+            assert_eq!(back, image, "{w} × {h}");
+        }
+        // A row of one colour is two records per channel at 300 pixels (127 + 127 + 46).
+        let flat = Film {
+            width: 300,
+            height: 1,
+            pixels: vec![Vec3::splat(0.5); 300],
+        };
+        let image = RgbeImage::from_film(&flat);
+        let header = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 300\n".len();
+        assert_eq!(image.encode().len(), header + 4 + 4 * 3 * 2);
+        assert_eq!(
+            RgbeImage::parse(&image.encode(), &LoadBudget::DEFAULT).unwrap(),
+            image
+        );
+    }
+
+    #[test]
+    fn pixels_convert_as_the_image_crate_s_encoder_does() {
+        let film = film_of_runs(40, 6);
+        let rgb: Vec<_> = film
+            .pixels
+            .iter()
+            .map(|c| image::Rgb(c.to_array()))
+            .collect();
+        let mut encoded = Vec::new();
+        image::codecs::hdr::HdrEncoder::new(&mut encoded)
+            .encode(&rgb, 40, 6)
+            .unwrap();
+        let theirs = RgbeImage::parse(&encoded, &LoadBudget::DEFAULT).unwrap();
+        assert_eq!(RgbeImage::from_film(&film), theirs);
+        assert_eq!(rgb_to_rgbe(Vec3::ONE), [128, 128, 128, 129]);
+        assert_eq!(rgb_to_rgbe(Vec3::new(-1.0, 0.0, f32::NAN)), [0; 4]);
+        assert_eq!(rgb_to_rgbe(Vec3::splat(f32::INFINITY))[3], 255);
     }
 }

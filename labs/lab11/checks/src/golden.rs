@@ -8,7 +8,7 @@ use contracts::lab11::AmbientOcclusion;
 use grading::strategies::samples;
 use grading::{GoldenFile, LabContext};
 use raylab_core::Error;
-use raylab_core::film::{Film, write_exr};
+use raylab_core::film::{Film, RgbeImage, write_exr};
 use raylab_core::scene::{ProbeMapping, ProceduralProbe};
 
 /// Golden cases per exercise, besides the fixed edge cases.
@@ -45,25 +45,6 @@ pub fn probe_film(
     film
 }
 
-fn write_hdr(film: &Film, path: &Path) -> Result<(), Error> {
-    let fail = |reason: String| Error::ImageOutput {
-        path: path.to_path_buf(),
-        reason,
-    };
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
-    }
-    let file = std::fs::File::create(path).map_err(|e| fail(e.to_string()))?;
-    let rgb: Vec<image::Rgb<f32>> = film
-        .pixels
-        .iter()
-        .map(|p| image::Rgb(p.to_array()))
-        .collect();
-    image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
-        .encode(&rgb, film.width as usize, film.height as usize)
-        .map_err(|e| fail(e.to_string()))
-}
-
 /// Writes lab 11's golden cases from `reference` into the lab's directory, and its two probe
 /// images into `probes/`: the sky as a Radiance angular map, the studio as an OpenEXR
 /// latitude–longitude map.
@@ -75,10 +56,13 @@ pub fn generate_golden(
     let mut written = Vec::new();
     let probes = ctx.lab_dir.join("probes");
     let sky = probes.join(SKY_PROBE);
-    write_hdr(
-        &probe_film(r, ProceduralProbe::Sky, ProbeMapping::Angular, 256),
-        &sky,
-    )?;
+    RgbeImage::from_film(&probe_film(
+        r,
+        ProceduralProbe::Sky,
+        ProbeMapping::Angular,
+        256,
+    ))
+    .write(&sky)?;
     written.push(sky);
     let studio = probes.join(STUDIO_PROBE);
     write_exr(
