@@ -58,8 +58,8 @@ pub fn colors_on_stdout(color: Color) -> bool {
             } else if clicolor.as_ref().is_some_and(|v| v == "0") {
                 false
             } else {
-                let term_colors = std::env::var_os("TERM").is_some_and(|t| t != "dumb")
-                    || cfg!(windows)
+                // Without `TERM`, only Windows' consoles are taken to have colours.
+                let term_colors = std::env::var_os("TERM").map_or(cfg!(windows), |t| t != "dumb")
                     || clicolor.is_some()
                     || std::env::var_os("CI").is_some();
                 std::io::stdout().is_terminal() && term_colors
