@@ -1,7 +1,8 @@
 //! The test harness of every lab crate: `labs/labNN/tests/checks.rs` is one call of [`run`],
 //! which makes one test per exercise of the lab's table, named `exercise_N_M_function`, with
-//! libtest's command line (`cargo test -p lab02 exercise_2_2`, `--exact`, `--list`). A new
-//! exercise in the table is a new test; nothing else is written by hand.
+//! libtest's command line (`cargo test -p lab02 exercise_2_2`, `--exact`, `--list`; [`cli`])
+//! and output ([`printer`]). A new exercise in the table is a new test; nothing else is
+//! written by hand.
 //!
 //! Hidden exercises are tests only when the lab crate is built with its `hidden-exercises`
 //! feature, as `raylab grade` builds it: the handout's `cargo test` does not run them.
@@ -9,7 +10,11 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use libtest_mimic::{Arguments, Failed, Trial};
+pub mod cli;
+pub mod printer;
+pub mod trials;
+
+use trials::Trial;
 
 use super::task::{self, MakeReport, Task};
 use super::{Exercise, LabContext, LabId, Visibility, judge, verdict};
@@ -122,7 +127,7 @@ pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
             }));
         }
     }
-    let args = Arguments::from_args();
+    let arguments = cli::from_env();
     let trials = exercises
         .iter()
         .map(|exercise| {
@@ -132,7 +137,9 @@ pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
             Trial::test(name, move || check(&exercise, &table, &subject, &ctx))
         })
         .collect();
-    libtest_mimic::run(&args, trials).exit()
+    let colored = printer::colors_on_stdout(arguments.color);
+    let conclusion = trials::run(&arguments, trials, std::io::stdout(), colored);
+    std::process::exit(conclusion.exit_code())
 }
 
 /// The answer key of `lab` in `base` (the program built with the lab's `reference` feature);
@@ -200,11 +207,11 @@ fn check<S: ?Sized + contracts::Mix + 'static>(
     table: &[Arc<Exercise<S>>],
     subject: &Arc<S>,
     ctx: &LabContext,
-) -> Result<(), Failed> {
+) -> Result<(), String> {
     let channel = verdict::VerdictChannel::take();
     let outcome = judge(exercise, table, subject, ctx);
     if let Some(channel) = channel {
         channel.report(&exercise.id, &outcome);
     }
-    outcome.map_err(|f| Failed::from(f.message))
+    outcome.map_err(|f| f.message)
 }
