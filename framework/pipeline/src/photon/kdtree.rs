@@ -2,12 +2,14 @@
 //! "Decisions").
 //!
 //! The tree is built once. Its points are stored in one `Vec`, permuted so that every subtree
-//! is a contiguous range: the range `lo..hi` of more than [`LEAF_SIZE`] points is a node whose
-//! own point is the median, at `mid = lo + (hi − lo) / 2`, along the axis on which the range's
-//! points spread the most; the points of `lo..mid` lie at or below it on that axis and those
-//! of `mid + 1..hi` at or above it (ordered by coordinate, then by index). Its children are
-//! found by arithmetic: no node is allocated, and the depth is `log₂(n / LEAF_SIZE)` however
-//! the points lie (on a plane, a line, or all at one position).
+//! is a contiguous range: the range `lo..hi` of more than [`LEAF_SIZE`] points is split at its
+//! middle, `mid = lo + (hi − lo) / 2`, along the axis on which its points spread the most (the
+//! median: ordered by coordinate, then by index, the points of `lo..mid` lie at or below the
+//! one at `mid`, those of `mid..hi` at or above it). The nodes' splits are a second `Vec` in
+//! breadth-first order (node `i`'s children are `2i` and `2i + 1`), a few per cent of the
+//! points' size, so that the top of the tree stays in the cache. Children are found by
+//! arithmetic: no node is allocated, and the depth is `log₂(n / LEAF_SIZE)` however the points
+//! lie (on a plane, a line, or all at one position).
 //!
 //! Building and querying use explicit work lists, not recursion. A query's answer is fixed by
 //! the points alone: candidates are ranked by squared distance, then by index, so the tree's
@@ -66,12 +68,25 @@ impl Ord for Ranked {
     }
 }
 
-/// A range of the tree still to be searched, with the distance of the query point to the
-/// region the range lies in, per axis (zero along the axes where the point is inside it).
+/// The breadth-first number of the root; node `i`'s children are `2i` and `2i + 1`.
+const ROOT: usize = 1;
+
+/// Where a node splits its range: the points before its middle lie at or below `value` on
+/// `axis` (0, 1 or 2), the others at or above it.
+#[derive(Clone, Copy, Debug)]
+struct Split {
+    value: f32,
+    axis: u8,
+}
+
+/// A range of the tree still to be searched (node `node`), with the distance of the query
+/// point to the region the range lies in, per axis (zero along the axes where the point is
+/// inside it).
 #[derive(Clone, Copy)]
 struct Pending {
     lo: usize,
     hi: usize,
+    node: usize,
     offset: Vec3,
 }
 
@@ -81,18 +96,20 @@ struct Pending {
 pub struct KdTree {
     /// The points, permuted so that every subtree is a contiguous range.
     entries: Vec<Entry>,
-    /// The split axis (0, 1 or 2) of the node whose point is at each position; unused at the
-    /// positions of leaves.
-    split_axes: Vec<u8>,
+    /// The splits of the nodes, by breadth-first number ([`ROOT`] first); unused at the
+    /// numbers of leaves.
+    splits: Vec<Split>,
 }
 
 impl KdTree {
     /// The tree of `points`. Positions are expected to be finite (the photon map drops the
-    /// others); a point with a NaN coordinate is never found.
+    /// others): a point with a NaN coordinate is never found, one with an infinite coordinate
+    /// only within an infinite limit, and neither hides the others.
     ///
     /// # Panics
     ///
-    /// With more than `u32::MAX + 1` points (64 GiB of them), whose indices a `u32` cannot hold.
+    /// With more than `u32::MAX + 1` points (48 GiB of positions), whose indices a `u32` cannot
+    /// hold.
     pub fn new(points: &[Vec3]) -> Self {
         let mut entries: Vec<Entry> = points
             .iter()
@@ -102,9 +119,9 @@ impl KdTree {
                 index: u32::try_from(i).expect("at most 2^32 points"),
             })
             .collect();
-        let mut split_axes = vec![0u8; entries.len()];
-        let mut ranges = vec![(0, entries.len())];
-        while let Some((lo, hi)) = ranges.pop() {
+        let mut splits = Vec::new();
+        let mut ranges = vec![(0, entries.len(), ROOT)];
+        while let Some((lo, hi, node)) = ranges.pop() {
             if hi - lo <= LEAF_SIZE {
                 continue;
             }
@@ -116,15 +133,24 @@ impl KdTree {
                     .total_cmp(&b.position[axis])
                     .then(a.index.cmp(&b.index))
             });
+            if splits.len() <= node {
+                splits.resize(
+                    node + 1,
+                    Split {
+                        value: 0.0,
+                        axis: 0,
+                    },
+                );
+            }
+            splits[node] = Split {
+                value: range[half].position[axis],
+                axis: axis as u8,
+            };
             let mid = lo + half;
-            split_axes[mid] = axis as u8;
-            ranges.push((lo, mid));
-            ranges.push((mid + 1, hi));
+            ranges.push((lo, mid, 2 * node));
+            ranges.push((mid, hi, 2 * node + 1));
         }
-        Self {
-            entries,
-            split_axes,
-        }
+        Self { entries, splits }
     }
 
     /// The at most `k` points nearest to `point` whose squared distance to it is at most
@@ -205,9 +231,16 @@ impl KdTree {
         pending.push(Pending {
             lo: 0,
             hi: self.entries.len(),
+            node: ROOT,
             offset: Vec3::ZERO,
         });
-        while let Some(Pending { lo, hi, offset }) = pending.pop() {
+        while let Some(Pending {
+            lo,
+            hi,
+            node,
+            offset,
+        }) = pending.pop()
+        {
             if squared_length(offset) > bound(state) {
                 continue;
             }
@@ -225,35 +258,33 @@ impl KdTree {
                 continue;
             }
             let mid = lo + (hi - lo) / 2;
-            let node = &self.entries[mid];
-            visit(
-                state,
-                Neighbour {
-                    index: node.index,
-                    distance_squared: squared_length(node.position - point),
-                },
-            );
-            let axis = usize::from(self.split_axes[mid]);
-            let gap = point[axis] - node.position[axis];
+            let split = self.splits[node];
+            let axis = usize::from(split.axis);
+            let gap = point[axis] - split.value;
             let (near, far) = if gap < 0.0 {
-                ((lo, mid), (mid + 1, hi))
+                ((lo, mid, 2 * node), (mid, hi, 2 * node + 1))
             } else {
-                ((mid + 1, hi), (lo, mid))
+                ((mid, hi, 2 * node + 1), (lo, mid, 2 * node))
             };
             // The far side lies beyond the split plane: at least |gap| away along the axis,
             // which in floating point too is at most the point's own distance along it.
             let mut far_offset = offset;
             far_offset[axis] = gap.abs();
-            if squared_length(far_offset) <= bound(state) {
+            // Skipped only when surely too far, as at the top of the loop: a NaN (a split
+            // between points with NaN coordinates) searches the far side.
+            let far_distance = squared_length(far_offset);
+            if far_distance.is_nan() || far_distance <= bound(state) {
                 pending.push(Pending {
                     lo: far.0,
                     hi: far.1,
+                    node: far.2,
                     offset: far_offset,
                 });
             }
             pending.push(Pending {
                 lo: near.0,
                 hi: near.1,
+                node: near.2,
                 offset,
             });
         }
@@ -447,10 +478,36 @@ mod tests {
                 .within(Vec3::ZERO, f32::INFINITY)
                 .is_empty()
         );
-        // A point with a NaN coordinate is never found, and the others still are.
+        // A point with a NaN coordinate is never found, and the others still are, even where
+        // most points' coordinates along an axis are NaN or infinite.
         let tree = KdTree::new(&[Vec3::NAN, Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 0.0)]);
         let found = tree.nearest_within(Vec3::ZERO, 3, f32::INFINITY);
         assert_eq!(found.iter().map(|n| n.index).collect::<Vec<_>>(), [1]);
+        let mut rng = Rng::new(5, 0);
+        let points: Vec<Vec3> = (0..2000)
+            .map(|i| match i % 5 {
+                0 => unit(&mut rng),
+                1 => Vec3::new(f32::NAN, rng.next_f32(), rng.next_f32()),
+                2 => Vec3::new(-f32::NAN, rng.next_f32(), rng.next_f32()),
+                3 => Vec3::new(rng.next_f32(), f32::INFINITY, f32::NAN),
+                _ => Vec3::new(f32::NEG_INFINITY, rng.next_f32(), rng.next_f32()),
+            })
+            .collect();
+        let tree = KdTree::new(&points);
+        for _ in 0..200 {
+            let q = unit(&mut rng);
+            for (k, r2) in [(10, 0.01), (2000, f32::INFINITY)] {
+                let found = tree.nearest_within(q, k, r2);
+                assert_eq!(found, brute_nearest(&points, q, k, r2), "query {q}");
+                // An infinite coordinate is at an infinite distance, within an infinite limit.
+                let findable = |i: u32| match i % 5 {
+                    0 => true,
+                    4 => r2.is_infinite(),
+                    _ => false,
+                };
+                assert!(found.iter().all(|n| findable(n.index)), "query {q}");
+            }
+        }
     }
 
     #[test]
