@@ -1,15 +1,14 @@
 //! The photon map: photons stored at surfaces, in a k-d tree for the queries of the radiance
 //! estimate (the `k` nearest within a maximum radius, and all within a radius).
 //!
-//! The tree is kiddo's `ImmutableKdTree` (docs/architecture.md, "External crates"), built once
-//! from the photons in the order the tracer stored them, so the same photons give the same
-//! tree and the same answers on any number of threads.
+//! The tree is the framework's own balanced 3-d tree ([`KdTree`], `kdtree.rs`), built once from
+//! the photons in the order the tracer stored them. Its answers depend on the photons alone
+//! (ranked by squared distance, then by order of storage), so the same photons give the same
+//! answers on any number of threads.
 
 use glam::Vec3;
-use kiddo::SquaredEuclidean;
-use kiddo::immutable::float::kdtree::ImmutableKdTree;
-use std::num::NonZero;
 
+use super::kdtree::KdTree;
 use contracts::lab08::NearbyPhoton;
 
 /// A photon stored at a surface.
@@ -98,7 +97,7 @@ impl Default for PhotonSettings {
 /// Photons in a k-d tree.
 pub struct PhotonMap {
     photons: Vec<Photon>,
-    tree: ImmutableKdTree<f32, u32, 3, 32>,
+    tree: KdTree,
 }
 
 impl std::fmt::Debug for PhotonMap {
@@ -113,8 +112,8 @@ impl PhotonMap {
     /// The map of `photons` (non-finite positions are dropped).
     pub fn new(mut photons: Vec<Photon>) -> Self {
         photons.retain(|p| p.position.is_finite());
-        let points: Vec<[f32; 3]> = photons.iter().map(|p| p.position.to_array()).collect();
-        let tree = ImmutableKdTree::new_from_slice(&points);
+        let points: Vec<Vec3> = photons.iter().map(|p| p.position).collect();
+        let tree = KdTree::new(&points);
         Self { photons, tree }
     }
 
@@ -143,28 +142,17 @@ impl PhotonMap {
     }
 
     /// The at most `k` photons nearest to `point` within `max_radius`, nearest first (ties in
-    /// the order of storage).
+    /// the order of storage). Nothing for a non-finite `point`.
     pub fn nearest(&self, point: Vec3, k: usize, max_radius: f32) -> Vec<NearbyPhoton> {
-        let (Some(k), true) = (NonZero::new(k), !self.photons.is_empty()) else {
-            return Vec::new();
-        };
-        if !point.is_finite() {
-            return Vec::new();
-        }
-        let r2 = max_radius * max_radius;
-        let mut found =
-            self.tree
-                .nearest_n_within::<SquaredEuclidean>(&point.to_array(), r2, k, true);
-        found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
-        found
+        self.tree
+            .nearest_within(point, k, max_radius * max_radius)
             .into_iter()
-            .filter(|n| n.distance <= r2)
             .map(|n| {
-                let p = &self.photons[n.item as usize];
+                let p = &self.photons[n.index as usize];
                 NearbyPhoton {
                     power: p.power,
                     direction: p.direction,
-                    distance_squared: n.distance,
+                    distance_squared: n.distance_squared,
                 }
             })
             .collect()
@@ -172,16 +160,10 @@ impl PhotonMap {
 
     /// Every photon within `radius` of `point`, in the order of storage.
     pub fn within(&self, point: Vec3, radius: f32) -> Vec<&Photon> {
-        if self.photons.is_empty() || !point.is_finite() {
-            return Vec::new();
-        }
-        let mut found = self
-            .tree
-            .within_unsorted::<SquaredEuclidean>(&point.to_array(), radius * radius);
-        found.sort_by_key(|n| n.item);
-        found
+        self.tree
+            .within(point, radius * radius)
             .into_iter()
-            .map(|n| &self.photons[n.item as usize])
+            .map(|i| &self.photons[i as usize])
             .collect()
     }
 }
