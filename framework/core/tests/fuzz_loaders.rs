@@ -553,7 +553,9 @@ fn fuzz_scene_files() {
 
 /// Writes the image seeds of `tests/fuzz-corpus/` with the encoders the framework uses (and
 /// the `exr` crate for the compressions `image` does not write). Run it with
-/// `cargo test -p framework --test fuzz_loaders -- --ignored write_seed_corpus`.
+/// `cargo test -p raylab-core --features crosscheck --test fuzz_loaders -- --ignored
+/// write_seed_corpus`.
+#[cfg(feature = "crosscheck")]
 #[test]
 #[ignore = "writes the committed seed corpus"]
 fn write_seed_corpus() {
@@ -578,7 +580,11 @@ fn write_seed_corpus() {
         .save(corpus.join("jpeg/grey.jpg"))
         .unwrap();
     let float = image::DynamicImage::ImageRgb8(rgb).to_rgb32f();
-    float.save(corpus.join("exr/image-rgb32f.exr")).unwrap();
+    write_rgb_file(corpus.join("exr/image-rgb32f.exr"), 5, 3, |x, y| {
+        let p = float.get_pixel(x as u32, y as u32).0;
+        (p[0], p[1], p[2])
+    })
+    .unwrap();
     float.save(corpus.join("hdr/rgb.hdr")).unwrap();
     let pixels = |p: Vec2<usize>| (p.0 as f32 * 0.25, p.1 as f32 * 0.5, 1.5f32);
     for (name, compression) in [

@@ -250,18 +250,14 @@ mod tests {
     fn decodes_as_the_image_crate_does() {
         let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-corpus");
         let mut seen = 0;
-        for dir in ["png", "jpeg", "exr", "hdr"] {
+        // OpenEXR files are compared with the exr crate by the `crosscheck` tests of openexr.rs.
+        for dir in ["png", "jpeg", "hdr"] {
             let mut files: Vec<_> = std::fs::read_dir(corpus.join(dir))
                 .unwrap()
                 .map(|e| e.unwrap().path())
                 .collect();
             files.sort();
             for path in files {
-                if path.ends_with("piz.exr") {
-                    // A compression the framework refuses (see `openexr.rs`).
-                    assert!(decode_image(&path, &LoadBudget::DEFAULT).is_err());
-                    continue;
-                }
                 let theirs = image::open(&path).unwrap();
                 let ours = decode_image(&path, &LoadBudget::DEFAULT)
                     .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -284,7 +280,7 @@ mod tests {
                 seen += 1;
             }
         }
-        assert!(seen >= 9, "{seen} images compared");
+        assert!(seen >= 6, "{seen} images compared");
     }
 
     #[test]

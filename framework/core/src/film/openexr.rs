@@ -848,12 +848,19 @@ pub(crate) fn encode(film: &Film) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::{
-        Bytes, Film, Levels as LevelMode, LoadBudget, Vec3, decode, encode, half_to_f32, predict,
-        read_header, read_offsets, unpredict,
+        Bytes, Film, LoadBudget, Vec3, decode, encode, predict, read_header, read_offsets,
+        unpredict,
     };
+    #[cfg(feature = "crosscheck")]
+    use super::{Levels as LevelMode, half_to_f32};
+    #[cfg(feature = "crosscheck")]
     use exr::prelude::*;
-    use std::path::{Path, PathBuf};
+    #[cfg(feature = "crosscheck")]
+    use std::path::Path;
+    #[cfg(feature = "crosscheck")]
+    use std::path::PathBuf;
 
+    #[cfg(feature = "crosscheck")]
     /// What the `exr` crate (the decoder `image` wraps) reads from `bytes`: the largest level's
     /// R, G, B placed in the display window, black outside the data window.
     fn exr_reference(bytes: &[u8]) -> (usize, usize, Vec<Vec3>) {
@@ -887,6 +894,7 @@ mod tests {
         (width, height, rgb)
     }
 
+    #[cfg(feature = "crosscheck")]
     /// Decodes `bytes` both ways and asserts the same size and the same bits in every pixel.
     fn assert_same_as_exr(bytes: &[u8], name: &str) {
         let ours = decode(bytes, &LoadBudget::DEFAULT).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -902,10 +910,12 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "crosscheck")]
     fn repository() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
     }
 
+    #[cfg(feature = "crosscheck")]
     /// The OpenEXR files of the repository: the labs' snapshots and probes and the fuzz corpus
     /// (but for the PIZ seed, which is refused).
     fn repository_files() -> Vec<PathBuf> {
@@ -931,6 +941,7 @@ mod tests {
         files
     }
 
+    #[cfg(feature = "crosscheck")]
     #[test]
     fn reads_the_repository_s_files_as_the_exr_crate_does() {
         let files = repository_files();
@@ -947,6 +958,7 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "crosscheck")]
     /// A `width × height` layer of R, G, B channels of `sample` values, written by the `exr`
     /// crate with `encoding` at `position`.
     fn written_by_exr(
@@ -978,6 +990,7 @@ mod tests {
         bytes
     }
 
+    #[cfg(feature = "crosscheck")]
     /// The samples of channel `c` of a `w × h` layer.
     type SampleOf = fn(usize, usize, usize) -> FlatSamples;
 
@@ -992,6 +1005,7 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "crosscheck")]
     #[test]
     fn reads_every_supported_layout_as_the_exr_crate_does() {
         let compressions = [
@@ -1050,6 +1064,7 @@ mod tests {
         assert_eq!(seen, 4 * 3 * 2 * 3 * 2);
     }
 
+    #[cfg(feature = "crosscheck")]
     #[test]
     fn reads_level_zero_of_mip_and_rip_maps() {
         use exr::math::RoundingMode;
@@ -1118,6 +1133,7 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "crosscheck")]
     #[test]
     fn a_grey_image_is_its_y_channel_in_all_three_components() {
         let channels = AnyChannels::sort(
@@ -1146,22 +1162,26 @@ mod tests {
         let film = film();
         let bytes = encode(&film);
         let ours = decode(&bytes, &LoadBudget::DEFAULT).unwrap();
-        let (width, height, theirs) = exr_reference(&bytes);
         assert_eq!((ours.width, ours.height), (film.width, film.height));
-        assert_eq!((width, height), (37, 21));
         let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
             v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
         };
         assert_eq!(bits(&ours.rgb), bits(&film.pixels));
-        assert_eq!(bits(&theirs), bits(&film.pixels));
-        // The exr crate's metadata: one part, ZIP, R, G, B floats.
-        let meta =
-            exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&bytes), true).unwrap();
-        assert_eq!(meta.headers.len(), 1);
-        assert_eq!(meta.headers[0].compression, Compression::ZIP16);
-        assert_eq!(meta.headers[0].channels.list.len(), 3);
+        #[cfg(feature = "crosscheck")]
+        {
+            let (width, height, theirs) = exr_reference(&bytes);
+            assert_eq!((width, height), (37, 21));
+            assert_eq!(bits(&theirs), bits(&film.pixels));
+            // The exr crate's metadata: one part, ZIP, R, G, B floats.
+            let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&bytes), true)
+                .unwrap();
+            assert_eq!(meta.headers.len(), 1);
+            assert_eq!(meta.headers[0].compression, Compression::ZIP16);
+            assert_eq!(meta.headers[0].channels.list.len(), 3);
+        }
     }
 
+    #[cfg(feature = "crosscheck")]
     #[test]
     fn half_to_f32_is_exact_for_all_65536_values() {
         for bits in 0..=u16::MAX {
@@ -1179,9 +1199,13 @@ mod tests {
         }
     }
 
-    /// A small RLE file written by the `exr` crate, and the offset of its first chunk.
-    fn rle_file() -> (Vec<u8>, usize) {
-        let bytes = written_by_exr(
+    /// A small RLE file written by the `exr` crate, kept in the repository (the `crosscheck`
+    /// tests write it again and compare).
+    const RLE_FIXTURE: &str = "tests/fixtures/rle-13x11.exr";
+
+    #[cfg(feature = "crosscheck")]
+    fn rle_written_by_exr() -> Vec<u8> {
+        written_by_exr(
             Encoding {
                 compression: Compression::RLE,
                 blocks: Blocks::ScanLines,
@@ -1189,7 +1213,25 @@ mod tests {
             },
             Vec2(0, 0),
             |c, w, h| FlatSamples::F32((0..w * h).map(|i| value(c, i)).collect()),
-        );
+        )
+    }
+
+    /// The fixture is what the `exr` crate writes; `RAYLAB_WRITE_FIXTURES=1` writes it again.
+    #[cfg(feature = "crosscheck")]
+    #[test]
+    fn the_rle_fixture_is_what_the_exr_crate_writes() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(RLE_FIXTURE);
+        let bytes = rle_written_by_exr();
+        if std::env::var_os("RAYLAB_WRITE_FIXTURES").is_some() {
+            std::fs::write(&path, &bytes).unwrap();
+        }
+        assert_eq!(std::fs::read(&path).unwrap(), bytes);
+    }
+
+    /// The RLE fixture's bytes, and the offset of its first chunk.
+    fn rle_file() -> (Vec<u8>, usize) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(RLE_FIXTURE);
+        let bytes = std::fs::read(&path).unwrap();
         let mut reader = Bytes {
             bytes: &bytes,
             at: 0,
