@@ -216,16 +216,22 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
 
 /// Runs `task` in lab `lab`'s program built with `features` (the student's code in the lab's
 /// slots, or with `reference` the key's), its output passed through; an error when the program
-/// does not build or the task fails.
+/// does not build or the task fails. The program's standard input is a pipe this command holds
+/// until the program ends: it reads nothing from the terminal, and a program that serves (the
+/// view) ends when this command is killed and the pipe closes.
 pub fn run_in_lab_program(lab: LabId, features: &[&str], task: &Task) -> Result<(), Error> {
     let program = LabProgram::build(lab, features).map_err(|e| Error::Invalid {
         what: format!("{lab}"),
         reason: e.to_string(),
     })?;
-    let status = program
+    let mut child = program
         .command(task)
-        .stdin(std::process::Stdio::null())
-        .status()
+        .stdin(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| Error::io(&program.executable, e))?;
+    let _held = child.stdin.take();
+    let status = child
+        .wait()
         .map_err(|e| Error::io(&program.executable, e))?;
     if status.success() {
         return Ok(());

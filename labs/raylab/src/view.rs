@@ -2,14 +2,11 @@
 //! program built with its `view` feature (the `view` crate), so the command line links no
 //! lab's code and `cargo test -p labNN` never builds the web server.
 
-use std::process::Stdio;
-
 use clap::Args;
 use course::LabId;
 use grading::task::{Task, ViewJob};
 use raylab_core::Error;
 
-use crate::lab_program::LabProgram;
 use crate::render::PipelineChoice;
 
 /// Options of `raylab view`.
@@ -97,25 +94,5 @@ pub fn run(args: &ViewArgs) -> Result<(), Error> {
         PipelineChoice::Reference if has_solution => &["view", "reference"],
         _ => &["view"],
     };
-    let program = LabProgram::build(lab, features).map_err(|e| Error::Invalid {
-        what: format!("{lab}"),
-        reason: e.to_string(),
-    })?;
-    let mut server = program
-        .command(&Task::View(job))
-        .stdin(Stdio::piped())
-        .spawn()
-        .map_err(|e| Error::io(&program.executable, e))?;
-    // Held until this command ends: the pipe then closes and the server ends with it.
-    let _held = server.stdin.take();
-    let status = server
-        .wait()
-        .map_err(|e| Error::io(&program.executable, e))?;
-    if status.success() {
-        return Ok(());
-    }
-    Err(Error::Invalid {
-        what: format!("{lab}'s program"),
-        reason: format!("it stopped ({status}); its messages are above"),
-    })
+    crate::render::run_in_lab_program(lab, features, &Task::View(job))
 }
