@@ -54,6 +54,14 @@ pub enum Error {
         /// What was expected.
         reason: String,
     },
+    /// A step that could not be done (a build, a command the step runs), and why.
+    #[error("{what}: {reason}")]
+    Failed {
+        /// The step.
+        what: String,
+        /// Why it could not be done.
+        reason: String,
+    },
     /// A component panicked while rendering.
     #[error(transparent)]
     Panic(#[from] PanicError),

@@ -16,6 +16,19 @@ use std::path::Path;
 /// `.wasm` file, or a `.cwasm` file the program precompiled).
 pub const MODULE_VAR: &str = "RAYLAB_STUDENT_MODULE";
 
+/// The environment variable that names, for a graded program, its lab's directory (golden data,
+/// snapshots): the grader gives it relative to the exercise's directory, so that no message
+/// names a place of its machine. Without it, the directory the program was built from.
+pub const LAB_DIR_VAR: &str = "RAYLAB_LAB_DIR";
+
+/// The lab directory of a graded program built from `built`: [`LAB_DIR_VAR`]'s, when set.
+pub fn lab_dir(built: &'static str) -> &'static str {
+    match std::env::var(LAB_DIR_VAR) {
+        Ok(dir) => Box::leak(dir.into_boxed_str()),
+        Err(_) => built,
+    }
+}
+
 /// The environment variable that asks a graded program to compile the module of
 /// [`MODULE_VAR`] to the `.cwasm` file it names, and end.
 pub const PRECOMPILE_VAR: &str = "RAYLAB_PRECOMPILE";
@@ -48,7 +61,7 @@ macro_rules! graded_program {
             );
             $crate::harness::run($crate::harness::LabChecks {
                 lab,
-                lab_dir: concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+                lab_dir: $crate::graded::lab_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/..")),
                 exercises: $checks::checks::exercises(),
                 subject,
                 base: ::reference::pipeline(lab.number()),

@@ -400,9 +400,9 @@ lab not released yet (the command says so): compare with the snapshot PNGs inste
 
 Hand in the whole directory. Only the regular files of `labs/labNN/src/` are graded (no
 symbolic links, nothing over 1 MiB): the tests, golden data and snapshots come from the
-course's own copy, and a change to any other file is reported to your instructor. Code that
-reads files outside its lab at compile time (`#[path]`, `include_str!`, …) is not compiled,
-and `unsafe` code is not allowed. Grading runs your code in a sandbox with time and memory
+course's own copy, and a change to any other file is reported to your instructor. Your lab is
+compiled where it sees its own `src/` and nothing else, so code that reads files outside it at
+compile time (`#[path]`, `include_str!`, …) does not compile, and `unsafe` code is not allowed. Grading runs your code in a sandbox with time and memory
 limits. Some exercises have tests that run only at grading.
 "#
     )

@@ -1,26 +1,33 @@
 //! `raylab grade SUBMISSION... --out DIR`: grades each submission's `labs/labNN/src/` with the
 //! course's own tests, golden data and snapshots, one exercise per process.
 //!
-//! For each submission: the graded labs' sources — regular files only ([`submission`]) — go
-//! into the grading tree (the handout with the hidden tests put back and the whole answer key,
-//! so that every check has the key in every slot but the one it checks); sources that read
-//! files outside their lab at compile time are flagged and not compiled ([`scan`]); each lab is
-//! compiled to a WebAssembly module in the sandbox with the key's sources out of sight
-//! ([`sandbox`]; a lab that does not compile is graded as failing). Each lab's graded program
-//! (its checks with every key, `grading::graded`, which holds no student code and is built once
-//! per grading) runs every exercise in a sandboxed process of its own with a time limit,
-//! calling the student's code only inside its module, where it can address nothing of the
-//! program's; an exercise passes only on the check's verdict record ([`runner`]). An
-//! exercise's files are gone when it ends, but for the images the report keeps. After each
-//! submission the tree is verified against its hashes. The results go to per-student reports
-//! and the class gradebooks ([`reports`]), written when every student process has ended.
+//! Before the first submission, what every submission shares is built from the grading tree
+//! (the handout with the hidden tests put back and the whole answer key, its labs the
+//! handout's stubs): each graded lab's graded program (its checks with every key,
+//! `grading::graded`, which holds no student code) and the crates a lab compiles against, with
+//! the build jail around them ([`shared_build`], [`jail`]). Then, for each submission: the
+//! graded labs' sources — regular files only ([`submission`]) — are scanned for what names
+//! files outside the lab at compile time, a warning ([`scan`]), and each lab is compiled to a
+//! WebAssembly module in the build jail, which holds its sources and nothing else of this
+//! machine's ([`lab_build`], [`sandbox`]; a lab that does not compile is graded as failing, a
+//! build the grader could not finish as not graded). Each lab's graded program runs every
+//! exercise in a sandboxed process of its own with a time limit, calling the student's code
+//! only inside its module, where it can address nothing of the program's; an exercise passes
+//! only on the check's verdict record ([`runner`]). An exercise's files are gone when it ends,
+//! but for the images the report keeps. After each submission the tree is verified against
+//! its hashes. The results go to per-student reports and the class gradebooks ([`reports`]),
+//! written when every student process has ended.
 
 mod answers;
 mod feedback;
+mod jail;
+mod lab_build;
 pub(crate) mod reports;
 mod runner;
+pub(crate) mod rustc_record;
 mod sandbox;
 mod scan;
+mod shared_build;
 pub(crate) mod submission;
 pub mod term;
 mod tree;
@@ -37,8 +44,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use raylab_core::Error;
 
 use crate::handout::{TreeOptions, build_tree, io, repository_root};
-use runner::{ExerciseRun, Workspace};
+use lab_build::{Built, HostPaths, LabBuild};
+use runner::ExerciseRun;
 use sandbox::{Limits, RunAs, Sandbox};
+use shared_build::{Shared, Workspace};
 use tree::Manifest;
 
 /// Options of `raylab grade`.
@@ -70,7 +79,9 @@ pub struct GradeArgs {
     /// Address space an exercise's process may use, MiB (more fails it: "ran out of memory").
     #[arg(long, default_value_t = 4096)]
     pub memory_limit: u64,
-    /// Seconds one build of a submission may take.
+    /// Seconds one compiler run of a submission's build may take (a run stopped at the limit
+    /// is tried once more with twice the time; a second stop leaves the lab ungraded, not
+    /// failed). The shared crates are built before any submission, without this limit.
     #[arg(long, default_value_t = 900)]
     pub build_timeout: u64,
     /// Run student code without the bubblewrap sandbox (where it cannot be installed). Student
@@ -107,6 +118,10 @@ pub struct GradeArgs {
     /// added to the lab's points, the reports and the gradebooks.
     #[arg(long, value_name = "FILE")]
     pub manual_points: Option<PathBuf>,
+    /// Grade without scanning the sources (the hostile-submission test's proof that no
+    /// guarantee rests on the scan: the build sees nothing but the submission either way).
+    #[arg(long, hide = true)]
+    pub no_scan: bool,
 }
 
 /// What became of one exercise in grading.
@@ -125,12 +140,13 @@ pub enum Status {
     Crashed,
     /// The test ran past its time limit (wall clock or CPU time).
     TimedOut,
-    /// The lab's code (or the checks against it) does not compile.
+    /// The lab's code does not compile (or not as the course's contract).
     DoesNotCompile,
-    /// The lab's code was flagged: it reads files outside the lab at compile time, or names
-    /// framework code that answers the exercise.
+    /// The exercise's code names framework code that answers it.
     Flagged,
-    /// The submission could not be graded at all (its sources are missing, say).
+    /// The submission or this lab could not be graded: the grader's failure (a build stopped at
+    /// its time or resource limit, the sources missing), scored 0 and named as such, never as
+    /// the student's mistake.
     NotGraded,
 }
 
@@ -443,6 +459,8 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             build_file_size: 4 << 30,
             // Two threads may each use the whole wall-clock limit.
             cpu_seconds: 2 * args.timeout + 5,
+            // The compiler's threads over a run and its retry at twice the time.
+            build_cpu_seconds: 6 * args.build_timeout + 5,
         },
     )?;
     if !sandbox.is_sandboxed() {
@@ -467,6 +485,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         )
         .map_err(io(&grading))?,
         runs: grading.join("runs"),
+        jail: grading.join("jail"),
         tag: tag.clone(),
         sandbox,
         build_timeout: Duration::from_secs(args.build_timeout),
@@ -489,13 +508,16 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         framework_tag: grading.then(|| framework_tag.clone()),
     };
     build_tree(&repository_root(), &handout, &options(false))?;
-    let make_tree = || -> Result<Manifest, Error> {
+    // The grading tree with the handout's stubs, and everything the submissions share built
+    // from it: before the first submission's clock starts, so that no student pays for it.
+    let make_tree = || -> Result<(Manifest, Shared), Error> {
         if workspace.tree.exists() {
             fs::remove_dir_all(&workspace.tree).map_err(io(&workspace.tree))?;
         }
         build_tree(&repository_root(), &workspace.tree, &options(true))?;
         workspace.prepare()?;
-        Manifest::of(&workspace.tree)
+        let shared = workspace.build_shared(&labs)?;
+        Ok((Manifest::of(&workspace.tree)?, shared))
     };
     let started = std::time::Instant::now();
     let bar = ProgressBar::new(args.submissions.len() as u64).with_style(
@@ -503,8 +525,15 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             .expect("the progress template is valid"),
     );
     bar.enable_steady_tick(Duration::from_millis(500));
-    bar.set_message("preparing the grading tree (the framework is built once per class)");
-    let mut pristine = make_tree()?;
+    bar.set_message(
+        "building what every submission shares: the framework, the checks and the build jail",
+    );
+    let preparing = std::time::Instant::now();
+    let (mut pristine, mut shared) = make_tree()?;
+    bar.println(format!(
+        "built what every submission shares in {:.0} s (no submission's time)",
+        preparing.elapsed().as_secs_f64()
+    ));
     let timeout = Duration::from_secs(args.timeout);
     let mut grades = Vec::new();
     for (submission, student) in args.submissions.iter().zip(&students) {
@@ -517,8 +546,10 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         let class = ClassGrading {
             handout: &handout,
             workspace: &workspace,
+            shared: &shared,
             labs: &labs,
             timeout,
+            scan: !args.no_scan,
             bar: &bar,
         };
         let mut grade = grade_submission(submission, student, &dir, &class)
@@ -540,7 +571,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
                 "the grading tree was changed while this submission ran ({}); it was rebuilt for the next submission",
                 changes.join(", ")
             ));
-            pristine = make_tree()?;
+            (pristine, shared) = make_tree()?;
         }
         let mut redactions = reports::Redactions::default();
         redactions.add(&grading, "<grading>");
@@ -689,10 +720,15 @@ struct ClassGrading<'a> {
     handout: &'a Path,
     /// The grading tree and its builds.
     workspace: &'a Workspace,
+    /// What the submissions share: the graded programs, the build jail.
+    shared: &'a Shared,
     /// The graded labs.
     labs: &'a [LabId],
     /// The time limit of one exercise.
     timeout: Duration,
+    /// Whether the sources are scanned (a warning for what the build could not read anyway,
+    /// and the framework items that answer an exercise).
+    scan: bool,
     /// The progress shown while grading.
     bar: &'a ProgressBar,
 }
@@ -707,8 +743,10 @@ fn grade_submission(
     let ClassGrading {
         handout,
         workspace,
+        shared,
         labs,
         timeout,
+        scan,
         bar,
     } = *class;
     let mut notes = Vec::new();
@@ -716,16 +754,34 @@ fn grade_submission(
     let mut flagged = Vec::new();
     let mut timings = Timings::default();
     let changed_files = submission::changed_files(submission, handout)?;
+    let runs = workspace.runs.join(student);
 
-    // Only the graded labs' code goes in: every other slot of every check is the answer key,
-    // so one lab's code never costs points in another. Sources that name files outside their
-    // lab are not compiled at all.
+    // Only the graded labs' code is built: every other slot of every check is the answer key,
+    // so one lab's code never costs points in another. Each lab is compiled in the build jail,
+    // which holds its sources and nothing else of this machine's.
     let mut broken = std::collections::BTreeMap::<LabId, (Status, String)>::new();
     // Exercises whose answer the code takes from the framework, with where.
     let mut answered = std::collections::BTreeMap::<String, Vec<String>>::new();
     let mut written = Vec::new();
+    let private = [
+        workspace.sandbox.cargo_home().to_path_buf(),
+        workspace.runs.clone(),
+        workspace.jail.clone(),
+    ];
+    let builder = LabBuild {
+        sandbox: &workspace.sandbox,
+        jail: &shared.jail,
+        host: HostPaths {
+            tree: &workspace.tree,
+            target: &workspace.target,
+            private: &private,
+        },
+        timeout: workspace.build_timeout,
+        memory: workspace.sandbox.build_memory_limit(),
+    };
     for &lab in labs {
-        let intake = submission::install_lab_code(Some(submission), handout, &workspace.tree, lab)?;
+        let staged = runs.join("sources");
+        let intake = submission::install_lab_code(Some(submission), handout, &staged, lab)?;
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
         match submission::read_answers(submission, lab) {
@@ -733,66 +789,60 @@ fn grade_submission(
             Ok(None) => {}
             Err(line) => rejected.push(line),
         }
-        let scan::LabScan { flags, denied } = scan::scan_lab(
-            &workspace.tree,
-            lab,
-            course::lab(lab).map_or(&[][..], |l| &l.denied),
-        );
-        if !flags.is_empty() {
-            broken.insert(
+        if scan {
+            // A warning: the build could not read such a file anyway.
+            let scan::LabScan { flags, denied } = scan::scan_lab(
+                &staged,
                 lab,
-                (
-                    Status::Flagged,
-                    format!(
-                        "labs/{lab}/src was flagged and not compiled: it names files outside labs/{lab}/src/ at compile time:\n{}",
-                        flags.join("\n")
-                    ),
-                ),
+                course::lab(lab).map_or(&[][..], |l| &l.denied),
             );
             flagged.extend(flags);
-            continue;
-        }
-        for denied in denied {
-            for id in denied.exercises {
-                answered
-                    .entry(id.clone())
-                    .or_default()
-                    .push(denied.line.clone());
+            for denied in denied {
+                for id in denied.exercises {
+                    answered
+                        .entry(id.clone())
+                        .or_default()
+                        .push(denied.line.clone());
+                }
+                flagged.push(denied.line);
             }
-            flagged.push(denied.line);
         }
         bar.set_message(format!("{student}: compiling labs/{lab}/src"));
         let started = std::time::Instant::now();
-        let module = workspace.runs.join(student).join(format!("{lab}.wasm"));
-        let built = workspace.build_module(lab, &module)?;
+        let module = runs.join(format!("{lab}.wasm"));
+        let calls = shared.calls.get(&lab).ok_or_else(|| Error::Invalid {
+            what: format!("lab {lab}"),
+            reason: "the shared build has no compiler record of it".into(),
+        })?;
+        let built = builder.build(lab, calls, &staged.join(format!("labs/{lab}/src")), &module)?;
         timings.build += started.elapsed().as_secs_f64();
-        if let Err(errors) = built {
-            broken.insert(
-                lab,
-                (
-                    Status::DoesNotCompile,
-                    format!("labs/{lab}/src does not compile:\n{errors}"),
-                ),
-            );
+        match built {
+            Built::Module => {}
+            Built::DoesNotCompile(errors) => {
+                broken.insert(
+                    lab,
+                    (
+                        Status::DoesNotCompile,
+                        format!("labs/{lab}/src does not compile:\n{errors}"),
+                    ),
+                );
+            }
+            Built::NotGraded(why) => {
+                broken.insert(
+                    lab,
+                    (
+                        Status::NotGraded,
+                        format!("labs/{lab}/src was not graded: {why}"),
+                    ),
+                );
+            }
         }
     }
-    for &lab in broken.keys() {
-        submission::install_stubs(handout, &workspace.tree, lab)?;
-    }
-    let to_build: Vec<LabId> = labs
-        .iter()
-        .copied()
-        .filter(|l| !broken.contains_key(l))
-        .collect();
-    bar.set_message(format!("{student}: building the checks"));
-    let started = std::time::Instant::now();
-    let build = workspace.build_graded(&to_build)?;
-    timings.build += started.elapsed().as_secs_f64();
 
     let mut exercises = Vec::new();
     for &lab in labs {
         let infos = crate::labs::exercises(lab);
-        let executable = match (broken.get(&lab), build.executables.get(&lab)) {
+        let executable = match (broken.get(&lab), shared.programs.get(&lab)) {
             (Some((status, why)), _) => {
                 exercises.extend(
                     infos
@@ -802,21 +852,14 @@ fn grade_submission(
                 continue;
             }
             (None, None) => {
-                let errors = build.errors.get(&lab).cloned().unwrap_or_default();
-                let why = format!(
-                    "the lab's checks do not compile against labs/{lab}/src (was a public item renamed or removed?):\n{errors}"
-                );
-                exercises.extend(
-                    infos
-                        .into_iter()
-                        .map(|i| ExerciseGrade::failed(i, Status::DoesNotCompile, why.clone())),
-                );
-                continue;
+                return Err(Error::Invalid {
+                    what: format!("lab {lab}"),
+                    reason: "the shared build has no graded program of it".into(),
+                });
             }
             (None, Some(executable)) => executable,
         };
         let lab_dir = workspace.tree.join(format!("labs/{lab}"));
-        let runs = workspace.runs.join(student);
         let started = std::time::Instant::now();
         let tests = runner::list_tests(
             &workspace.sandbox,
@@ -901,8 +944,7 @@ fn grade_submission(
             });
         }
     }
-    // The student's modules and runs: nothing is left behind.
-    let runs = workspace.runs.join(student);
+    // The student's sources, modules and runs: nothing is left behind.
     if runs.exists() {
         fs::remove_dir_all(&runs).map_err(io(&runs))?;
     }

@@ -177,12 +177,10 @@ fn class(e: &ExerciseGrade) -> &'static str {
 }
 
 /// The message every exercise of a lab shares when the lab failed as a whole (its code does not
-/// compile or was flagged, or it could not be graded): shown once, under the lab's heading.
+/// compile, or it could not be graded): shown once, under the lab's heading.
 fn lab_wide_failure<'a>(exercises: &[&'a ExerciseGrade]) -> Option<&'a str> {
     let first = exercises.first()?;
-    let whole = matches!(first.status, Status::DoesNotCompile | Status::NotGraded)
-        || (first.status == Status::Flagged
-            && first.output.contains("was flagged and not compiled"));
+    let whole = matches!(first.status, Status::DoesNotCompile | Status::NotGraded);
     (whole
         && exercises
             .iter()
@@ -244,7 +242,7 @@ fn markdown(grade: &StudentGrade) -> String {
         md.push('\n');
     }
     if !grade.flagged.is_empty() {
-        md.push_str("## Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise\n\n");
+        md.push_str("## Flagged: sources that name files outside their lab at compile time (which the build cannot read: it sees the submission alone), or framework code that answers an exercise\n\n");
         for line in &grade.flagged {
             let _ = writeln!(md, "- flagged: {}", code_span(line));
         }
@@ -411,7 +409,7 @@ fn html(grade: &StudentGrade) -> String {
         (section_list(html! { "Notes" }, &grade.notes))
         (section_list(html! { "Files not taken from the submission" }, &grade.rejected))
         (section_list(
-            html! { "Flagged: sources that read files outside their lab at compile time, or name framework code that answers an exercise" },
+            html! { "Flagged: sources that name files outside their lab at compile time (which the build cannot read: it sees the submission alone), or framework code that answers an exercise" },
             &grade.flagged,
         ))
         @if !grade.sandbox.is_empty() {

@@ -1,8 +1,6 @@
-//! Building a submission's labs in the grading tree and running each exercise's test in a
-//! sandboxed process of its own, with a time limit; a pass is the check's verdict record.
+//! Running each exercise's test in a sandboxed process of its own, with a time limit (a pass is
+//! the check's verdict record), and any process whose output is read, bounded.
 
-use course::LabId;
-use std::collections::BTreeMap;
 use std::fs;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -18,228 +16,8 @@ use super::Status;
 use super::sandbox::{LINGERING, Sandbox};
 use crate::handout::io;
 
-/// Where cargo runs: the grading tree and the target directory shared by every submission (so
-/// the framework is compiled once per class, not once per student), inside the sandbox.
-pub struct Workspace {
-    /// The grading tree (`raylab handout` with the hidden tests and the whole answer key).
-    pub tree: PathBuf,
-    /// `CARGO_TARGET_DIR` of the builds.
-    pub target: PathBuf,
-    /// Where each exercise runs, in an empty directory of its own.
-    pub runs: PathBuf,
-    /// What the grading's builds are named by (`grading::graded`): unique to its directory, so
-    /// that gradings sharing a target directory never take each other's programs or modules.
-    pub tag: String,
-    /// The sandbox builds and exercises run in.
-    pub sandbox: Sandbox,
-    /// How long one `cargo` invocation may take.
-    pub build_timeout: Duration,
-}
-
-/// How a build went.
-pub struct Build {
-    /// The checks' test executable of each lab that built.
-    pub executables: BTreeMap<LabId, PathBuf>,
-    /// The compiler's complaint for each lab that did not.
-    pub errors: BTreeMap<LabId, String>,
-}
-
-impl Workspace {
-    /// Fetches the tree's dependencies and settles its lock file, outside the sandbox (which
-    /// has no network) and before any student code is in the tree.
-    pub fn prepare(&self) -> Result<(), Error> {
-        self.write_graded_crates()?;
-        let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
-            .args(["fetch", "--quiet"])
-            .current_dir(&self.tree)
-            .env("CARGO_TARGET_DIR", &self.target)
-            .stdin(Stdio::null())
-            .output()
-            .map_err(io(&self.tree))?;
-        if !output.status.success() {
-            return Err(Error::Invalid {
-                what: format!("cargo fetch in {}", self.tree.display()),
-                reason: String::from_utf8_lossy(&output.stderr).trim().to_string(),
-            });
-        }
-        // Under `--run-as`, the exercises' user cannot read the answer key's source.
-        for secret in ["reference", "tests"] {
-            let dir = self.tree.join(secret);
-            if dir.exists() {
-                self.sandbox.hide_from_exercises(&dir)?;
-            }
-        }
-        fs::create_dir_all(&self.target).map_err(io(&self.target))
-    }
-
-    /// Writes, for each lab crate of the tree, its guest crate (the lab compiled to a
-    /// WebAssembly module) and its graded program (`grading::graded`).
-    fn write_graded_crates(&self) -> Result<(), Error> {
-        let framework = self.tree.join("framework");
-        let mut members = String::new();
-        for lab in course::labs() {
-            let name = format!("{lab}");
-            let lab_dir = self.tree.join("labs").join(&name);
-            if !lab_dir.join("Cargo.toml").is_file() {
-                continue;
-            }
-            let guest = lab_dir.join("guest");
-            grading::graded::write_guest_crate(
-                &guest, &name, &self.tag, &lab_dir, &framework, false,
-            )
-            .map_err(io(&guest))?;
-            let graded = lab_dir.join("graded");
-            grading::graded::write_graded_crate(
-                &graded,
-                &name,
-                &self.tag,
-                &lab_dir.join("checks"),
-                &framework,
-                &self.tree.join("reference"),
-            )
-            .map_err(io(&graded))?;
-            members.push_str(&format!(
-                "    \"labs/{name}/guest\",\n    \"labs/{name}/graded\",\n"
-            ));
-        }
-        if members.is_empty() {
-            return Ok(());
-        }
-        let manifest = self.tree.join("Cargo.toml");
-        let text = fs::read_to_string(&manifest).map_err(io(&manifest))?;
-        let Some(at) = text.find("    \"labs/*/checks\",\n") else {
-            return Err(Error::Invalid {
-                what: manifest.display().to_string(),
-                reason: "its workspace members have no line `\"labs/*/checks\",`".into(),
-            });
-        };
-        let mut text = text;
-        text.insert_str(at, &members);
-        fs::write(&manifest, text).map_err(io(&manifest))
-    }
-
-    /// Runs `cargo ARGS --offline --locked` in the sandbox with the directories `hidden` (in
-    /// the tree) out of sight, killed after the build time limit; `Err` only when it could not
-    /// be started.
-    fn cargo(&self, args: &[&str], hidden: &[&str]) -> Result<Captured, Error> {
-        let mut all = args.to_vec();
-        all.extend(["--offline", "--locked"]);
-        let hidden: Vec<PathBuf> = hidden.iter().map(|h| self.tree.join(h)).collect();
-        let command = self.sandbox.cargo(&self.tree, &self.target, &all, &hidden);
-        run_captured(command, None, self.build_timeout, COMPILER_OUTPUT_LIMIT)
-    }
-
-    /// `cargo build --lib -p PACKAGE [--target TARGET]` with the answer key's sources
-    /// (`reference/src`) out of sight: this is the one build in which the student's code runs
-    /// at compile time (its macros, constant evaluation), so nothing it names or reads can be
-    /// the key. `Err` with the compiler's messages when it does not compile.
-    pub fn build_lib(
-        &self,
-        package: &str,
-        target: Option<&str>,
-    ) -> Result<Result<(), String>, Error> {
-        let mut args = vec![
-            "build",
-            "--quiet",
-            "--message-format=short",
-            "--lib",
-            "-p",
-            package,
-        ];
-        if let Some(target) = target {
-            args.extend(["--target", target]);
-        }
-        let run = self.cargo(&args, &[ANSWER_KEY_SOURCES])?;
-        Ok(match run.status {
-            Some(status) if status.success() => Ok(()),
-            Some(_) => Err(compiler_errors(&run.text())),
-            None => Err(format!(
-                "the build did not finish within {} s and was stopped",
-                self.build_timeout.as_secs()
-            )),
-        })
-    }
-
-    /// Compiles the submission's `lab` to its WebAssembly module (the lab's guest crate, see
-    /// [`Self::build_lib`]) and copies it to `to`; `Err` with the compiler's messages when it
-    /// does not compile.
-    pub fn build_module(&self, lab: LabId, to: &Path) -> Result<Result<(), String>, Error> {
-        let built = self.build_lib(&format!("{lab}-guest"), Some(WASM_TARGET))?;
-        if built.is_ok() {
-            let module = self
-                .target
-                .join(WASM_TARGET)
-                .join("debug")
-                .join(grading::graded::module_file(&format!("{lab}"), &self.tag));
-            crate::handout::copy_file(&module, to)?;
-        }
-        Ok(built)
-    }
-
-    /// `cargo build --bins` of the graded programs of `labs` (`grading::graded`): the
-    /// executable of each lab that built, the compiler's messages for each that did not. No
-    /// student code is in them (they call it in its module), so cargo builds each once per
-    /// grading and finds it fresh for every later submission.
-    pub fn build_graded(&self, labs: &[LabId]) -> Result<Build, Error> {
-        if labs.is_empty() {
-            // Without a `-p`, cargo would build every package.
-            return Ok(Build {
-                executables: BTreeMap::new(),
-                errors: BTreeMap::new(),
-            });
-        }
-        let mut args = vec![
-            "build",
-            "--bins",
-            "--message-format=json-render-diagnostics",
-        ];
-        let packages: Vec<String> = labs.iter().map(|l| format!("{l}-graded")).collect();
-        for package in &packages {
-            args.extend(["-p", package]);
-        }
-        let run = self.cargo(&args, &[])?;
-        let mut executables = BTreeMap::new();
-        for line in String::from_utf8_lossy(&run.output).lines() {
-            let Ok(message) = serde_json::from_str::<serde_json::Value>(line) else {
-                continue;
-            };
-            let (Some(executable), Some(target)) = (
-                message["executable"].as_str(),
-                message["target"]["name"].as_str(),
-            ) else {
-                continue;
-            };
-            let program = |l: &LabId| grading::graded::program_name(&format!("{l}"), &self.tag);
-            if let Some(&lab) = labs.iter().find(|l| target == program(l)) {
-                executables.insert(lab, PathBuf::from(executable));
-            }
-        }
-        let text: String = String::from_utf8_lossy(&run.output)
-            .lines()
-            .filter(|l| !l.starts_with('{'))
-            .collect::<Vec<_>>()
-            .join("\n");
-        let stderr = compiler_errors(&text);
-        let errors: BTreeMap<LabId, String> = labs
-            .iter()
-            .filter(|l| !executables.contains_key(l))
-            .map(|&l| (l, stderr.clone()))
-            .collect();
-        Ok(Build {
-            executables,
-            errors,
-        })
-    }
-}
-
-/// What a lab is compiled to for grading.
-const WASM_TARGET: &str = "wasm32-unknown-unknown";
-
-/// The answer key's sources in the grading tree, out of sight while student code compiles.
-const ANSWER_KEY_SOURCES: &str = "reference/src";
-
 /// The error lines of cargo's output, without its progress lines; at most 60 lines.
-fn compiler_errors(stderr: &str) -> String {
+pub fn compiler_errors(stderr: &str) -> String {
     let stderr = printable(stderr);
     let lines: Vec<&str> = stderr
         .lines()
@@ -269,9 +47,6 @@ fn compiler_errors(stderr: &str) -> String {
     text
 }
 
-/// Output kept of one build (a test build's list of artifacts is long).
-const COMPILER_OUTPUT_LIMIT: usize = 4 << 20;
-
 /// The compiler's messages kept for a report, bytes.
 const COMPILER_MESSAGE_LIMIT: usize = 16 << 10;
 
@@ -283,17 +58,17 @@ pub const OUTPUT_LIMIT: usize = 64 << 10;
 const DRAIN_GRACE: Duration = Duration::from_secs(2);
 
 /// What a process printed (standard output and error together) and how it ended.
-struct Captured {
+pub struct Captured {
     /// The first bytes of the output, up to the limit.
-    output: Vec<u8>,
+    pub output: Vec<u8>,
     /// Bytes printed in all.
-    total: u64,
+    pub total: u64,
     /// How it ended; `None` when it was stopped at the time limit.
-    status: Option<ExitStatus>,
+    pub status: Option<ExitStatus>,
     /// The verdict record found in the output, when a secret was given.
-    scanner: Option<RecordScanner>,
+    pub scanner: Option<RecordScanner>,
     /// Wall time.
-    seconds: f64,
+    pub seconds: f64,
 }
 
 impl Captured {
@@ -314,7 +89,7 @@ struct Stream {
 /// stream (its first `limit` bytes kept, all of it scanned for the record of `secret`, which is
 /// written to its standard input); the whole group is killed after `timeout`, and when the
 /// process has ended.
-fn run_captured(
+pub fn run_captured(
     mut command: Command,
     secret: Option<&str>,
     timeout: Duration,
@@ -459,15 +234,16 @@ pub fn precompile(
     crate::handout::copy_file(wasm, &input)?;
     sandbox.give_scratch(scratch)?;
     let output = scratch.join("student.cwasm");
-    let (input_text, output_text) = (input.to_string_lossy(), output.to_string_lossy());
+    // Named relative to the process's directory, the scratch one: no message of it can name a
+    // place of this machine.
     let command = sandbox.exercise(
         executable,
         lab_dir,
         scratch,
         &[],
         &[
-            (grading::graded::MODULE_VAR, &input_text),
-            (grading::graded::PRECOMPILE_VAR, &output_text),
+            (grading::graded::MODULE_VAR, "student.wasm"),
+            (grading::graded::PRECOMPILE_VAR, "student.cwasm"),
         ],
     );
     let run = run_captured(command, None, Duration::from_secs(120), OUTPUT_LIMIT);
@@ -483,6 +259,9 @@ pub fn precompile(
     fs::remove_dir_all(scratch).map_err(io(scratch))?;
     Ok(module)
 }
+
+/// The name of the lab's directory in an exercise's own directory.
+const LAB_LINK: &str = "lab";
 
 /// How an exercise is run.
 pub struct ExerciseRun<'a> {
@@ -508,23 +287,32 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
     fs::create_dir_all(how.scratch).map_err(io(how.scratch))?;
     // The module beside the exercise's files, which the program in the sandbox sees.
     let extension = how.module.extension().unwrap_or_default().to_string_lossy();
-    let module = how.scratch.join(format!("student.{extension}"));
-    crate::handout::copy_file(how.module, &module)?;
+    let module = format!("student.{extension}");
+    crate::handout::copy_file(how.module, &how.scratch.join(&module))?;
+    // The lab's data as `lab/` of the exercise's directory: every path the program names is
+    // relative to it, and no message names a place of this machine.
+    let lab_link = how.scratch.join(LAB_LINK);
+    std::os::unix::fs::symlink(how.lab_dir, &lab_link).map_err(io(&lab_link))?;
     how.sandbox.give_scratch(how.scratch)?;
     let secret = verdict::new_secret().map_err(io(Path::new("/dev/urandom")))?;
-    let scratch = how.scratch.to_string_lossy();
-    let module = module.to_string_lossy();
+    // The grader's thread count, when it sets one, is the checks' too (a test of many cores).
+    let threads = std::env::var("RAYON_NUM_THREADS").ok();
+    let mut env = vec![
+        ("CARGO_TARGET_DIR", "."),
+        ("RUST_BACKTRACE", "0"),
+        (verdict::CHANNEL_VAR, "stdin"),
+        (grading::graded::MODULE_VAR, module.as_str()),
+        (grading::graded::LAB_DIR_VAR, LAB_LINK),
+    ];
+    if let Some(threads) = &threads {
+        env.push(("RAYON_NUM_THREADS", threads));
+    }
     let command = how.sandbox.exercise(
         how.executable,
         how.lab_dir,
         how.scratch,
         &[test, "--exact", "--nocapture", "--test-threads=1"],
-        &[
-            ("CARGO_TARGET_DIR", &scratch),
-            ("RUST_BACKTRACE", "0"),
-            (verdict::CHANNEL_VAR, "stdin"),
-            (grading::graded::MODULE_VAR, &module),
-        ],
+        &env,
     );
     let run = run_captured(command, Some(&secret), how.timeout, OUTPUT_LIMIT);
     how.sandbox.end_exercise();
@@ -739,97 +527,5 @@ mod tests {
             "   Compiling lab01 v0.1.0\nerror[E0308]: mismatched types\n    Finished `dev`",
         );
         assert_eq!(text, "error[E0308]: mismatched types");
-    }
-
-    /// The student's build does not see the answer key's sources: a lab that includes them
-    /// (past the scan, which would flag it) does not compile, and the checks' build, which
-    /// sees them, links the key. Needs bubblewrap, as `raylab grade` does.
-    #[test]
-    fn the_answer_key_is_out_of_sight_of_the_student_build() {
-        let test = "the_answer_key_is_out_of_sight_of_the_student_build";
-        if !grading::prerequisite::program_or_skip(test, "bwrap", "apt-get install bubblewrap") {
-            return;
-        }
-        let tree = std::env::temp_dir().join(format!("raylab-hidden-key-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&tree);
-        let write = |path: &str, text: &str| {
-            let path = tree.join(path);
-            fs::create_dir_all(path.parent().unwrap()).unwrap();
-            fs::write(path, text).unwrap();
-        };
-        write(
-            "Cargo.toml",
-            "[workspace]\nresolver = \"3\"\nmembers = [\"reference\", \"lab\"]\n",
-        );
-        let manifest = |name: &str, deps: &str| {
-            format!(
-                "[package]\nname = \"{name}\"\nversion = \"0.1.0\"\nedition = \"2024\"\n\n[lib]\npath = \"src/lib.rs\"\n\n{deps}"
-            )
-        };
-        write("reference/Cargo.toml", &manifest("reference", ""));
-        write(
-            "reference/src/lib.rs",
-            "pub const KEY: &str = \"the answer\";\n",
-        );
-        write(
-            "lab/Cargo.toml",
-            &manifest(
-                "lab",
-                "[dev-dependencies]\nreference = { path = \"../reference\" }\n\n[features]\nhidden-exercises = []\n",
-            ),
-        );
-        write(
-            "lab/src/lib.rs",
-            "pub const STOLEN: &str = include_str!(\"../../reference/src/lib.rs\");\n",
-        );
-        let limits = super::super::sandbox::Limits {
-            memory: 4 << 30,
-            build_memory: 8 << 30,
-            processes: 256,
-            file_size: 64 << 20,
-            build_file_size: 4 << 30,
-            cpu_seconds: 300,
-        };
-        let workspace = Workspace {
-            target: tree.join("target"),
-            runs: tree.join("runs"),
-            tag: "test".into(),
-            sandbox: Sandbox::new(false, None, limits).expect("bubblewrap is installed"),
-            build_timeout: Duration::from_secs(300),
-            tree: tree.clone(),
-        };
-        workspace.prepare().unwrap();
-        let errors = workspace
-            .build_lib("lab", None)
-            .unwrap()
-            .expect_err("the key's sources were in view of the student's build");
-        assert!(errors.contains("reference/src/lib.rs"), "{errors}");
-
-        write("lab/src/lib.rs", "pub const OWN: u32 = 1;\n");
-        write(
-            "lab/tests/checks.rs",
-            "#[test]\nfn key() { assert_eq!(reference::KEY, \"the answer\"); }\n",
-        );
-        workspace
-            .build_lib("lab", None)
-            .unwrap()
-            .expect("the lab builds");
-        let run = workspace
-            .cargo(
-                &[
-                    "test",
-                    "--no-run",
-                    "-p",
-                    "lab",
-                    "--test",
-                    "checks",
-                    "--features",
-                    "lab/hidden-exercises",
-                ],
-                &[],
-            )
-            .unwrap();
-        assert!(run.status.is_some_and(|s| s.success()), "{}", run.text());
-        let _ = fs::remove_dir_all(&tree);
     }
 }

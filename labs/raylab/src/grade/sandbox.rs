@@ -1,16 +1,15 @@
-//! Where student code is built and run: a bubblewrap sandbox with resource limits.
+//! Where student code is built and run: bubblewrap sandboxes with resource limits.
 //!
-//! Every `cargo` build of a submission and every exercise's test process runs inside
+//! Every compiler run of a submission's build and every exercise's test process runs inside
 //! `bwrap` (Debian's `bubblewrap`) with new user, mount, PID, network, IPC and UTS namespaces:
-//! no network, no capabilities, no nested namespaces, a fresh `/dev` and `/tmp`, and of the
-//! machine's files only the system's libraries and what the step needs, read-only:
+//! no network, no capabilities, no nested namespaces:
 //!
-//! - a **build** sees the toolchain, cargo's registry cache, the grading tree (read-only) and
-//!   the target directory (read-write: only the compiler writes there, since a lab crate has
-//!   no build script or procedural macro of the student's);
-//! - an **exercise** sees its test executable and its lab's directory (golden data,
-//!   snapshots) read-only, and its own fresh scratch directory read-write — no `/proc`, no
-//!   toolchain, no grading tree, no other student's files, no reports.
+//! - a **build** has the build jail (`super::jail`) as its whole file system, read-only but
+//!   for its own output directory: the submission's sources, the prebuilt crates and the
+//!   compiler; no `/proc`, no `/dev`, no `/etc`, no grading tree, no target directory;
+//! - an **exercise** sees the system's libraries, its test executable and its lab's directory
+//!   (golden data, snapshots) read-only, and its own fresh scratch directory read-write — no
+//!   `/proc`, no toolchain, no grading tree, no other student's files, no reports.
 //!
 //! Both get limits through `prlimit` (address space, CPU seconds, file size, open files, no
 //! core dumps) and, where this user may create one, a `pids` control group that bounds the
@@ -19,11 +18,12 @@
 //! code started, detached or not — ends when its first process does or is killed.
 //!
 //! Where bubblewrap cannot make its namespaces (a container without user namespaces, such as
-//! Gradescope's), a grader running as root can use `--run-as USER` instead: the builds run as
-//! root, and each exercise as that unprivileged user, under the same limits, in a scratch
-//! directory it owns. It cannot write the grader's files (the test executables, the reports,
-//! the results), nor read the answer key's source (made readable by root alone); when the
-//! exercise has ended, every process of that user is killed.
+//! Gradescope's), a grader running as root can use `--run-as USER` instead: a build runs as
+//! that unprivileged user `chroot`ed into the build jail (the same file system as in
+//! bubblewrap), and each exercise as that user under the same limits, in a scratch directory
+//! it owns. It cannot write the grader's files (the test executables, the reports, the
+//! results), nor read the answer key's source (made readable by root alone); when a build or
+//! an exercise has ended, every process of that user is killed.
 //!
 //! Without either, `raylab grade` refuses to run unless told `--unsandboxed`; then the
 //! limits still apply, processes run in a process group of their own that is killed at the
@@ -51,6 +51,8 @@ pub struct Limits {
     pub build_file_size: u64,
     /// CPU seconds of an exercise's process.
     pub cpu_seconds: u64,
+    /// CPU seconds of one compiler run of a submission's build.
+    pub build_cpu_seconds: u64,
 }
 
 /// The unprivileged account exercises run as under `--run-as`.
@@ -133,14 +135,6 @@ pub const LINGERING: &str = "RAYLAB-SANDBOX: processes left running";
 /// Directories of the system the sandboxes see read-only (those that exist).
 const SYSTEM: &[&str] = &["/usr", "/bin", "/lib", "/lib64", "/lib32", "/sbin"];
 
-/// Files of `/etc` a build needs: the dynamic linker's cache and the `cc` alternative.
-const SYSTEM_ETC: &[&str] = &[
-    "/etc/alternatives",
-    "/etc/ld.so.cache",
-    "/etc/ld.so.conf",
-    "/etc/ld.so.conf.d",
-];
-
 impl Sandbox {
     /// The sandbox of this machine: bubblewrap, checked to start; exercises as the user
     /// `run_as` instead, or `unsandboxed`, only when the instructor asked for it. An error says
@@ -185,6 +179,21 @@ impl Sandbox {
         self.limits.memory
     }
 
+    /// The address space a compiler run of a submission's build may use, bytes.
+    pub fn build_memory_limit(&self) -> u64 {
+        self.limits.build_memory
+    }
+
+    /// The toolchain that builds the grading tree and whose compiler the build jail holds.
+    pub fn sysroot(&self) -> &Path {
+        &self.sysroot
+    }
+
+    /// Cargo's home, whose registry the shared builds read.
+    pub fn cargo_home(&self) -> &Path {
+        &self.cargo_home
+    }
+
     /// Whether student code runs isolated: in bubblewrap, or as another user.
     pub fn is_sandboxed(&self) -> bool {
         self.bwrap.is_some() || self.run_as.is_some()
@@ -211,7 +220,8 @@ impl Sandbox {
         }
     }
 
-    /// Under `--run-as`, kills every process of that user: what an exercise left running.
+    /// Under `--run-as`, kills every process of that user: what a build or an exercise left
+    /// running.
     pub fn end_exercise(&self) {
         if let Some(user) = &self.run_as {
             // `kill -1` as that user signals all its processes but the one sending.
@@ -244,103 +254,149 @@ impl Sandbox {
         );
         if let Some(user) = &self.run_as {
             return format!(
-                "run as the unprivileged user {} (uid {}; `--run-as`, not in bubblewrap): could not write the grader's files nor read the answer key's source; {limits}",
+                "built as the unprivileged user {} (uid {}; `--run-as`, not in bubblewrap) in a chroot that holds the submission's sources, the prebuilt crates and the compiler alone, and run as that user: could not write the grader's files nor read the answer key's source; {limits}",
                 user.name, user.uid
             );
         }
         match self.bwrap {
             Some(_) => format!(
-                "sandboxed with bubblewrap (no network, no /proc, nothing writable but a scratch directory; answer key, repository and other submissions not visible); {limits}"
+                "built and run in bubblewrap (no network, no /proc; the build saw the submission's sources, the prebuilt crates and the compiler alone; nothing writable but its own output and scratch directories; answer key, repository and other submissions not visible); {limits}"
             ),
             None => format!(
-                "NOT SANDBOXED (--unsandboxed): student code ran as the grader's user with access to everything that user can read and write; {limits}"
+                "NOT SANDBOXED (--unsandboxed): student code was built and ran as the grader's user with access to everything that user can read and write; {limits}"
             ),
         }
     }
 
-    /// `cargo ARGS` in the grading tree `tree` with target directory `target`, the directories
-    /// `hidden` replaced by empty ones (unsandboxed, they stay in view: the report says so).
-    pub fn cargo(&self, tree: &Path, target: &Path, args: &[&str], hidden: &[PathBuf]) -> Command {
-        let cargo = self.sysroot.join("bin/cargo");
-        let path = format!("{}:/usr/bin:/bin", self.sysroot.join("bin").display());
-        let Some(bwrap) = &self.bwrap else {
+    /// The jail's compiler (`/toolchain/bin/rustc` in it) with `args` and `env`, run with the
+    /// jail at `jail` as its whole file system ([`super::jail`]): its root bind-mounted
+    /// read-only by bubblewrap, or `chroot` into it as the unprivileged user under `--run-as`;
+    /// writable only `/build/out`. Unsandboxed, the jail's files are named by their paths on
+    /// this machine ([`Self::jail_root`]) and nothing is hidden.
+    pub fn jailed(&self, jail: &Path, args: &[String], env: &[(String, String)]) -> Command {
+        let l = &self.limits;
+        let root = self.jail_root(jail);
+        let inside = |path: &str| root.join(path).to_string_lossy().into_owned();
+        let mut vars = vec![
+            ("LD_LIBRARY_PATH".to_string(), inside("toolchain/lib")),
+            ("TMPDIR".to_string(), inside(super::jail::OUT)),
+        ];
+        vars.extend(env.iter().cloned());
+        let rustc = root.join("toolchain/bin/rustc");
+        if let Some(bwrap) = &self.bwrap {
             let mut command = self.limited(
-                &cargo,
-                self.limits.build_memory,
-                self.limits.build_file_size,
-                None,
+                bwrap,
+                l.build_memory,
+                l.build_file_size,
+                Some(l.build_cpu_seconds),
                 false,
             );
-            // The environment a build in bubblewrap has, and nothing of the grader's
-            // (`RUSTFLAGS`, a compiler wrapper, …): the builds then share one target
-            // directory's units whichever way they run.
+            command
+                .args([
+                    "--unshare-all",
+                    "--unshare-user",
+                    "--disable-userns",
+                    "--die-with-parent",
+                    "--new-session",
+                    "--cap-drop",
+                    "ALL",
+                    "--clearenv",
+                ])
+                .arg("--ro-bind")
+                .arg(jail)
+                .arg("/")
+                .arg("--bind")
+                .arg(jail.join(super::jail::OUT))
+                .arg(Path::new("/").join(super::jail::OUT))
+                .arg("--chdir")
+                .arg(Path::new("/").join(super::jail::BUILD));
+            for (key, value) in &vars {
+                command.args(["--setenv", key, value]);
+            }
+            command
+                .arg("--")
+                .arg(&rustc)
+                .args(args)
+                .stdin(Stdio::null());
+            return command;
+        }
+        let Some(user) = &self.run_as else {
+            let mut command = self.limited(
+                &rustc,
+                l.build_memory,
+                l.build_file_size,
+                Some(l.build_cpu_seconds),
+                false,
+            );
             command
                 .args(args)
-                .current_dir(tree)
+                .current_dir(jail.join(super::jail::BUILD))
                 .env_clear()
-                .env("PATH", path)
-                .env("CARGO_HOME", &self.cargo_home)
-                .env("CARGO_TARGET_DIR", target)
-                .env("HOME", "/tmp")
-                .env("CARGO_TERM_COLOR", "never")
+                .envs(vars)
                 .stdin(Stdio::null());
             return command;
         };
-        let mut command = self.limited(
-            bwrap,
-            self.limits.build_memory,
-            self.limits.build_file_size,
-            None,
-            false,
-        );
-        base_arguments(&mut command);
-        command.args(["--proc", "/proc"]);
-        for etc in SYSTEM_ETC {
-            command.arg("--ro-bind-try").arg(etc).arg(etc);
-        }
-        // Cargo's home at its own path (writable, empty but for the registry and the
-        // configuration): the registry's sources then have the paths they have outside, and a
-        // dependency compiled outside the sandbox in this target directory (by an instructor's
-        // build, or Gradescope's `setup.sh`) is fresh here rather than compiled again.
-        let home = self.cargo_home.as_path();
+        let mut command = Command::new(&rustc);
         command
-            .arg("--ro-bind")
-            .arg(&self.sysroot)
-            .arg(&self.sysroot)
-            .arg("--dir")
-            .arg(home)
-            .arg("--ro-bind")
-            .arg(self.cargo_home.join("registry"))
-            .arg(home.join("registry"))
-            .arg("--ro-bind-try")
-            .arg(self.cargo_home.join("config.toml"))
-            .arg(home.join("config.toml"))
-            .arg("--ro-bind")
-            .arg(tree)
-            .arg(tree);
-        for dir in hidden {
-            command.arg("--tmpfs").arg(dir).arg("--remount-ro").arg(dir);
-        }
-        command
-            .arg("--bind")
-            .arg(target)
-            .arg(target)
-            .arg("--chdir")
-            .arg(tree)
-            .args(["--setenv", "PATH", &path])
-            .arg("--setenv")
-            .arg("CARGO_HOME")
-            .arg(home)
-            .arg("--setenv")
-            .arg("CARGO_TARGET_DIR")
-            .arg(target)
-            .args(["--setenv", "HOME", "/tmp"])
-            .args(["--setenv", "CARGO_TERM_COLOR", "never"])
-            .arg("--")
-            .arg(&cargo)
             .args(args)
+            .env_clear()
+            .envs(vars)
             .stdin(Stdio::null());
+        let limits = [
+            (libc::RLIMIT_AS, l.build_memory),
+            (libc::RLIMIT_FSIZE, l.build_file_size),
+            (libc::RLIMIT_CPU, l.build_cpu_seconds),
+            (libc::RLIMIT_CORE, 0),
+            (libc::RLIMIT_NOFILE, 1024),
+            (libc::RLIMIT_NPROC, l.processes + processes_of(user.uid)),
+        ];
+        let jail = std::ffi::CString::new(jail.as_os_str().as_encoded_bytes())
+            .expect("a path has no NUL byte");
+        let (uid, gid) = (user.uid, user.gid);
+        let step = |ok: bool| {
+            if ok {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            }
+        };
+        // SAFETY: between fork and exec only async-signal-safe calls on memory prepared before
+        // the fork. Limits first, then the root (as root), then the unprivileged user, who
+        // cannot leave the new root: it holds no directory outside and may not chroot again.
+        unsafe {
+            std::os::unix::process::CommandExt::pre_exec(&mut command, move || {
+                for (resource, value) in limits {
+                    let limit = libc::rlimit {
+                        rlim_cur: value,
+                        rlim_max: value,
+                    };
+                    step(libc::setrlimit(resource, &limit) == 0)?;
+                }
+                step(libc::chroot(jail.as_ptr()) == 0)?;
+                step(libc::chdir(c"/build".as_ptr()) == 0)?;
+                step(libc::setgroups(0, std::ptr::null()) == 0)?;
+                step(libc::setgid(gid) == 0)?;
+                step(libc::setuid(uid) == 0)?;
+                Ok(())
+            });
+        }
         command
+    }
+
+    /// The directory under which a program in the jail at `jail` names the jail's files: `/`
+    /// where it is its root, the jail itself when nothing is isolated (`--unsandboxed`).
+    pub fn jail_root(&self, jail: &Path) -> PathBuf {
+        if self.is_sandboxed() {
+            PathBuf::from("/")
+        } else {
+            jail.to_path_buf()
+        }
+    }
+
+    /// The user and group that own a build's output directory: the unprivileged user under
+    /// `--run-as`.
+    pub fn build_owner(&self) -> Option<(u32, u32)> {
+        self.run_as.as_ref().map(|u| (u.uid, u.gid))
     }
 
     /// The test `executable ARGS` of lab directory `lab_dir`, in the scratch directory
@@ -640,6 +696,7 @@ mod tests {
             file_size: 1 << 20,
             build_file_size: 1 << 20,
             cpu_seconds: 10,
+            build_cpu_seconds: 10,
         };
         let user = RunAs::resolve("65534").unwrap();
         let sandbox = Sandbox::new(false, Some(user), limits).unwrap();

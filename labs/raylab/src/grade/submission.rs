@@ -347,7 +347,8 @@ fn real_dir(submission: &Path, src: &Path) -> Result<PathBuf, Option<String>> {
     Ok(submission.join(src))
 }
 
-/// Puts lab `lab`'s code into the grading tree, replacing `tree/labs/labNN/src`: the
+/// Puts lab `lab`'s code into `tree` (where a submission's build takes it from), replacing
+/// `tree/labs/labNN/src`: the
 /// submission's `labs/labNN/src/` if it is a real directory, otherwise (or for `None`) the
 /// handout's stubs.
 ///
@@ -448,11 +449,6 @@ fn write_files(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> Result<(), Error> {
             .map_err(io(&path))?;
     }
     Ok(())
-}
-
-/// Replaces lab `lab`'s code in the grading tree by the handout's stubs.
-pub fn install_stubs(handout: &Path, tree: &Path, lab: LabId) -> Result<(), Error> {
-    install_lab_code(None, handout, tree, lab).map(|_| ())
 }
 
 /// Whether `path` (relative to the tree) is graded code: `labs/labNN/src/**`.
@@ -947,8 +943,6 @@ mod tests {
             tree_files(&tree.0.join("labs/lab02/src")),
             vec![("lib.rs".to_string(), b"// stub\n".to_vec())]
         );
-        install_stubs(&handout.0, &tree.0, LabId::of(2)).unwrap();
-        assert_eq!(tree_files(&tree.0.join("labs/lab02/src")).len(), 1);
     }
 
     #[test]
