@@ -10,6 +10,12 @@
 //! for the state by long polling (`/wait`), fetches each pipeline's mean as linear float data
 //! (`/image`) and tone maps it itself, so exposure and tone-map changes cost no render and no
 //! request. The routes, all `GET`, are listed in [`Route`]; anything else is a 4xx.
+//!
+//! Only requests for the view's own address are answered: their `Host` must be
+//! `127.0.0.1:PORT` or `localhost:PORT` (the name in any case). Any other, or none, is answered
+//! 421 before any route runs, so that a page of another site, whose name its owner may resolve
+//! to 127.0.0.1 (DNS rebinding), cannot read the view or move its camera. The page itself asks
+//! only for paths of its own address.
 
 mod accumulate;
 mod routes;
@@ -109,6 +115,10 @@ fn bind(port: u16) -> Result<(tiny_http::Server, String), Error> {
 
 /// Answers each request on a thread of its own, at most [`MAX_REQUESTS_IN_FLIGHT`] at once.
 fn serve_requests(server: &tiny_http::Server, accumulator: &Arc<Accumulator>) {
+    let port = server
+        .server_addr()
+        .to_ip()
+        .map_or(0, |address| address.port());
     let in_flight = Arc::new(AtomicUsize::new(0));
     for request in server.incoming_requests() {
         if in_flight.fetch_add(1, Ordering::SeqCst) >= MAX_REQUESTS_IN_FLIGHT {
@@ -118,7 +128,7 @@ fn serve_requests(server: &tiny_http::Server, accumulator: &Arc<Accumulator>) {
         }
         let (accumulator, in_flight) = (accumulator.clone(), in_flight.clone());
         std::thread::spawn(move || {
-            let response = routes::answer(&request, &accumulator);
+            let response = routes::answer(&request, &accumulator, port);
             let _ = request.respond(response);
             in_flight.fetch_sub(1, Ordering::SeqCst);
         });

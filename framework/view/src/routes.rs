@@ -81,8 +81,11 @@ fn json_answer(value: &Value) -> Answer {
         .with_header(header("Cache-Control", "no-store"))
 }
 
-/// The answer to `request`.
-pub(crate) fn answer(request: &Request, accumulator: &Accumulator) -> Answer {
+/// The answer to `request`, to the view listening on 127.0.0.1 at `port`.
+pub(crate) fn answer(request: &Request, accumulator: &Accumulator, port: u16) -> Answer {
+    if let Some(reason) = misdirected(request, port) {
+        return text(421, &reason);
+    }
     let url = request.url();
     if url.len() > MAX_URL_BYTES {
         return text(414, "the request target is too long");
@@ -104,6 +107,46 @@ pub(crate) fn answer(request: &Request, accumulator: &Accumulator) -> Answer {
         Ok(answer) => answer,
         Err(reason) => text(400, &reason),
     }
+}
+
+/// Why `request` is not answered by the view on 127.0.0.1 at `port`, if it is not: its one
+/// `Host` must be that address, `127.0.0.1:PORT` or `localhost:PORT` (the name in any case;
+/// without a port, port 80). A page of another site that a browser opens may resolve its own
+/// name to 127.0.0.1 (DNS rebinding), and its requests then reach the view with that name.
+fn misdirected(request: &Request, port: u16) -> Option<String> {
+    let hosts: Vec<&str> = request
+        .headers()
+        .iter()
+        .filter(|header| header.field.equiv("Host"))
+        .map(|header| header.value.as_str())
+        .collect();
+    let own = format!("127.0.0.1:{port} or localhost:{port}");
+    match hosts.as_slice() {
+        [host] if is_own_host(host, port) => None,
+        [host] => Some(format!(
+            "this is raylab view, which answers requests for {own} only, not for {host}"
+        )),
+        [] => Some(format!(
+            "raylab view answers requests with a Host header naming {own} only"
+        )),
+        _ => Some(format!(
+            "raylab view answers requests with one Host header, naming {own}"
+        )),
+    }
+}
+
+/// Whether `host`, a `Host` header's value, names 127.0.0.1 or localhost at `port`.
+fn is_own_host(host: &str, port: u16) -> bool {
+    let (name, named_port) = match host.rsplit_once(':') {
+        Some((name, digits))
+            if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            (name, digits.parse::<u16>().ok())
+        }
+        Some(_) => return false,
+        None => (host, Some(80)),
+    };
+    (name == "127.0.0.1" || name.eq_ignore_ascii_case("localhost")) && named_port == Some(port)
 }
 
 /// The answer of `route`, or why its query is refused.

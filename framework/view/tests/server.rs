@@ -1,5 +1,6 @@
 //! The view's server against requests a browser would not send: each gets a 4xx and the
-//! server goes on answering; a pipeline whose every function panics gives marked pixels.
+//! server goes on answering; a pipeline whose every function panics gives marked pixels; and
+//! only requests for its own address (`Host`) are answered.
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
@@ -32,18 +33,24 @@ fn send(address: &str, request: &[u8]) -> (u16, Vec<u8>) {
     (status, body)
 }
 
-/// A `GET` of `target`, closing the connection.
+/// A `GET` of `target` for the view at `address`, closing the connection.
 fn get(address: &str, target: &str) -> (u16, String) {
+    get_with(address, target, &format!("Host: {address}\r\n"))
+}
+
+/// A `GET` of `target` with the header lines `headers` (each ended by CRLF), closing the
+/// connection.
+fn get_with(address: &str, target: &str, headers: &str) -> (u16, String) {
     let (status, body) = send(
         address,
-        format!("GET {target} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").as_bytes(),
+        format!("GET {target} HTTP/1.1\r\n{headers}Connection: close\r\n\r\n").as_bytes(),
     );
     (status, String::from_utf8_lossy(&body).into_owned())
 }
 
-#[test]
-fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
-    // Every slot of this pipeline panics ("not yet written"): every pixel is marked.
+/// A view of the Cornell box through a pipeline whose every slot panics ("not yet written"),
+/// serving on a free port; its address, `127.0.0.1:PORT`.
+fn start_view() -> String {
     let scene = builtin_scene("cornell").unwrap();
     let shown = vec![Shown {
         name: "Student".into(),
@@ -59,12 +66,16 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     let view = View::start(scene, shown, &settings).unwrap();
     let url = view.url.clone();
     assert!(url.starts_with("http://127.0.0.1:"), "{url}");
-    let address = url
-        .trim_start_matches("http://")
-        .trim_end_matches('/')
-        .to_string();
     std::thread::spawn(move || view.serve_forever());
+    url.trim_start_matches("http://")
+        .trim_end_matches('/')
+        .to_string()
+}
 
+#[test]
+fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
+    // Every slot of the pipeline panics: every pixel is marked.
+    let address = start_view();
     let (status, page) = get(&address, "/");
     assert_eq!(status, 200);
     assert!(page.contains("<canvas") && !page.contains("http://") && !page.contains("https://"));
@@ -98,16 +109,16 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     assert_eq!(get(&address, &long).0, 414);
     let (status, _) = send(
         &address,
-        b"POST /camera HTTP/1.1\r\nHost: x\r\nContent-Length: 5\r\nConnection: close\r\n\r\nhello",
+        format!("POST /camera HTTP/1.1\r\nHost: {address}\r\nContent-Length: 5\r\nConnection: close\r\n\r\nhello").as_bytes(),
     );
     assert_eq!(status, 413);
     let (status, _) = send(
         &address,
-        b"DELETE / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
+        format!("DELETE / HTTP/1.1\r\nHost: {address}\r\nConnection: close\r\n\r\n").as_bytes(),
     );
     assert_eq!(status, 405);
     let huge = format!(
-        "POST / HTTP/1.1\r\nHost: x\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{}",
+        "POST / HTTP/1.1\r\nHost: {address}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{}",
         1 << 20,
         "x".repeat(1 << 20)
     );
@@ -125,7 +136,8 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     );
     let (status, image) = send(
         &address,
-        b"GET /image?index=0 HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
+        format!("GET /image?index=0 HTTP/1.1\r\nHost: {address}\r\nConnection: close\r\n\r\n")
+            .as_bytes(),
     );
     assert_eq!(status, 200);
     // Chunked: the body is at least the 32 × 24 pixels of 16 bytes.
@@ -152,4 +164,73 @@ fn bad_requests_get_4xx_and_panicking_code_marks_its_pixels() {
     let (_, settled) = get(&address, "/status");
     let settled: serde_json::Value = serde_json::from_str(&settled).unwrap();
     assert_eq!(settled["passes"], 1, "{settled}");
+}
+
+/// A page of another site can resolve its own name to 127.0.0.1 (DNS rebinding): its requests
+/// reach the view's port with that name as `Host`, and are refused before any route runs.
+#[test]
+fn only_requests_for_the_view_s_own_address_are_answered() {
+    let address = start_view();
+    let port: u16 = address.trim_start_matches("127.0.0.1:").parse().unwrap();
+    let other_port = if port == u16::MAX { port - 1 } else { port + 1 };
+
+    for host in [
+        "evil.example".to_string(),
+        format!("evil.example:{port}"),
+        format!("127.0.0.1:{other_port}"),
+        format!("localhost:{other_port}"),
+        "127.0.0.1".to_string(),
+        "localhost".to_string(),
+        format!("[::1]:{port}"),
+        format!("127.0.0.2:{port}"),
+        format!("localhost.evil.example:{port}"),
+        format!("127.0.0.1.nip.io:{port}"),
+        format!("127.0.0.1:{port}x"),
+        format!("127.0.0.1:+{port}"),
+        format!("127.0.0.1:{port}:{port}"),
+        String::new(),
+    ] {
+        for target in [
+            "/",
+            "/status",
+            "/camera?eye=0.3,0.3,-1&look=0.3,0.3,0&up=0,1,0",
+        ] {
+            let (status, reason) = get_with(&address, target, &format!("Host: {host}\r\n"));
+            assert_eq!(status, 421, "Host: {host}, {target}: {reason}");
+            assert!(
+                reason.contains("answers requests") && reason.contains(&address),
+                "Host: {host}: {reason}"
+            );
+        }
+    }
+    // No Host (HTTP/1.0, or HTTP/1.1 without it), or two.
+    let (status, reason) = send(&address, b"GET /status HTTP/1.0\r\n\r\n");
+    assert_eq!(status, 421, "{}", String::from_utf8_lossy(&reason));
+    assert_eq!(get_with(&address, "/status", "").0, 421);
+    let two = format!("Host: {address}\r\nHost: evil.example\r\n");
+    assert_eq!(get_with(&address, "/status", &two).0, 421);
+
+    // The refused camera moves moved nothing.
+    let (status, state) = get(&address, "/status");
+    assert_eq!(status, 200, "{state}");
+    let state: serde_json::Value = serde_json::from_str(&state).unwrap();
+    assert_eq!(state["generation"], 0, "{state}");
+
+    // Its own address, by either name, the name in any case.
+    for host in [
+        address.clone(),
+        format!("localhost:{port}"),
+        format!("LOCALHOST:{port}"),
+        format!("LocalHost:{port}"),
+    ] {
+        let (status, page) = get_with(&address, "/", &format!("Host: {host}\r\n"));
+        assert_eq!(status, 200, "Host: {host}: {page}");
+        assert!(page.contains("<canvas"), "Host: {host}");
+    }
+    let (status, state) = get_with(
+        &address,
+        "/status",
+        &format!("host:  localhost:{port} \r\n"),
+    );
+    assert_eq!(status, 200, "{state}");
 }

@@ -17,12 +17,23 @@
 //!
 //! Every `.rs` file under `src/` is scanned, so code reached by `include!` or `#[path]` must be
 //! a `.rs` file too: another name is flagged, as its contents are not scanned.
+//!
+//! A file is read as rustc reads it: without a byte order mark, each CRLF made LF, and without
+//! a shebang line by rustc's own rule (`#!` not followed by `[`, past whitespace and comments
+//! that are not doc comments), so that `#!/**/[allow(unused)] #[path = "…"] mod key;` is an
+//! attribute and a module to the scan as it is to rustc. Then rustc's own lexer
+//! (`ra_ap_rustc_lexer`) and proc-macro2 both read it, and a file they read differently is
+//! refused, not scanned: a frontmatter (`---`), a token only one of them accepts, an
+//! identifier rustc reads as another name (in Unicode normal form C), or any other token that
+//! is not the same token, at the same place, to both.
 
 use course::LabId;
 use std::fs;
+use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
+use ra_ap_rustc_lexer::{Cursor, DocStyle, FrontmatterAllowed, LiteralKind, TokenKind};
 
 use grading::DeniedItem;
 
@@ -50,7 +61,8 @@ pub struct LabScan {
     /// One line per occurrence, in the `.rs` files under `tree/labs/labNN/src`, of something
     /// that reads a file outside that directory at compile time, or may:
     /// `labs/lab02/src/lib.rs:3: #[path = "../../../reference/src/lab02.rs"] names a file
-    /// outside labs/lab02/src/`. A file that does not lex as Rust is flagged as not compiling.
+    /// outside labs/lab02/src/`. A file that does not lex as Rust is flagged as not compiling,
+    /// and one that rustc reads otherwise than the scan as not scanned.
     pub flags: Vec<String>,
     /// Every place that names one of the lab's denied framework items as an identifier (in code
     /// or a macro body; not in a comment or a string).
@@ -105,13 +117,14 @@ pub fn scan_lab(tree: &Path, lab: LabId, denied: &[DeniedItem]) -> LabScan {
             flags.push(unlexed);
             continue;
         };
-        match without_shebang(&text).parse::<TokenStream>() {
+        match lex(&as_rustc_reads(&text)) {
             Ok(tokens) => {
                 scanner.scan(tokens, Context::default());
                 flags.extend(scanner.flags);
                 denied_uses.extend(scanner.denied);
             }
-            Err(_) => flags.push(unlexed),
+            Err(Unread::Unlexed) => flags.push(unlexed),
+            Err(Unread::At { line, why }) => flags.push(format!("{}:{line}: {why}", scanner.file)),
         }
         // The spans of this file are not used again: let the lexer forget its text.
         proc_macro2::extra::invalidate_current_thread_spans();
@@ -180,16 +193,261 @@ fn rust_files(
     }
 }
 
-/// `text` without the shebang line rustc skips (`#!` not starting an inner attribute `#![`),
-/// its line left empty so that line numbers stay the same.
-fn without_shebang(text: &str) -> String {
-    let body = text.strip_prefix('\u{feff}').unwrap_or(text);
-    match body.strip_prefix("#!") {
-        Some(rest) if !rest.trim_start().starts_with('[') => {
-            let line_end = body.find('\n').unwrap_or(body.len());
-            body[line_end..].to_string()
+/// `text` as rustc lexes it: without a byte order mark, each CRLF made LF (as rustc's source
+/// map does, in one pass: `\r\r\n` becomes `\r\n`), and without a shebang line, by rustc's own
+/// rule (`ra_ap_rustc_lexer::strip_shebang`: `#!` is a shebang unless the first token after it
+/// that is not whitespace or a comment, a doc comment excepted, is `[`). The shebang's line is
+/// left empty, so that line numbers stay the same.
+fn as_rustc_reads(text: &str) -> String {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let text = text.replace("\r\n", "\n");
+    match ra_ap_rustc_lexer::strip_shebang(&text) {
+        Some(shebang) => text[shebang..].to_string(),
+        None => text,
+    }
+}
+
+/// Why a file's tokens are not scanned.
+#[derive(Debug)]
+enum Unread {
+    /// proc-macro2 cannot lex it.
+    Unlexed,
+    /// Rustc reads it otherwise than the scan would: at line `line`, for the reason `why`.
+    At { line: usize, why: String },
+}
+
+/// What a token is, as the two lexers' tokens are compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Piece {
+    Ident,
+    Literal,
+    Punct(char),
+    Open(Delimiter),
+    Close(Delimiter),
+    /// A doc comment (an attribute to both), inner or not.
+    Doc {
+        inner: bool,
+    },
+}
+
+/// A token of a file: what it is, and its bytes.
+type Token = (Piece, Range<usize>);
+
+/// What in a file rustc's lexer reads in a way the scan cannot follow, and its bytes.
+#[derive(Debug)]
+enum Unfollowed {
+    /// A frontmatter (`---` … `---` at the top), which proc-macro2 does not know.
+    Frontmatter(Range<usize>),
+    /// A token rustc rejects (an unknown character, an unterminated literal or comment, a
+    /// reserved prefix, …): the file does not compile.
+    Rejected(Range<usize>),
+    /// An identifier rustc reads as another name: its Unicode normal form C.
+    Renamed(Range<usize>),
+}
+
+impl Unfollowed {
+    /// Why the scan does not read `text`, where this is.
+    fn unread(self, text: &str) -> Unread {
+        let (bytes, why) = match self {
+            Unfollowed::Frontmatter(bytes) => (
+                bytes,
+                "cannot be scanned: it opens with a frontmatter (`---`), which the scan does not read"
+                    .to_string(),
+            ),
+            Unfollowed::Rejected(bytes) => {
+                let shown = token_text(&text[bytes.clone()]);
+                let why =
+                    format!("does not parse as Rust (rustc rejects `{shown}`); it will not compile");
+                (bytes, why)
+            }
+            Unfollowed::Renamed(bytes) => {
+                let shown = token_text(&text[bytes.clone()]);
+                let why = format!(
+                    "cannot be scanned: rustc reads the identifier `{shown}` as another name (its Unicode normal form C)"
+                );
+                (bytes, why)
+            }
+        };
+        Unread::At {
+            line: line_of(text, bytes.start),
+            why,
         }
-        _ => body.to_string(),
+    }
+}
+
+/// The line of `text` that its byte `at` is on, counted from 1 (as proc-macro2 counts them).
+fn line_of(text: &str, at: usize) -> usize {
+    text[..at].matches('\n').count() + 1
+}
+
+/// `text` (as [`as_rustc_reads`] gives it) lexed by proc-macro2, if rustc's lexer reads the
+/// same tokens in it (comments and whitespace aside) at the same places; otherwise why not.
+fn lex(text: &str) -> Result<TokenStream, Unread> {
+    let rustc = rustc_tokens(text);
+    // proc-macro2 may not lex a frontmatter at all, but that is not why the file is unread.
+    if let Err(frontmatter @ Unfollowed::Frontmatter(_)) = rustc {
+        return Err(frontmatter.unread(text));
+    }
+    let tokens: TokenStream = text.parse().map_err(|_| Unread::Unlexed)?;
+    let rustc = rustc.map_err(|unfollowed| unfollowed.unread(text))?;
+    let mut scanned = Vec::new();
+    scanned_tokens(tokens.clone(), &mut scanned);
+    let Some(i) = (0..rustc.len().max(scanned.len())).find(|&i| rustc.get(i) != scanned.get(i))
+    else {
+        return Ok(tokens);
+    };
+    // The bytes of both tokens, where each lexer has one.
+    let bytes = [rustc.get(i), scanned.get(i)]
+        .into_iter()
+        .flatten()
+        .map(|(_, bytes)| bytes.clone())
+        .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end))
+        .unwrap_or_default();
+    Err(Unread::At {
+        line: line_of(text, bytes.start),
+        why: format!(
+            "cannot be scanned: rustc and the scan read `{}` as different tokens",
+            token_text(&text[bytes])
+        ),
+    })
+}
+
+/// The tokens rustc's lexer reads in `text` (as [`as_rustc_reads`] gives it), whitespace and
+/// comments left out (doc comments kept), as rustc's parser takes them from it
+/// (`rustc_parse::lexer`); or the first thing in it that the scan cannot follow.
+fn rustc_tokens(text: &str) -> Result<Vec<Token>, Unfollowed> {
+    let mut tokens = Vec::new();
+    let mut cursor = Cursor::new(text, FrontmatterAllowed::Yes);
+    let mut start = 0;
+    loop {
+        let token = cursor.advance_token();
+        let bytes = start..start + token.len as usize;
+        start = bytes.end;
+        let source = &text[bytes.clone()];
+        let piece = match token.kind {
+            TokenKind::Eof => return Ok(tokens),
+            TokenKind::Whitespace
+            | TokenKind::LineComment { doc_style: None }
+            | TokenKind::BlockComment {
+                doc_style: None,
+                terminated: true,
+            } => continue,
+            TokenKind::LineComment {
+                doc_style: Some(style),
+            }
+            | TokenKind::BlockComment {
+                doc_style: Some(style),
+                terminated: true,
+            } => Piece::Doc {
+                inner: style == DocStyle::Inner,
+            },
+            TokenKind::Frontmatter { .. } => return Err(Unfollowed::Frontmatter(bytes)),
+            // rustc takes an identifier in its normal form C (`nfc_normalize`).
+            TokenKind::Ident | TokenKind::RawIdent
+                if !source.is_ascii() && !unicode_normalization::is_nfc(source) =>
+            {
+                return Err(Unfollowed::Renamed(bytes));
+            }
+            TokenKind::Ident | TokenKind::RawIdent => Piece::Ident,
+            // proc-macro2 reads a lifetime as a joint `'` and an identifier.
+            TokenKind::Lifetime {
+                starts_with_number: false,
+            }
+            | TokenKind::RawLifetime => {
+                tokens.push((Piece::Punct('\''), bytes.start..bytes.start + 1));
+                tokens.push((Piece::Ident, bytes.start + 1..bytes.end));
+                continue;
+            }
+            TokenKind::Literal { kind, .. } if well_formed(kind) => Piece::Literal,
+            TokenKind::OpenParen => Piece::Open(Delimiter::Parenthesis),
+            TokenKind::CloseParen => Piece::Close(Delimiter::Parenthesis),
+            TokenKind::OpenBrace => Piece::Open(Delimiter::Brace),
+            TokenKind::CloseBrace => Piece::Close(Delimiter::Brace),
+            TokenKind::OpenBracket => Piece::Open(Delimiter::Bracket),
+            TokenKind::CloseBracket => Piece::Close(Delimiter::Bracket),
+            TokenKind::Semi
+            | TokenKind::Comma
+            | TokenKind::Dot
+            | TokenKind::At
+            | TokenKind::Pound
+            | TokenKind::Tilde
+            | TokenKind::Question
+            | TokenKind::Colon
+            | TokenKind::Dollar
+            | TokenKind::Eq
+            | TokenKind::Bang
+            | TokenKind::Lt
+            | TokenKind::Gt
+            | TokenKind::Minus
+            | TokenKind::And
+            | TokenKind::Or
+            | TokenKind::Plus
+            | TokenKind::Star
+            | TokenKind::Slash
+            | TokenKind::Caret
+            | TokenKind::Percent => Piece::Punct(source.chars().next().unwrap_or_default()),
+            // What rustc reports as an error: an unterminated comment or literal, a malformed
+            // number or raw string, a lifetime starting with a digit, an unknown character or
+            // prefix (`foo"…"`, `k#…`), an emoji, and (edition 2024) `#"…"` and `##`.
+            _ => return Err(Unfollowed::Rejected(bytes)),
+        };
+        tokens.push((piece, bytes));
+    }
+}
+
+/// Whether rustc accepts a literal of `kind` (terminated, with digits, a raw string's
+/// delimiters right).
+fn well_formed(kind: LiteralKind) -> bool {
+    match kind {
+        LiteralKind::Int { empty_int, .. } => !empty_int,
+        LiteralKind::Float { empty_exponent, .. } => !empty_exponent,
+        LiteralKind::Char { terminated }
+        | LiteralKind::Byte { terminated }
+        | LiteralKind::Str { terminated }
+        | LiteralKind::ByteStr { terminated }
+        | LiteralKind::CStr { terminated } => terminated,
+        LiteralKind::RawStr { n_hashes }
+        | LiteralKind::RawByteStr { n_hashes }
+        | LiteralKind::RawCStr { n_hashes } => n_hashes.is_some(),
+    }
+}
+
+/// Adds the tokens proc-macro2 read in `stream` to `tokens`, in rustc's terms: a group as its
+/// delimiters around its tokens, and a doc comment (which proc-macro2 gives as `#`, `!` if
+/// inner, and `[doc = "…"]`, each with the comment's span) as one token.
+fn scanned_tokens(stream: TokenStream, tokens: &mut Vec<Token>) {
+    let trees: Vec<TokenTree> = stream.into_iter().collect();
+    let mut i = 0;
+    while let Some(tree) = trees.get(i) {
+        let bytes = tree.span().byte_range();
+        i += 1;
+        match tree {
+            // A `#` of its own is one byte; a longer one is a doc comment's.
+            TokenTree::Punct(punct) if punct.as_char() == '#' && bytes.len() != 1 => {
+                let same = |tree: Option<&TokenTree>| {
+                    tree.is_some_and(|tree| tree.span().byte_range() == bytes)
+                };
+                let inner = is_punct(trees.get(i), '!') && same(trees.get(i));
+                let attribute = i + usize::from(inner);
+                if matches!(trees.get(attribute), Some(TokenTree::Group(_)))
+                    && same(trees.get(attribute))
+                {
+                    i = attribute + 1;
+                    tokens.push((Piece::Doc { inner }, bytes));
+                } else {
+                    tokens.push((Piece::Punct('#'), bytes));
+                }
+            }
+            TokenTree::Punct(punct) => tokens.push((Piece::Punct(punct.as_char()), bytes)),
+            TokenTree::Ident(_) => tokens.push((Piece::Ident, bytes)),
+            TokenTree::Literal(_) => tokens.push((Piece::Literal, bytes)),
+            TokenTree::Group(group) => {
+                let delimiter = group.delimiter();
+                tokens.push((Piece::Open(delimiter), group.span_open().byte_range()));
+                scanned_tokens(group.stream(), tokens);
+                tokens.push((Piece::Close(delimiter), group.span_close().byte_range()));
+            }
+        }
     }
 }
 
@@ -293,10 +551,14 @@ fn resolve(base: &[String], name: &str) -> Option<PathBuf> {
     (!parts.is_empty()).then(|| parts.iter().collect())
 }
 
-/// The source text of `span` for a line: whitespace runs made one space, control characters
-/// escaped, at most 120 characters.
+/// The source text of `span` for a line, as [`excerpt_of`] shows it.
 fn excerpt(span: Span, fallback: impl FnOnce() -> String) -> String {
-    let text = span.source_text().unwrap_or_else(fallback);
+    excerpt_of(&span.source_text().unwrap_or_else(fallback))
+}
+
+/// `text` for a line: whitespace runs made one space, control characters escaped, at most 120
+/// characters.
+fn excerpt_of(text: &str) -> String {
     let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
     let text = shown(Path::new(&text));
     if text.chars().count() > 120 {
@@ -305,6 +567,22 @@ fn excerpt(span: Span, fallback: impl FnOnce() -> String) -> String {
     } else {
         text
     }
+}
+
+/// The text of tokens for a line, as [`excerpt_of`] shows it but with every character other
+/// than an ASCII letter, digit, symbol or space escaped (`\u{a0}`): what the lexers read
+/// differently may be a character that looks like another, or like nothing.
+fn token_text(text: &str) -> String {
+    let escaped: String = text
+        .chars()
+        .map(|c| match c {
+            ' ' => " ".to_string(),
+            c if c.is_ascii_graphic() => c.to_string(),
+            c if c.is_ascii_whitespace() => " ".to_string(),
+            c => c.escape_unicode().to_string(),
+        })
+        .collect();
+    excerpt_of(&escaped)
 }
 
 /// Whether `tokens[i]` may start an attribute of its own, in a group of `starts`.
@@ -828,5 +1106,186 @@ macro_rules! m {
             "{lines:?}"
         );
         assert!(lines[3].contains("answers Exercise 4.4"), "{lines:?}");
+    }
+
+    /// A first line that starts with `#!` and rustc reads as code: `#!` and `[` with
+    /// whitespace and comments (not doc comments) between them.
+    #[test]
+    fn shebang_like_lines_that_rustc_reads_as_code_are_scanned() {
+        let outside = "names a file outside labs/lab02/src/";
+        for (code, line, flagged) in [
+            (
+                r#"#!/**/[allow(unused)] #[path = "../../../reference/src/lab01.rs"] mod key;"#,
+                1,
+                r#"#[path = "../../../reference/src/lab01.rs"]"#,
+            ),
+            (
+                r#"#!/**/[allow(unused)] const K: &str = include_str!("../../../reference/src/lab01.rs");"#,
+                1,
+                r#"include_str!("../../../reference/src/lab01.rs")"#,
+            ),
+            (
+                r#"#!/**/[allow(unused)] const K: &[u8] = include_bytes!("/work/reference/src/lab01.rs");"#,
+                1,
+                r#"include_bytes!("/work/reference/src/lab01.rs")"#,
+            ),
+            (
+                r#"#!/**/[allow(unused)] include!("../../../reference/src/lab01.rs");"#,
+                1,
+                r#"include!("../../../reference/src/lab01.rs")"#,
+            ),
+            (
+                "#!//x\n[allow(unused)] #[path = \"../k.rs\"] mod key;",
+                2,
+                r#"#[path = "../k.rs"]"#,
+            ),
+            (
+                r#"#! /*a/*b*/c*/ [allow(unused)] #[path = "../k.rs"] mod key;"#,
+                1,
+                r#"#[path = "../k.rs"]"#,
+            ),
+            (
+                "#!\n\t/* a */ // b\n[allow(unused)] const K: &str = include_str!(\"/etc/passwd\");",
+                3,
+                r#"include_str!("/etc/passwd")"#,
+            ),
+        ] {
+            assert_eq!(
+                flags(code),
+                [format!("labs/lab02/src/lib.rs:{line}: {flagged} {outside}")],
+                "{code}"
+            );
+        }
+        let found = flags(
+            r#"#!/**/[allow(unused)] const K: &str = include_str!(concat!(env!("PWD"), "/reference/src/lab01.rs"));"#,
+        );
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(
+            found[0]
+                .ends_with("may name a file outside labs/lab02/src/ (not a plain string literal)"),
+            "{found:?}"
+        );
+        // An inner attribute that starts the file is code, with or without a space.
+        assert_eq!(
+            flags("#![cfg_attr(all(), path = \"../k.rs\")]\nmod key;").len(),
+            1
+        );
+        assert_eq!(
+            flags("#! [cfg_attr(all(), path = \"../k.rs\")]\nmod key;").len(),
+            1
+        );
+    }
+
+    /// A first line that rustc skips: `#!` followed by anything but `[`, where a doc comment
+    /// is not skipped on the way.
+    #[test]
+    fn shebang_lines_are_skipped_and_the_lines_after_them_scanned() {
+        let key = r#"include_str!("../../key.rs") names a file outside labs/lab02/src/"#;
+        for first in [
+            "#!/usr/bin/env run-cargo-script",
+            "#!/usr/bin/env run-cargo-script include_str!(\"/etc/passwd\")",
+            r#"#!/** doc */[allow(unused)] const P: &str = include_str!("/etc/passwd");"#,
+            r#"#! /// doc [allow(unused)] const P: &str = include_str!("/etc/passwd");"#,
+            r#"#!/*! doc */ [path = "../p.rs"] mod p;"#,
+            "#!",
+        ] {
+            let code = format!("{first}\nconst K: &str = include_str!(\"../../key.rs\");\n");
+            assert_eq!(
+                flags(&code),
+                [format!("labs/lab02/src/lib.rs:2: {key}")],
+                "{first}"
+            );
+        }
+    }
+
+    #[test]
+    fn byte_order_marks_and_crlf_are_read_as_rustc_reads_them() {
+        assert_eq!(
+            flags(
+                "\u{feff}#!/**/[allow(unused)] #[path = \"../../../reference/src/lab01.rs\"] mod key;"
+            ),
+            [
+                r#"labs/lab02/src/lib.rs:1: #[path = "../../../reference/src/lab01.rs"] names a file outside labs/lab02/src/"#
+            ]
+        );
+        assert_eq!(
+            flags(
+                "\u{feff}#!/usr/bin/env run-cargo-script\r\nconst K: &str = include_str!(\"../../key.rs\");\r\n"
+            ),
+            [
+                r#"labs/lab02/src/lib.rs:2: include_str!("../../key.rs") names a file outside labs/lab02/src/"#
+            ]
+        );
+        // Lines ending in CRLF keep their numbers; doc comments and strings are read as with LF.
+        assert_eq!(
+            flags(
+                "//! Lab 2.\r\n/// The key.\r\n#[path = \"../../../reference/src/lab02.rs\"]\r\nmod key;\r\n"
+            ),
+            [
+                r#"labs/lab02/src/lib.rs:3: #[path = "../../../reference/src/lab02.rs"] names a file outside labs/lab02/src/"#
+            ]
+        );
+        assert!(flags("/// Fine.\r\nfn f() -> &'static str { \"a\r\nb\" }\r\n").is_empty());
+    }
+
+    #[test]
+    fn a_file_is_read_as_rustc_reads_it_without_bom_crlf_or_shebang() {
+        assert_eq!(as_rustc_reads("\u{feff}fn f() {}\r\n"), "fn f() {}\n");
+        // Only the first byte order mark; each CRLF of the file once, a lone CR kept.
+        assert_eq!(
+            as_rustc_reads("\u{feff}\u{feff}a\r\r\nb\rc\r\n"),
+            "\u{feff}a\r\nb\rc\n"
+        );
+        assert_eq!(
+            as_rustc_reads("#!/usr/bin/env run-cargo-script\r\nfn main() {}\r\n"),
+            "\nfn main() {}\n"
+        );
+        assert_eq!(as_rustc_reads("#!/** doc */[x]\ny"), "\ny");
+        assert_eq!(as_rustc_reads("#!//x\n[x]\ny"), "#!//x\n[x]\ny");
+        assert_eq!(as_rustc_reads("#!/*a/*b*/c*/[x]"), "#!/*a/*b*/c*/[x]");
+        assert_eq!(as_rustc_reads("\u{feff}#!\r\n[x]"), "#!\n[x]");
+    }
+
+    #[test]
+    fn files_rustc_reads_otherwise_are_refused() {
+        let refused = |code: &str| {
+            let found = flags(code);
+            assert_eq!(found.len(), 1, "{code:?}: {found:?}");
+            found.into_iter().next().unwrap_or_default()
+        };
+        let frontmatter =
+            "cannot be scanned: it opens with a frontmatter (`---`), which the scan does not read";
+        assert_eq!(
+            refused("---\n[dependencies]\n---\n\n#[path = \"../k.rs\"] mod key;\n"),
+            format!("labs/lab02/src/lib.rs:1: {frontmatter}")
+        );
+        assert_eq!(
+            refused(
+                "#!/usr/bin/env -S cargo +nightly -Zscript\n---cargo\n[package]\nedition = \"2024\"\n---\nfn main() {}\n"
+            ),
+            format!("labs/lab02/src/lib.rs:2: {frontmatter}")
+        );
+        // A no-break space: rustc rejects it, proc-macro2 reads whitespace.
+        assert_eq!(
+            refused("const\u{a0}K: u8 = 1;"),
+            r"labs/lab02/src/lib.rs:1: does not parse as Rust (rustc rejects `\u{a0}`); it will not compile"
+        );
+        // Reserved in edition 2024, two `#` to proc-macro2.
+        assert_eq!(
+            refused("macro_rules! m { (##) => {}; }"),
+            "labs/lab02/src/lib.rs:1: does not parse as Rust (rustc rejects `##`); it will not compile"
+        );
+        // A group to rustc, one literal token to proc-macro2.
+        assert_eq!(
+            refused("fn f() {\n    g(/*ERROR*/);\n}"),
+            "labs/lab02/src/lib.rs:2: cannot be scanned: rustc and the scan read `(/*ERROR*/)` as different tokens"
+        );
+        // The Kelvin sign, which rustc reads as `K`.
+        assert_eq!(
+            refused("fn f() -> \u{212a}ey { todo!() }"),
+            r"labs/lab02/src/lib.rs:1: cannot be scanned: rustc reads the identifier `\u{212a}ey` as another name (its Unicode normal form C)"
+        );
+        // Identifiers in normal form C are read as written, as are comments rustc skips.
+        assert!(flags("fn θ(φ: f32) -> f32 { φ /* ∞ */ } // ☀\n").is_empty());
     }
 }
