@@ -388,14 +388,15 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
     match graded {
         Some(path) => crate::handout::copy_file(&path, results)?,
         None => {
-            let why = outcome.as_ref().err().map_or_else(
-                || "the grader wrote no results".to_string(),
-                ToString::to_string,
-            );
-            let mut redactions = reports::Redactions::default();
-            redactions.add(&repository_root(), "<course>");
-            redactions.add(&args.out, "<grades>");
-            let text = redactions.apply(&reports::ungraded_results(&why));
+            // The details are the grader's (on its output, which `main` prints): the student
+            // is told that the grader failed, not where.
+            let why = match &outcome {
+                Ok(()) => "the grader wrote no results",
+                Err(_) => {
+                    "the grader failed before it could grade (its output says why); this is no mark of the code"
+                }
+            };
+            let text = reports::ungraded_results(why);
             if let Some(dir) = results.parent() {
                 fs::create_dir_all(dir).map_err(io(dir))?;
             }
@@ -552,8 +553,15 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             scan: !args.no_scan,
             bar: &bar,
         };
-        let mut grade = grade_submission(submission, student, &dir, &class)
-            .unwrap_or_else(|e| StudentGrade::ungraded(student, &labs, &e.to_string()));
+        let mut grade = grade_submission(submission, student, &dir, &class).unwrap_or_else(|e| {
+            // The details, which may name places of this machine, are the instructor's.
+            bar.println(format!("{student}: not graded: {e}"));
+            StudentGrade::ungraded(
+                student,
+                &labs,
+                "the grader failed on it (the grader's output says why); this is no mark of the code",
+            )
+        });
         grade.sandbox = workspace.sandbox.describe();
         grade.manual = manual.remove(student).unwrap_or_default();
         grade.deadlines = term::deadlines(
@@ -573,16 +581,8 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             ));
             (pristine, shared) = make_tree()?;
         }
-        let mut redactions = reports::Redactions::default();
-        redactions.add(&grading, "<grading>");
-        redactions.add(submission, "<submission>");
-        redactions.add(&args.out, "<grades>");
-        redactions.add(&repository_root(), "<course>");
-        if let Some(home) = std::env::var_os("HOME") {
-            redactions.add(Path::new(&home), "~");
-        }
         let started = std::time::Instant::now();
-        reports::write_student(&grade, &dir, &redactions)?;
+        reports::write_student(&grade, &dir)?;
         grade.timings.report = started.elapsed().as_secs_f64();
         bar.println(format!(
             "{student}: {}/{} points{}",

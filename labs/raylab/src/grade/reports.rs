@@ -17,57 +17,14 @@ use super::term::{CourseTerms, LabDeadline, Lateness, ManualPoints, rfc3339};
 use super::{ExerciseGrade, Status, StudentGrade, feedback};
 use crate::handout::io;
 
-/// The paths of the instructor's machine that a student's report must not show, each with what
-/// it shows instead.
-#[derive(Default)]
-pub struct Redactions(Vec<(String, &'static str)>);
-
-impl Redactions {
-    /// Shows `path` (as given and, when it exists, canonical) as `instead`. Longer paths are
-    /// replaced first, so a path inside another keeps its own name.
-    pub fn add(&mut self, path: &Path, instead: &'static str) {
-        let mut forms = vec![path.to_path_buf()];
-        if let Ok(canonical) = fs::canonicalize(path) {
-            forms.push(canonical);
-        }
-        if let Ok(cwd) = std::env::current_dir() {
-            forms.push(cwd.join(path));
-        }
-        for form in forms {
-            let text = form.to_string_lossy().trim_end_matches('/').to_string();
-            if form.is_absolute() && text.len() > 1 && !self.0.iter().any(|(p, _)| *p == text) {
-                self.0.push((text, instead));
-            }
-        }
-        self.0.sort_by_key(|(p, _)| std::cmp::Reverse(p.len()));
-    }
-
-    /// `text` with every path replaced.
-    pub fn apply(&self, text: &str) -> String {
-        self.0.iter().fold(text.to_string(), |t, (path, instead)| {
-            t.replace(path, instead)
-        })
-    }
-
-    /// [`Redactions::apply`] to HTML: the stand-ins escaped, so that a browser shows
-    /// `<grading>` rather than taking it for a tag and dropping it.
-    pub fn apply_html(&self, html: &str) -> String {
-        self.0.iter().fold(html.to_string(), |t, (path, instead)| {
-            t.replace(path, &instead.replace('<', "&lt;").replace('>', "&gt;"))
-        })
-    }
-}
-
-/// Writes `report.md`, `report.html` and `results.json` of `grade` into `dir`, with the paths of
-/// `redactions` replaced.
-pub fn write_student(
-    grade: &StudentGrade,
-    dir: &Path,
-    redactions: &Redactions,
-) -> Result<(), Error> {
+/// Writes `report.md`, `report.html` and `results.json` of `grade` into `dir`. Nothing in a
+/// grade names a place of the grader's machine: the student's code could read none (its build
+/// sees the jail, its run names files relative to its own directory), and the grader's own
+/// failures are told the student as such, their details on the grader's output.
+pub fn write_student(grade: &StudentGrade, dir: &Path) -> Result<(), Error> {
     fs::create_dir_all(dir).map_err(io(dir))?;
-    write(&dir.join("report.md"), &redactions.apply(&markdown(grade)))?;
-    let page = redactions.apply_html(&html(grade));
+    write(&dir.join("report.md"), &markdown(grade))?;
+    let page = html(grade);
     write(&dir.join("report.html"), &page)?;
     // The same page with its images inlined, one file per student for an LMS.
     if let Some(class_dir) = dir.parent() {
@@ -78,9 +35,8 @@ pub fn write_student(
             &feedback::standalone(&page, dir),
         )?;
     }
-    let results =
-        serde_json::to_string_pretty(&gradescope(grade, dir, redactions)).unwrap_or_default();
-    write(&dir.join("results.json"), &redactions.apply(&results))
+    let results = serde_json::to_string_pretty(&gradescope(grade, dir)).unwrap_or_default();
+    write(&dir.join("results.json"), &results)
 }
 
 /// Writes `gradebook.csv`, `canvas.csv`, `junit.xml`, `timings.csv` and `index.html` of the
@@ -509,13 +465,13 @@ pub fn ungraded_results(why: &str) -> String {
 
 /// Gradescope's `results.json` of `grade`, whose report directory is `dir`: a failed exercise
 /// with images shows them inline (its output in Gradescope's `html` format).
-fn gradescope(grade: &StudentGrade, dir: &Path, redactions: &Redactions) -> serde_json::Value {
+fn gradescope(grade: &StudentGrade, dir: &Path) -> serde_json::Value {
     let mut budget = feedback::RESULTS_IMAGE_BUDGET;
     let tests: Vec<serde_json::Value> = grade
         .exercises
         .iter()
         .map(|e| {
-            let output = redactions.apply(&exercise_output(e));
+            let output = exercise_output(e);
             let (output, format) = if e.passed() || e.images.is_empty() {
                 (output, "text")
             } else {
@@ -1053,27 +1009,6 @@ mod tests {
         fs::remove_dir_all(&dir).ok();
     }
 
-    #[test]
-    fn redactions_replace_the_longest_path_first() {
-        let mut r = Redactions::default();
-        r.add(Path::new("/srv/course"), "<course>");
-        r.add(Path::new("/srv/course/grades"), "<grades>");
-        assert_eq!(
-            r.apply("at /srv/course/grades/x and /srv/course/labs"),
-            "at <grades>/x and <course>/labs"
-        );
-    }
-
-    #[test]
-    fn redactions_in_html_are_text_not_tags() {
-        let mut r = Redactions::default();
-        r.add(Path::new("/srv/grading"), "<grading>");
-        assert_eq!(
-            r.apply_html("<pre>/srv/grading/runs/x.png</pre>"),
-            "<pre>&lt;grading&gt;/runs/x.png</pre>"
-        );
-    }
-
     /// `text` with the grader's version and the time of every stamp replaced, so that a
     /// snapshot does not change with either.
     fn unstamped(text: &str) -> String {
@@ -1270,8 +1205,7 @@ mod tests {
         .unwrap();
         for (k, grade) in class.iter().enumerate() {
             let results =
-                serde_json::to_string_pretty(&gradescope(grade, &dir, &Redactions::default()))
-                    .unwrap_or_default();
+                serde_json::to_string_pretty(&gradescope(grade, &dir)).unwrap_or_default();
             insta::assert_snapshot!(format!("results-{k}.json"), unstamped(&results));
             insta::assert_snapshot!(format!("report-{k}.md"), unstamped(&markdown(grade)));
         }
