@@ -281,7 +281,19 @@ fn in_jail(
     ]);
     let build = inside(jail::BUILD);
     let mut env = Vec::new();
-    for (key, value) in &call.env {
+    // What `env!` may read of cargo's: the package's fields and where it is. Not the jobserver
+    // (`CARGO_MAKEFLAGS`), whose descriptors the jail does not pass on, nor cargo's own path.
+    let kept = |key: &str| {
+        key.starts_with("CARGO_PKG_")
+            || matches!(
+                key,
+                "CARGO_CRATE_NAME"
+                    | "CARGO_MANIFEST_DIR"
+                    | "CARGO_MANIFEST_PATH"
+                    | "CARGO_PRIMARY_PACKAGE"
+            )
+    };
+    for (key, value) in call.env.iter().filter(|(key, _)| kept(key)) {
         let value = match key.as_str() {
             // The grading's own version tag is no part of the course's crate.
             "CARGO_PKG_VERSION" => value.split("-grading.").next().unwrap_or(value).to_string(),
@@ -368,6 +380,10 @@ mod tests {
             ],
             &[
                 ("CARGO", "/root/.rustup/toolchains/x/bin/cargo"),
+                (
+                    "CARGO_MAKEFLAGS",
+                    "-j --jobserver-fds=8,9 --jobserver-auth=8,9",
+                ),
                 ("CARGO_MANIFEST_DIR", "/g/.grading/tree/labs/lab02/guest"),
                 ("CARGO_PKG_VERSION", "0.1.0-grading.0badf00d"),
                 ("CARGO_PKG_VERSION_PRE", "grading.0badf00d"),

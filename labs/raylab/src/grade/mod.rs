@@ -227,9 +227,9 @@ pub struct StudentGrade {
 pub struct Timings {
     /// Compiling the student's labs and linking the checks.
     pub build: f64,
-    /// Running the exercises that ended within their time limit (and listing the tests).
+    /// Running the exercises that ended within the grader's time limits (and listing the tests).
     pub run: f64,
-    /// Running the exercises that were stopped at their time limit: the student's own time.
+    /// Running the exercises that were stopped at the grader's time limits.
     pub timed_out: f64,
     /// Writing the submission's reports.
     pub report: f64,
@@ -911,11 +911,8 @@ fn grade_submission(
             };
             bar.set_message(format!("{student}: Exercise {}", info.id));
             let run = runner::run_exercise(&how, test, &info)?;
-            if run.status == Status::TimedOut {
-                timings.timed_out += run.seconds;
-            } else {
-                timings.run += run.seconds;
-            }
+            timings.timed_out += run.stopped_seconds;
+            timings.run += run.seconds - run.stopped_seconds;
             let mut images = Vec::new();
             for image in &run.images {
                 let name = format!(

@@ -189,6 +189,8 @@ pub struct Run {
     pub images: Vec<PathBuf>,
     /// Wall time of the run.
     pub seconds: f64,
+    /// Of it, the time of runs stopped at the grader's time limits.
+    pub stopped_seconds: f64,
 }
 
 /// The test names of a checks executable, listed in the sandbox (in `scratch`).
@@ -206,6 +208,7 @@ pub fn list_tests(
         scratch,
         &["--list", "--format", "terse"],
         &[],
+        sandbox.cpu_limit(),
     );
     let run = run_captured(command, None, Duration::from_secs(60), OUTPUT_LIMIT);
     sandbox.end_exercise();
@@ -245,6 +248,7 @@ pub fn precompile(
             (grading::graded::MODULE_VAR, "student.wasm"),
             (grading::graded::PRECOMPILE_VAR, "student.cwasm"),
         ],
+        sandbox.cpu_limit(),
     );
     let run = run_captured(command, None, Duration::from_secs(120), OUTPUT_LIMIT);
     sandbox.end_exercise();
@@ -282,8 +286,54 @@ pub struct ExerciseRun<'a> {
 }
 
 /// Runs the test `test` of exercise `info` in a sandboxed process of its own. It passes only
-/// when the output holds the check's verdict record, with this run's secret, saying so.
+/// when the output holds the check's verdict record, with this run's secret, saying so. A run
+/// stopped at the grader's time limits (wall clock or CPU) is run again with twice the time —
+/// the student's code is bounded by its own instruction budget, so these limits are the
+/// grader's — and an exercise stopped twice is not graded, never charged as the student's.
 pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Result<Run, Error> {
+    let first = attempt(how, test, info, 1)?;
+    if !first.stopped {
+        return Ok(first.run);
+    }
+    fs::remove_dir_all(how.scratch).map_err(io(how.scratch))?;
+    let second = attempt(how, test, info, 2)?;
+    let seconds = first.run.seconds + second.run.seconds;
+    if !second.stopped {
+        return Ok(Run {
+            seconds,
+            stopped_seconds: first.run.seconds,
+            ..second.run
+        });
+    }
+    let (wall, cpu) = (how.timeout.as_secs(), how.sandbox.cpu_limit());
+    Ok(Run {
+        status: Status::NotGraded,
+        output: format!(
+            "Exercise {} — `{}` was not graded: its test was stopped at the grader's time limit twice ({wall} s, then {} s of wall-clock time; {cpu}, then {} CPU seconds). The student's code runs within an instruction budget of its own, so this is the grader's limit — a loaded machine, or checks slow on what the code returned — and no mark of the code: grade again with a longer --timeout.",
+            info.id,
+            info.function,
+            2 * wall,
+            2 * cpu
+        ),
+        seconds,
+        stopped_seconds: seconds,
+        ..second.run
+    })
+}
+
+/// One run of an exercise, and whether it was stopped at the grader's time limits.
+struct Attempt {
+    run: Run,
+    stopped: bool,
+}
+
+/// Runs exercise `info`'s test once, with `scale` times the time limits.
+fn attempt(
+    how: &ExerciseRun,
+    test: &str,
+    info: &ExerciseInfo,
+    scale: u32,
+) -> Result<Attempt, Error> {
     fs::create_dir_all(how.scratch).map_err(io(how.scratch))?;
     // The module beside the exercise's files, which the program in the sandbox sees.
     let extension = how.module.extension().unwrap_or_default().to_string_lossy();
@@ -313,8 +363,10 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
         how.scratch,
         &[test, "--exact", "--nocapture", "--test-threads=1"],
         &env,
+        how.sandbox.cpu_limit() * u64::from(scale),
     );
-    let run = run_captured(command, Some(&secret), how.timeout, OUTPUT_LIMIT);
+    let timeout = how.timeout * scale;
+    let run = run_captured(command, Some(&secret), timeout, OUTPUT_LIMIT);
     how.sandbox.end_exercise();
     let run = run?;
     let images = failure_images(
@@ -324,14 +376,19 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
     );
     let record = run.scanner.as_ref().and_then(|s| s.record(&info.id));
     let printed = printable(&run.text());
+    let stopped = record.is_none()
+        && run.status.is_none_or(|exit| {
+            use std::os::unix::process::ExitStatusExt;
+            exit.signal() == Some(libc::SIGXCPU) || exit.code() == Some(128 + libc::SIGXCPU)
+        });
     let (status, output) = match (&record, run.status) {
         (_, None) => (
             Status::TimedOut,
             format!(
-                "Exercise {} — `{}` did not finish within {} s and was stopped (an infinite loop?).",
+                "Exercise {} — `{}` did not finish within {} s and was stopped.",
                 info.id,
                 info.function,
-                how.timeout.as_secs()
+                timeout.as_secs()
             ),
         ),
         (Some(record), Some(_)) if record.passed => (Status::Passed, printable(&record.message)),
@@ -348,17 +405,21 @@ pub fn run_exercise(how: &ExerciseRun, test: &str, info: &ExerciseInfo) -> Resul
     } else {
         output
     };
-    Ok(Run {
-        status,
-        output,
-        program_output: program_output(
-            &printed,
-            test,
-            &secret,
-            (run.total > run.output.len() as u64).then_some(run.total),
-        ),
-        images,
-        seconds: run.seconds,
+    Ok(Attempt {
+        run: Run {
+            status,
+            output,
+            program_output: program_output(
+                &printed,
+                test,
+                &secret,
+                (run.total > run.output.len() as u64).then_some(run.total),
+            ),
+            images,
+            seconds: run.seconds,
+            stopped_seconds: if stopped { run.seconds } else { 0.0 },
+        },
+        stopped,
     })
 }
 

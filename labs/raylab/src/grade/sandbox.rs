@@ -399,8 +399,13 @@ impl Sandbox {
         self.run_as.as_ref().map(|u| (u.uid, u.gid))
     }
 
+    /// The CPU seconds an exercise's process may use.
+    pub fn cpu_limit(&self) -> u64 {
+        self.limits.cpu_seconds
+    }
+
     /// The test `executable ARGS` of lab directory `lab_dir`, in the scratch directory
-    /// `scratch`, with `env` set.
+    /// `scratch`, with `env` set, and `cpu_seconds` of CPU time at most.
     pub fn exercise(
         &self,
         executable: &Path,
@@ -408,8 +413,9 @@ impl Sandbox {
         scratch: &Path,
         args: &[&str],
         env: &[(&str, &str)],
+        cpu_seconds: u64,
     ) -> Command {
-        let cpu = Some(self.limits.cpu_seconds);
+        let cpu = Some(cpu_seconds);
         let Some(bwrap) = &self.bwrap else {
             let mut command = self.limited(
                 executable,
@@ -533,7 +539,7 @@ impl Sandbox {
         fs::create_dir_all(&scratch).map_err(|e| Error::io(&scratch, e))?;
         let truth = Path::new("/bin/true");
         let output = self.give_scratch(&scratch).and_then(|()| {
-            self.exercise(truth, &scratch, &scratch, &[], &[])
+            self.exercise(truth, &scratch, &scratch, &[], &[], self.cpu_limit())
                 .stdin(Stdio::null())
                 .output()
                 .map_err(|e| Error::io(Path::new("prlimit"), e))
@@ -714,6 +720,7 @@ mod tests {
                 &scratch,
                 &["-c", &script],
                 &[],
+                10,
             )
             .stdin(Stdio::null())
             .output()
