@@ -24,7 +24,7 @@ use raylab_tests::workflow::{
 };
 
 /// The attacks, in the order they are graded, with their `labs/lab02/src/lib.rs`.
-const ATTACKS: [(&str, &str); 15] = [
+const ATTACKS: [(&str, &str); 16] = [
     ("exit_zero", include_str!("../../hostile/exit_zero.rs")),
     (
         "forged_output",
@@ -35,6 +35,10 @@ const ATTACKS: [(&str, &str); 15] = [
     (
         "path_to_key_absolute",
         include_str!("../../hostile/path_to_key_absolute.rs"),
+    ),
+    (
+        "shebang_path_to_key",
+        include_str!("../../hostile/shebang_path_to_key.rs"),
     ),
     ("include_key", include_str!("../../hostile/include_key.rs")),
     (
@@ -59,6 +63,62 @@ const ATTACKS: [(&str, &str); 15] = [
     ),
     ("memory_hole", include_str!("../../hostile/memory_hole.rs")),
 ];
+
+/// The reads at compile time of `tests/hostile/compile_time_read.rs`, each graded as the
+/// attack `compile_time_read_<name>`: what its first line's constant is.
+const COMPILE_TIME_READS: [(&str, &str); 14] = [
+    ("key", r#"include_bytes!("@REPO@/reference/src/lab02.rs")"#),
+    ("key_relative", r#"include_bytes!("@KEY_RELATIVE@")"#),
+    (
+        "key_through_pwd",
+        r#"include_bytes!(concat!(env!("PWD"), "/reference/src/lab02.rs"))"#,
+    ),
+    (
+        "proc_mountinfo",
+        r#"include_bytes!("/proc/self/mountinfo")"#,
+    ),
+    ("proc_cmdline", r#"include_bytes!("/proc/self/cmdline")"#),
+    ("etc", r#"include_bytes!("/etc/ld.so.conf")"#),
+    ("root_only", r#"include_bytes!("@ROOT_ONLY@")"#),
+    (
+        "peer",
+        r#"include_bytes!("@SUBMISSIONS@/a-honest/labs/lab02/src/lib.rs")"#,
+    ),
+    (
+        "graded_program",
+        r#"include_bytes!("@TARGET@/debug/lab02-graded-@TAG@")"#,
+    ),
+    (
+        "module",
+        r#"include_bytes!("@TARGET@/wasm32-unknown-unknown/debug/lab02_guest_@TAG@.wasm")"#,
+    ),
+    (
+        "cargo_home",
+        r#"include_bytes!(concat!(env!("CARGO_HOME"), "/config.toml"))"#,
+    ),
+    ("dev_zero", r#"include_bytes!("/dev/zero")"#),
+    ("home", r#"env!("HOME").as_bytes()"#),
+    (
+        "env",
+        r#"concat!(env!("CARGO_MANIFEST_DIR"), "|", env!("CARGO_PKG_VERSION")).as_bytes()"#,
+    ),
+];
+
+/// The attack of each compile-time read: its name and `labs/lab02/src/lib.rs`.
+fn compile_time_reads() -> Vec<(String, String)> {
+    COMPILE_TIME_READS
+        .iter()
+        .map(|(name, read)| {
+            (
+                format!("compile_time_read_{name}"),
+                include_str!("../../hostile/compile_time_read.rs").replace("@READ@", read),
+            )
+        })
+        .collect()
+}
+
+/// What the file only root may read holds (`compile_time_read_root_only` asks for it).
+const ROOT_ONLY_MARKER: &str = "ROOT-ONLY-0600-SECRET";
 
 /// Lab 02's exercises and their points.
 const EXERCISES: [(&str, u32); 6] = [
@@ -268,7 +328,9 @@ fn run_grade(raylab: &Path, args: &[String], grades: &Path, log: &Path) -> Grade
     let out = fs::File::create(log).unwrap();
     let err = out.try_clone().unwrap();
     let start = Instant::now();
+    // As on a machine with many cores: the parallel renders of the checks run on 32 threads.
     let mut child = Command::new(raylab)
+        .env("RAYON_NUM_THREADS", "32")
         .args(args)
         .current_dir(root())
         .env("PWD", root())
@@ -333,6 +395,14 @@ fn run_grade(raylab: &Path, args: &[String], grades: &Path, log: &Path) -> Grade
     }
 }
 
+/// 32-bit FNV-1a hash of `text`, as `raylab grade` tags its builds with that of its grading
+/// directory.
+fn fnv1a(text: &str) -> u32 {
+    text.bytes().fold(0x811c_9dc5, |h, b| {
+        (h ^ u32::from(b)).wrapping_mul(0x0100_0193)
+    })
+}
+
 /// The user `--run-as` grades as: `nobody`'s number on Debian.
 const RUN_AS: &str = "65534";
 
@@ -394,12 +464,16 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
     let only: Option<Vec<String>> = std::env::var("RAYLAB_HOSTILE_ONLY")
         .ok()
         .map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
-    let attacks: Vec<(&str, &str)> = ATTACKS
+    let attacks: Vec<(String, String)> = ATTACKS
         .iter()
-        .copied()
-        .filter(|(name, _)| only.as_ref().is_none_or(|o| o.iter().any(|n| n == name)))
+        .map(|(n, c)| (n.to_string(), c.to_string()))
+        .chain(compile_time_reads())
+        .filter(|(name, _)| {
+            only.as_ref()
+                .is_none_or(|o| o.iter().any(|n| name.starts_with(n.as_str())))
+        })
         .collect();
-    let has = |name: &str| attacks.iter().any(|(n, _)| *n == name);
+    let has = |name: &str| attacks.iter().any(|(n, _)| n == name);
 
     // As the workspace's test build builds it: nothing is compiled again.
     let (ok, out) = cargo(&["build", "--quiet", "-p", "raylab"]);
@@ -431,6 +505,17 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
     // The submissions.
     let tree_src = grades.join(".grading/tree/labs/lab02/src");
     let key = repo.join("reference/src/lab02.rs");
+    // A file only root may read (under `--run-as` the build's user is not root; in bubblewrap
+    // it sees no such file).
+    let root_only = work.join("root-only.txt");
+    fs::write(&root_only, ROOT_ONLY_MARKER).unwrap();
+    fs::set_permissions(
+        &root_only,
+        std::os::unix::fs::PermissionsExt::from_mode(0o600),
+    )
+    .unwrap();
+    // The grading's tag, as `raylab grade` names its builds: a student can compute it.
+    let tag = format!("{:08x}", fnv1a(&grades.join(".grading").to_string_lossy()));
     let substitute = |code: &str| {
         code.replace(
             "@KEY_RELATIVE@",
@@ -438,10 +523,14 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
         )
         .replace("@REPO@", &repo.to_string_lossy())
         .replace("@GRADES@", &grades.to_string_lossy())
+        .replace("@ROOT_ONLY@", &root_only.to_string_lossy())
+        .replace("@SUBMISSIONS@", &subs.to_string_lossy())
+        .replace("@TARGET@", &target.to_string_lossy())
+        .replace("@TAG@", &tag)
     };
     let honest = correct_code(2);
     let mut order: Vec<(&str, String)> = vec![("a-honest", honest.clone())];
-    order.extend(attacks.iter().map(|(n, c)| (*n, substitute(c))));
+    order.extend(attacks.iter().map(|(n, c)| (n.as_str(), substitute(c))));
     order.push(("z-stubs", read(&lab02(&handout).join("src/lib.rs"))));
     order.push(("z-honest", honest));
     for (name, code) in &order {
@@ -489,6 +578,11 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
     ]);
     if let Some(user) = run_as {
         args.extend(["--run-as".into(), user.into()]);
+    }
+    // In bubblewrap the scan is switched off: no guarantee rests on it.
+    let scanned = run_as.is_some();
+    if !scanned {
+        args.push("--no-scan".into());
     }
     let log = work.join("grade-output.txt");
     let run = run_grade(&raylab, &args, &grades, &log);
@@ -745,6 +839,63 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
                 format!("{} holds `{mark}`", path.display())
             });
         }
+        // What only a build that reached outside its submission could have read.
+        for mark in [ROOT_ONLY_MARKER, "ld.so.conf.d", "0.1.0-grading."] {
+            problems.check(!text.contains(mark), &owner, || {
+                format!(
+                    "{} holds `{mark}`, read from outside the submission",
+                    path.display()
+                )
+            });
+        }
+        // Places of this machine: in a student's reports only where the student's own code
+        // names them (a compiler message quoting its line).
+        let code = order
+            .iter()
+            .find(|(n, _)| *n == owner)
+            .map(|(_, c)| c.as_str());
+        let home = std::env::var("HOME").unwrap_or_default();
+        let places = [
+            repo.to_string_lossy().into_owned(),
+            grades.to_string_lossy().into_owned(),
+            target.to_string_lossy().into_owned(),
+            format!("{home}/.cargo"),
+            format!("{home}/.rustup"),
+            tag.clone(),
+        ];
+        for place in places.iter().filter(|p| p.len() > 1) {
+            if code.is_some_and(|c| !c.contains(place.as_str())) {
+                problems.check(!text.contains(place.as_str()), &owner, || {
+                    format!(
+                        "{} names `{place}`, a place of the grader's machine its code never named",
+                        path.display()
+                    )
+                });
+            }
+        }
+    }
+
+    // Each read at compile time fails to compile, saying it could not read; the build's own
+    // variables name its jail.
+    for (name, _) in COMPILE_TIME_READS {
+        let attack = format!("compile_time_read_{name}");
+        if !seen(&attack) {
+            continue;
+        }
+        if name == "env" {
+            every_reason(
+                &mut problems,
+                &attack,
+                &["READ-BEGIN /build/labs/lab02|0.1.0 READ-END"],
+            );
+        } else {
+            every_reason(&mut problems, &attack, &["does not compile"]);
+            every_reason(
+                &mut problems,
+                &attack,
+                &["couldn't read", "not defined at compile time"],
+            );
+        }
     }
 
     // Nothing of a run is left behind: every exercise's directory and every student's
@@ -774,25 +925,28 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
         });
     }
 
-    // Each attack's own due.
-    for name in ["path_to_key", "path_to_key_absolute"]
-        .into_iter()
-        .filter(|n| seen(n))
+    // Each attack's own due: what names a file outside the submission does not compile
+    // (the file is not there), and the scan, when on, warns of it.
+    for name in [
+        "path_to_key",
+        "path_to_key_absolute",
+        "shebang_path_to_key",
+        "include_key",
+    ]
+    .into_iter()
+    .filter(|n| seen(n))
     {
+        every_reason(&mut problems, name, &["does not compile"]);
         let r = report(name);
-        problems.check(r.contains("flagged") && r.contains("#[path"), name, || {
-            format!(
-                "report.md does not say the `#[path` attribute was flagged:\n{:.1000}",
-                r
-            )
-        });
-    }
-    if seen("include_key") {
-        let r = report("include_key");
+        let named = if name == "include_key" {
+            "include_str"
+        } else {
+            "#[path"
+        };
         problems.check(
-            r.contains("flagged") && r.contains("include_str"),
-            "include_key",
-            || format!("report.md does not say `include_str` was flagged:\n{r:.1000}"),
+            !scanned || (r.contains("flagged") && r.contains(named)),
+            name,
+            || format!("report.md does not say `{named}` was flagged:\n{r:.1000}"),
         );
     }
     if seen("symlinks") {

@@ -3,12 +3,14 @@
 //! sandbox), which the other fills. One at a time:
 //!
 //! ```text
+//! cargo test -p raylab-tests --test workflows cold_grading -- --nocapture
 //! cargo test -p raylab-tests --test workflows handout_and_grade -- --nocapture
 //! cargo test -p raylab-tests --test workflows hostile_submissions -- --nocapture
 //! cargo test -p raylab-tests --test workflows new_lab -- --nocapture
 //! cargo test -p raylab-tests --test workflows term -- --nocapture
 //! ```
 
+mod cold_grading;
 mod handout_and_grade;
 mod hostile_submissions;
 mod new_lab;

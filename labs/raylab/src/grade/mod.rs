@@ -531,10 +531,13 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
     );
     let preparing = std::time::Instant::now();
     let (mut pristine, mut shared) = make_tree()?;
-    bar.println(format!(
-        "built what every submission shares in {:.0} s (no submission's time)",
-        preparing.elapsed().as_secs_f64()
-    ));
+    // Printed whether or not the output is a terminal (where the bar prints nothing).
+    bar.suspend(|| {
+        println!(
+            "built what every submission shares in {:.0} s (no submission's time)",
+            preparing.elapsed().as_secs_f64()
+        );
+    });
     let timeout = Duration::from_secs(args.timeout);
     let mut grades = Vec::new();
     for (submission, student) in args.submissions.iter().zip(&students) {
@@ -555,7 +558,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         };
         let mut grade = grade_submission(submission, student, &dir, &class).unwrap_or_else(|e| {
             // The details, which may name places of this machine, are the instructor's.
-            bar.println(format!("{student}: not graded: {e}"));
+            bar.suspend(|| eprintln!("{student}: not graded: {e}"));
             StudentGrade::ungraded(
                 student,
                 &labs,
