@@ -39,10 +39,13 @@ fn compile(name: &str, lab: &str, lib_rs: &str) -> PathBuf {
     .unwrap();
     std::fs::write(student.join("src/lib.rs"), lib_rs).unwrap();
     let guest = dir.join("guest");
+    // A module file of its own for each name: the tests build their guests into one target
+    // directory, at once.
+    let tag = name.replace('-', "_");
     grading::graded::write_guest_crate(
         &guest,
         lab,
-        "test",
+        &tag,
         &student,
         &root.join("framework"),
         true,
@@ -74,7 +77,7 @@ fn compile(name: &str, lab: &str, lib_rs: &str) -> PathBuf {
     );
     scratch
         .join("target/wasm32-unknown-unknown/release")
-        .join(grading::graded::module_file(lab, "test"))
+        .join(grading::graded::module_file(lab, &tag))
 }
 
 /// The answer key of `lab` as a student's `src/lib.rs`.
