@@ -42,15 +42,8 @@ fn compile(name: &str, lab: &str, lib_rs: &str) -> PathBuf {
     // A module file of its own for each name: the tests build their guests into one target
     // directory, at once.
     let tag = name.replace('-', "_");
-    grading::graded::write_guest_crate(
-        &guest,
-        lab,
-        &tag,
-        &student,
-        &root.join("framework"),
-        true,
-    )
-    .unwrap();
+    grading::graded::write_guest_crate(&guest, lab, &tag, &student, &root.join("framework"), true)
+        .unwrap();
     std::fs::copy(root.join("Cargo.lock"), guest.join("Cargo.lock")).unwrap();
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
