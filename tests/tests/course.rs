@@ -385,3 +385,62 @@ fn every_lab_with_questions_has_its_answers_file() {
         "only {with_questions} labs ask questions"
     );
 }
+
+/// The methods of lab `lab`'s contract, the functions a student writes.
+fn contract_methods(lab: u32) -> Vec<&'static str> {
+    use contracts::ContractMethods;
+    fn of<C: ?Sized + ContractMethods>() -> Vec<&'static str> {
+        C::METHODS.to_vec()
+    }
+    match lab {
+        1 => of::<contracts::lab01::Contract>(),
+        // Lab 02's contract is its two traits together.
+        2 => [
+            of::<dyn contracts::lab02::Intersection>(),
+            of::<dyn contracts::lab02::Shading>(),
+        ]
+        .concat(),
+        3 => of::<contracts::lab03::Contract>(),
+        4 => of::<contracts::lab04::Contract>(),
+        5 => of::<contracts::lab05::Contract>(),
+        6 => of::<contracts::lab06::Contract>(),
+        7 => of::<contracts::lab07::Contract>(),
+        8 => of::<contracts::lab08::Contract>(),
+        9 => of::<contracts::lab09::Contract>(),
+        10 => of::<contracts::lab10::Contract>(),
+        11 => of::<contracts::lab11::Contract>(),
+        12 => of::<contracts::lab12::Contract>(),
+        _ => panic!("lab {lab} is new: name its contract here"),
+    }
+}
+
+/// An exercise is one method of its lab's contract, worth points, or checks several together
+/// (1.6, "`CameraRays` (all of it)"): then it is worth none of its own, since whatever it
+/// catches is charged to the exercise of the function at fault (`grading::Judge`) and what
+/// would be left to it is nothing but its callees' work.
+#[test]
+fn an_exercise_that_is_no_method_of_its_contract_is_worth_no_points() {
+    let mut problems = Vec::new();
+    let mut composites = 0;
+    for lab in course::labs() {
+        let methods = contract_methods(lab.number());
+        for e in &course::lab(lab).unwrap().exercises {
+            let method = methods.contains(&e.function.as_str());
+            composites += usize::from(!method);
+            if !method && e.points != 0 {
+                problems.push(format!(
+                    "Exercise {} (`{}`) is no method of {lab}'s contract and is worth {} points",
+                    e.id, e.function, e.points
+                ));
+            }
+            if method && e.points == 0 {
+                problems.push(format!("Exercise {} is worth no points", e.id));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert!(
+        composites >= 1,
+        "no exercise checks several functions together"
+    );
+}

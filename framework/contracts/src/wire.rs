@@ -15,6 +15,10 @@ use std::sync::Arc;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
+mod run;
+
+pub use run::{OUT_OF_WORK, begin_run, current_run};
+
 /// The encoding of a call's values, one after another.
 #[derive(Default)]
 pub struct Writer(Vec<u8>);

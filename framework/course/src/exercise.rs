@@ -37,7 +37,23 @@ pub struct ExerciseInfo {
     pub hint: String,
 }
 
+/// Whether `function` names one function (`intersect_triangle`), not several checked together
+/// (`CameraRays (all of it)`).
+pub fn is_function_name(function: &str) -> bool {
+    !function.is_empty()
+        && function
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
 impl ExerciseInfo {
+    /// Whether the exercise checks several of the student's functions together (its `function`
+    /// is not one name): it is worth no points of its own, and its check passes only on the
+    /// student's code, the key's in place of those functions whose own exercises fail.
+    pub fn is_composite(&self) -> bool {
+        !is_function_name(&self.function)
+    }
+
     /// The name of the exercise's test starts with this: `exercise_2_2_` for Exercise 2.2.
     pub fn test_prefix(&self) -> String {
         format!("exercise_{}_", self.id.replace('.', "_"))
@@ -137,8 +153,16 @@ pub fn parse_table(
                 return wrong(format!("its {field} is empty"));
             }
         }
-        if row.points == 0 {
+        let one_function = is_function_name(&row.function);
+        if row.points == 0 && one_function {
             return wrong("it is worth no points".into());
+        }
+        if row.points != 0 && !one_function {
+            return wrong(format!(
+                "it checks several functions together (`{}`), so it is worth no points of its \
+                 own: its points are those of the exercises of its functions",
+                row.function
+            ));
         }
         exercises.push(ExerciseInfo {
             lab,
@@ -192,11 +216,20 @@ mod tests {
         assert_eq!(exercises[1].visibility, Visibility::Hidden);
         assert_eq!(exercises[0].test_name(), "exercise_3_1_f");
         assert!(denied.is_empty());
+        // An exercise of several functions together is worth none of its own.
+        let composite = format!(
+            "{}{}",
+            row("3.1", 1),
+            row("3.2", 0).replace("\"f\"", "\"Shadows (all of it)\"")
+        );
+        let (exercises, _) = parse_table(LAB, "t.toml", &composite).unwrap();
+        assert!(exercises[1].is_composite() && !exercises[0].is_composite());
         for bad in [
             row("2.1", 1),
             row("3.0", 1),
             row("3.x", 1),
             row("3.1", 0),
+            row("3.1", 1).replace("\"f\"", "\"Shadows (all of it)\""),
             format!("{}{}", row("3.1", 1), row("3.1", 1)),
             format!("{}colour = 1\n", row("3.1", 1)),
             format!(

@@ -132,15 +132,6 @@ pub fn judge<S: ?Sized>(
     problems
 }
 
-/// Whether an exercise checks several functions together (1.6: "CameraRays (all of it)")
-/// rather than one function of the contract.
-pub fn is_composite<S: ?Sized>(exercise: &Exercise<S>) -> bool {
-    !exercise
-        .function
-        .chars()
-        .all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
-
 /// Judges every exercise that checks several functions together with [`crate::judge`] on each
 /// mistake of the corpus (the key in `ctx`): a mistake is charged to the exercise it names
 /// alone, so every such exercise but the one named must pass. Returns the problems.
@@ -156,9 +147,9 @@ pub fn charged_once<S: ?Sized + contracts::Mix + 'static>(
         let Verdict::Reject(id) = verdict else {
             continue;
         };
-        for composite in table.iter().filter(|e| is_composite(e) && e.id != id) {
+        for composite in table.iter().filter(|e| e.is_composite() && e.id != id) {
             judged += 1;
-            if let Err(failure) = crate::judge(composite, &table, &subject, ctx) {
+            if let Err(failure) = crate::judge(composite, &table, &subject, ctx).outcome {
                 problems.push(format!(
                     "lab {}: '{name}' (Exercise {id}) also costs Exercise {}:\n{}",
                     ctx.lab.number(),

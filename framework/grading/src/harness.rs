@@ -17,7 +17,7 @@ pub mod trials;
 use trials::Trial;
 
 use super::task::{self, MakeReport, Task};
-use super::{Exercise, LabContext, LabId, Visibility, judge, verdict};
+use super::{Exercise, Judge, LabContext, LabId, Visibility, verdict};
 use pipeline::Pipeline;
 
 /// What a lab's checks run on.
@@ -78,9 +78,10 @@ pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
     match task {
         None => {}
         Some(Task::Status) => {
+            let judge = Judge::new(&exercises, &subject, &ctx);
             for exercise in exercises.iter() {
-                let outcome = judge(exercise, &exercises, &subject, &ctx);
-                task::answer(&verdict::Record::of(&exercise.id, &outcome));
+                let judgement = judge.judge(exercise);
+                task::answer(&verdict::Record::of(&exercise.id, &judgement));
             }
             std::process::exit(0)
         }
@@ -128,13 +129,15 @@ pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
         }
     }
     let arguments = cli::from_env();
+    // One judge for every test: a verdict one test reached (a callee's, for a check that calls
+    // other exercises' functions) is not reached again by another.
+    let judge = Arc::new(Judge::new(&exercises, &subject, &ctx));
     let trials = exercises
         .iter()
         .map(|exercise| {
             let name = exercise.test_name();
-            let (exercise, table) = (exercise.clone(), exercises.clone());
-            let (subject, ctx) = (subject.clone(), ctx.clone());
-            Trial::test(name, move || check(&exercise, &table, &subject, &ctx))
+            let (exercise, judge) = (exercise.clone(), judge.clone());
+            Trial::test(name, move || check(&exercise, &judge))
         })
         .collect();
     let colored = printer::colors_on_stdout(arguments.color);
@@ -200,18 +203,17 @@ fn finish(outcome: Result<(), raylab_core::Error>) -> ! {
     }
 }
 
-/// One exercise's test, judged by [`judge`] (a mistake charged to its own exercise): the secret of the verdict record is taken before any student code
-/// runs; the record, when asked for, ends the process.
+/// One exercise's test, judged by the lab's [`Judge`] (a mistake charged to its own
+/// exercise): the secret of the verdict record is taken before any student code runs; the
+/// record, when asked for, ends the process.
 fn check<S: ?Sized + contracts::Mix + 'static>(
     exercise: &Exercise<S>,
-    table: &[Arc<Exercise<S>>],
-    subject: &Arc<S>,
-    ctx: &LabContext,
+    judge: &Judge<S>,
 ) -> Result<(), String> {
     let channel = verdict::VerdictChannel::take();
-    let outcome = judge(exercise, table, subject, ctx);
+    let judgement = judge.judge(exercise);
     if let Some(channel) = channel {
-        channel.report(&exercise.id, &outcome);
+        channel.report(&exercise.id, &judgement);
     }
-    outcome.map_err(|f| f.message)
+    judgement.outcome.map_err(|f| f.message)
 }

@@ -21,7 +21,7 @@ pub mod verdict;
 #[cfg(feature = "view")]
 pub mod view_task;
 
-pub use charged_once::judge;
+pub use charged_once::{Judge, Judgement, judge};
 pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
 pub use property::for_all;
@@ -218,6 +218,11 @@ fn failure(exercise: &ExerciseInfo, reason: String) -> Failure {
                 "{place} cannot be checked until lab {other}'s solution is released: the check needs its code ({reason}).\n({docs})"
             ),
         )
+    } else if reason.contains(contracts::wire::OUT_OF_WORK) {
+        (
+            FailureKind::TimedOut,
+            format!("{place} timed out: {reason}\n({docs})"),
+        )
     } else {
         match unfinished_exercise(&reason) {
             Some(other) if other == exercise.id => (
@@ -272,6 +277,9 @@ pub enum FailureKind {
     Waiting(u32),
     /// The student's code (or the check, on its output) panicked.
     Crashed,
+    /// The student's code ran past its budget of work (`contracts::wire::OUT_OF_WORK`: an
+    /// endless loop, stopped after the same work on every machine).
+    TimedOut,
     /// The check ran to its end and rejected the answer.
     Wrong,
 }
@@ -368,6 +376,13 @@ mod tests {
         assert_eq!(
             kind("the image differs\n  (a pixel's code panicked: see the z-score image)"),
             FailureKind::Wrong
+        );
+        assert_eq!(
+            kind(&format!(
+                "rendering 'default' panicked: {} for one call: 10 units",
+                contracts::wire::OUT_OF_WORK
+            )),
+            FailureKind::TimedOut
         );
     }
 

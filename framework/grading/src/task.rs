@@ -152,6 +152,7 @@ mod tests {
             kind: Some(FailureKind::Blocked("1.1".into())),
             message: "line one\nline two".into(),
             reason: "line two".into(),
+            key_for: vec!["1.1".into()],
         };
         let json = serde_json::to_string(&record).unwrap();
         let output = format!("noise{ANSWER_TAG}{{\"broken\nmore noise\n{ANSWER_TAG}{json}\ntail");

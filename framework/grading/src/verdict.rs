@@ -27,7 +27,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use memchr::memmem;
 use serde::{Deserialize, Serialize};
 
-use crate::{Failure, FailureKind};
+#[cfg(test)]
+use crate::Failure;
+use crate::{FailureKind, Judgement};
 
 /// Set (to `stdin`) by the grader when the secret waits on standard input.
 pub const CHANNEL_VAR: &str = "RAYLAB_VERDICT_CHANNEL";
@@ -63,18 +65,29 @@ pub struct Record {
     /// What the check (or the panic) said, the heart of the message; or empty.
     #[serde(default)]
     pub reason: String,
+    /// The exercises whose functions were the answer key's in the run that decided the verdict
+    /// (`"1.1"`), passed or failed: empty when the student's code alone was judged
+    /// ([`crate::Judgement::key_for`]). The message then says so in a sentence.
+    #[serde(default)]
+    pub key_for: Vec<String>,
 }
 
 impl Record {
-    /// The record of `exercise`'s check with `outcome`, its message cut to a bounded length.
-    pub fn of(exercise: &str, outcome: &Result<(), Failure>) -> Self {
-        let failure = outcome.as_ref().err();
+    /// The record of `exercise`'s judgement, its message cut to a bounded length: a failure's
+    /// message, or for a pass the judgement's note (empty when the student's code alone
+    /// passed).
+    pub fn of(exercise: &str, judgement: &Judgement) -> Self {
+        let failure = judgement.outcome.as_ref().err();
         Self {
             exercise: exercise.to_string(),
-            passed: outcome.is_ok(),
+            passed: judgement.outcome.is_ok(),
             kind: failure.map(|f| f.kind.clone()),
-            message: cut(failure.map_or("", |f| f.message.as_str()), MESSAGE_LIMIT),
+            message: cut(
+                failure.map_or(judgement.note.as_str(), |f| f.message.as_str()),
+                MESSAGE_LIMIT,
+            ),
             reason: cut(failure.map_or("", |f| f.reason.as_str()), REASON_LIMIT),
+            key_for: judgement.key_for.clone(),
         }
     }
 }
@@ -108,10 +121,10 @@ impl VerdictChannel {
         })
     }
 
-    /// Prints the record of `exercise` with its outcome and ends the process: nothing the
+    /// Prints the record of `exercise` with its judgement and ends the process: nothing the
     /// student's code does afterwards can change it.
-    pub fn report(self, exercise: &str, outcome: &Result<(), Failure>) -> ! {
-        let record = Record::of(exercise, outcome);
+    pub fn report(self, exercise: &str, judgement: &Judgement) -> ! {
+        let record = Record::of(exercise, judgement);
         let json = serde_json::to_string(&record).unwrap_or_default();
         let mut out = std::io::stdout().lock();
         let _ = write!(out, "\n{RECORD_TAG}{} {json}\n", self.secret);
@@ -217,6 +230,7 @@ mod tests {
             kind: (!passed).then_some(FailureKind::Wrong),
             message: String::new(),
             reason: String::new(),
+            key_for: Vec::new(),
         })
         .unwrap();
         format!("\n{RECORD_TAG}{secret} {json}\n")
@@ -268,11 +282,40 @@ mod tests {
             reason: long.clone(),
             message: long,
         };
-        let record = Record::of("3.2", &Err(failure));
+        let record = Record::of(
+            "3.2",
+            &Judgement {
+                outcome: Err(failure),
+                key_for: vec!["3.1".into()],
+                note: String::new(),
+            },
+        );
         let json = serde_json::to_string(&record).unwrap();
         let mut scanner = RecordScanner::new(&secret);
         scanner.feed(format!("\n{RECORD_TAG}{secret} {json}\n").as_bytes());
         assert_eq!(scanner.record("3.2"), Some(record));
+    }
+
+    #[test]
+    fn a_record_says_whose_code_decided_it_and_old_records_still_parse() {
+        let keyed = Judgement {
+            outcome: Ok(()),
+            key_for: vec!["1.1".into(), "1.2".into()],
+            note: "This check was judged with the answer key's `a` and `b` in place of yours."
+                .into(),
+        };
+        let record = Record::of("1.6", &keyed);
+        assert!(record.passed);
+        assert_eq!(record.key_for, ["1.1", "1.2"]);
+        assert_eq!(record.message, keyed.note);
+        let json = serde_json::to_string(&record).unwrap();
+        assert!(json.contains(r#""key_for":["1.1","1.2"]"#), "{json}");
+        // A record of a grader from before the field.
+        let old: Record = serde_json::from_str(
+            r#"{"exercise":"1.1","passed":true,"kind":null,"message":"","reason":""}"#,
+        )
+        .unwrap();
+        assert!(old.key_for.is_empty());
     }
 
     #[test]

@@ -11,15 +11,27 @@
 //! panic, which the checks report against the exercise that ran.
 //!
 //! Calls may come from many threads (a parallel render): each takes an idle instance of the
-//! module or makes one, so calls never wait for each other; an instance that trapped is dropped.
+//! module or makes one, at most [`POOL_SIZE`] at once (calls beyond wait); an instance that
+//! trapped is dropped. Each instance serves one run of checks (`contracts::wire::begin_run`):
+//! the student's code starts each run afresh, its statics included. Its work is counted in
+//! fuel, per call and per run ([`CALL_FUEL`], [`RUN_FUEL`]): an endless loop is stopped, as a
+//! time-out, after the same work on every machine.
+
+mod budget;
+mod guest;
+mod pool;
 
 use std::path::Path;
-use std::sync::{Mutex, PoisonError};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use contracts::wire::{Callback, Transport};
-use wasmtime::{
-    Caller, Config, Engine, Extern, Linker, Memory, Module, ResourceLimiter, Store, Trap, TypedFunc,
-};
+use wasmtime::{Config, Engine, Linker, Module};
+
+pub use budget::{CALL_FUEL, RUN_FUEL, Work};
+pub use pool::POOL_SIZE;
+
+use guest::{Guest, State, Stop};
+use pool::Pool;
 
 /// The most linear memory one instance of a student's module may have: 256 MiB (a lab's
 /// functions take small inputs; the largest, a texture, is copied into it).
@@ -29,53 +41,14 @@ pub const MEMORY_LIMIT: usize = 256 << 20;
 /// machine code.
 pub const PRECOMPILED_EXTENSION: &str = "cwasm";
 
-/// The longest panic message kept, in bytes.
-const PANIC_TEXT_LIMIT: u32 = 64 << 10;
-
 /// A student's lab compiled to WebAssembly, ready to be called.
 pub struct StudentModule {
+    /// Its number among the modules of this process (for calls nested through callbacks).
+    id: u64,
     engine: Engine,
     linker: Linker<State>,
     module: Module,
-    idle: Mutex<Vec<Guest>>,
-}
-
-/// The closures of the call an instance is running, for `raylab.call_back`.
-struct Callbacks(*mut [Callback<'static>]);
-
-// SAFETY: the pointer is set and used only on the thread that runs the call, for its duration.
-unsafe impl Send for Callbacks {}
-
-/// What the host functions of one instance share.
-#[derive(Default)]
-struct State {
-    callbacks: Option<Callbacks>,
-    panic: Option<String>,
-    memory_refused: Option<usize>,
-}
-
-impl ResourceLimiter for State {
-    fn memory_growing(
-        &mut self,
-        _current: usize,
-        desired: usize,
-        _maximum: Option<usize>,
-    ) -> wasmtime::Result<bool> {
-        if desired > MEMORY_LIMIT {
-            self.memory_refused = Some(desired);
-            return Ok(false);
-        }
-        Ok(true)
-    }
-
-    fn table_growing(
-        &mut self,
-        _current: usize,
-        desired: usize,
-        _maximum: Option<usize>,
-    ) -> wasmtime::Result<bool> {
-        Ok(desired <= 1 << 16)
-    }
+    pool: Pool,
 }
 
 /// The engine every student module is compiled and precompiled with.
@@ -88,16 +61,9 @@ fn engine() -> Result<Engine, String> {
     config.memory_guard_size(0);
     config.memory_reservation_for_growth(0);
     config.max_wasm_stack(1 << 20);
+    // The work of every call is counted (`budget`).
+    config.consume_fuel(true);
     Engine::new(&config).map_err(|e| format!("{e:#}"))
-}
-
-/// One instance of the module and its exports.
-struct Guest {
-    store: Store<State>,
-    memory: Memory,
-    alloc: TypedFunc<u32, u32>,
-    free: TypedFunc<(u32, u32), ()>,
-    call: TypedFunc<(u32, u32, u32), u64>,
 }
 
 impl StudentModule {
@@ -141,222 +107,88 @@ impl StudentModule {
     }
 
     fn with_module(engine: Engine, module: Module) -> Result<Self, String> {
-        let mut linker = Linker::new(&engine);
-        linker
-            .func_wrap("raylab", "call_back", call_back)
-            .and_then(|l| l.func_wrap("raylab", "panic", panic_text))
-            .map_err(|e| format!("{e:#}"))?;
+        static MODULES: AtomicU64 = AtomicU64::new(0);
         let loaded = Self {
+            id: MODULES.fetch_add(1, Ordering::Relaxed),
+            linker: guest::linker(&engine)?,
             engine,
-            linker,
             module,
-            idle: Mutex::new(Vec::new()),
+            pool: Pool::new(),
         };
-        let first = loaded.instantiate()?;
-        loaded.idle(first);
+        // One instance now, so that a module without the exports fails here, saying why.
+        loaded.instance(0, CALL_FUEL)?;
         Ok(loaded)
     }
 
-    fn instantiate(&self) -> Result<Guest, String> {
-        let mut store = Store::new(&self.engine, State::default());
-        store.limiter(|state| state as &mut dyn ResourceLimiter);
-        let instance = self
-            .linker
-            .instantiate(&mut store, &self.module)
-            .map_err(|e| format!("the module cannot be instantiated: {e:#}"))?;
-        let missing = |name: &str, e: wasmtime::Error| {
-            format!("the module has no export `{name}` of `raylab_guest::serve!`: {e:#}")
-        };
-        let memory = instance
-            .get_memory(&mut store, "memory")
-            .ok_or_else(|| "the module exports no memory".to_string())?;
-        let alloc = instance
-            .get_typed_func(&mut store, "raylab_alloc")
-            .map_err(|e| missing("raylab_alloc", e))?;
-        let free = instance
-            .get_typed_func(&mut store, "raylab_free")
-            .map_err(|e| missing("raylab_free", e))?;
-        let call = instance
-            .get_typed_func(&mut store, "raylab_call")
-            .map_err(|e| missing("raylab_call", e))?;
-        Ok(Guest {
-            store,
-            memory,
-            alloc,
-            free,
-            call,
-        })
+    fn instance(&self, run: u64, fuel: u64) -> Result<Guest, String> {
+        Guest::new(&self.engine, &self.linker, &self.module, self.id, run, fuel)
     }
 
-    fn idle(&self, guest: Guest) {
-        self.idle
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .push(guest);
+    /// The most work the module's code did so far (calls, and the fuel of one call and of one
+    /// run), for measuring the budgets.
+    pub fn work(&self) -> Work {
+        self.pool.work()
+    }
+
+    /// Fails the call of run `run` that stopped with `stop`: as a time-out that ends the run
+    /// when it used up its fuel.
+    fn fail(&self, stop: Stop, run: u64) -> ! {
+        if stop.out_of_fuel.is_some() {
+            self.pool.stop_run(run, &stop.message);
+        }
+        raylab_core::resume_panic(stop.message, stop.location)
+    }
+}
+
+/// A call that holds an instance of the pool: gives it back however the call ends (an
+/// unwinding callback included, which drops the instance).
+struct Running<'a> {
+    module: &'a StudentModule,
+    guest: Option<Guest>,
+    run: u64,
+    fuel: u64,
+}
+
+impl Running<'_> {
+    /// Ends the call, which used `used` fuel; its instance is kept when `keep`.
+    fn finish(mut self, keep: bool, used: u64) {
+        let guest = self.guest.take().filter(|_| keep);
+        self.module.pool.give_back(guest, self.run, self.fuel, used);
+    }
+}
+
+impl Drop for Running<'_> {
+    fn drop(&mut self) {
+        if let Some(guest) = self.guest.take() {
+            let used = guest.fuel_used(self.fuel);
+            drop(guest);
+            self.module.pool.give_back(None, self.run, self.fuel, used);
+        }
     }
 }
 
 impl Transport for StudentModule {
     fn call(&self, method: &str, args: Vec<u8>, callbacks: &mut [Callback<'_>]) -> Vec<u8> {
-        let idle = self
-            .idle
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .pop();
-        let mut guest = match idle {
-            Some(guest) => guest,
-            None => self
-                .instantiate()
-                .unwrap_or_else(|e| raylab_core::resume_panic(e, None)),
-        };
-        match guest.call(method, &args, callbacks) {
-            Ok(result) => {
-                self.idle(guest);
-                result
-            }
-            Err((message, location)) => raylab_core::resume_panic(message, location),
+        let run = contracts::wire::current_run();
+        if let Some(result) = guest::nested(self.id, method, &args, callbacks) {
+            self.pool.nested_call();
+            return result.unwrap_or_else(|stop| self.fail(stop, run));
         }
-    }
-}
-
-impl Guest {
-    /// Runs one call; a failure is the message and location of the student's panic, or what
-    /// stopped the module.
-    fn call(
-        &mut self,
-        method: &str,
-        args: &[u8],
-        callbacks: &mut [Callback<'_>],
-    ) -> Result<Vec<u8>, (String, Option<String>)> {
-        let len = method.len() + args.len();
-        let len = u32::try_from(len).map_err(|_| (format!("a call of {len} bytes"), None))?;
-        let at = self
-            .alloc
-            .call(&mut self.store, len)
-            .map_err(|e| self.failure(e))?;
-        let written = self
-            .memory
-            .write(&mut self.store, at as usize, method.as_bytes())
-            .and_then(|()| {
-                self.memory
-                    .write(&mut self.store, at as usize + method.len(), args)
-            });
-        written.map_err(|_| outside_memory())?;
-        let callbacks: *mut [Callback<'_>] = callbacks;
-        // SAFETY: the lifetime is erased only while the call runs (`call_back` uses the pointer
-        // then); it is cleared below, and an unwinding callback drops this instance.
-        let callbacks = unsafe {
-            std::mem::transmute::<*mut [Callback<'_>], *mut [Callback<'static>]>(callbacks)
+        let lease = self
+            .pool
+            .take(run, |fuel| self.instance(run, fuel))
+            .unwrap_or_else(|why| raylab_core::resume_panic(why, None));
+        let mut running = Running {
+            module: self,
+            guest: Some(lease.guest),
+            run,
+            fuel: lease.fuel,
         };
-        self.store.data_mut().callbacks = Some(Callbacks(callbacks));
-        let result = self.call.call(
-            &mut self.store,
-            (at, method.len() as u32, args.len() as u32),
-        );
-        self.store.data_mut().callbacks = None;
-        let packed = result.map_err(|e| self.failure(e))?;
-        let (at, len) = ((packed >> 32) as u32, packed as u32);
-        let mut out = vec![0; len as usize];
-        self.memory
-            .read(&self.store, at as usize, &mut out)
-            .map_err(|_| outside_memory())?;
-        self.free
-            .call(&mut self.store, (at, len))
-            .map_err(|e| self.failure(e))?;
-        Ok(out)
+        let guest = running.guest.as_mut().expect("just put there");
+        let (result, used) = guest.call((lease.fuel, lease.limit), method, &args, callbacks);
+        running.finish(result.is_ok(), used);
+        result.unwrap_or_else(|stop| self.fail(stop, run))
     }
-
-    /// What stopped the module, as the student should read it.
-    fn failure(&mut self, error: wasmtime::Error) -> (String, Option<String>) {
-        let state = self.store.data_mut();
-        if let Some(text) = state.panic.take() {
-            let (message, at) = text.split_once('\n').unwrap_or((&text, ""));
-            return (
-                message.to_string(),
-                (!at.is_empty()).then(|| at.to_string()),
-            );
-        }
-        if let Some(bytes) = state.memory_refused.take() {
-            return (
-                format!(
-                    "the code ran out of memory: it asked for {} MiB; it may have {} MiB",
-                    bytes >> 20,
-                    MEMORY_LIMIT >> 20
-                ),
-                None,
-            );
-        }
-        let message = match error.downcast_ref::<Trap>() {
-            Some(Trap::StackOverflow) => {
-                "the code overflowed its stack (a recursion without end?)".to_string()
-            }
-            Some(Trap::UnreachableCodeReached) => {
-                "the code aborted (`std::process::exit` and `abort` end only the student's code \
-                 here, which counts as a crash)"
-                    .to_string()
-            }
-            Some(trap) => format!("the code stopped: {trap}"),
-            None => format!("{error:#}"),
-        };
-        (message, None)
-    }
-}
-
-fn outside_memory() -> (String, Option<String>) {
-    (
-        "the code answered with a buffer outside its memory".to_string(),
-        None,
-    )
-}
-
-/// `raylab.call_back(index, ptr, len)`: calls closure `index` of the running call with the
-/// encoded arguments at `ptr`; answers with a buffer of the module's `raylab_alloc`.
-fn call_back(
-    mut caller: Caller<'_, State>,
-    index: u32,
-    at: u32,
-    len: u32,
-) -> wasmtime::Result<u64> {
-    let memory = export(&mut caller, "memory")?
-        .into_memory()
-        .ok_or_else(|| wasmtime::format_err!("`memory` is not a memory"))?;
-    let mut args = vec![0; len as usize];
-    memory.read(&caller, at as usize, &mut args)?;
-    let Some(Callbacks(callbacks)) = caller.data().callbacks else {
-        wasmtime::bail!("the code called back outside a call");
-    };
-    // SAFETY: `Guest::call` set the pointer for the call that is running on this thread, and
-    // nothing else uses the closures while it runs.
-    let callbacks = unsafe { &mut *callbacks };
-    let callback = callbacks
-        .get_mut(index as usize)
-        .ok_or_else(|| wasmtime::format_err!("the call has no closure number {index}"))?;
-    let result = callback(&args);
-    let alloc = export(&mut caller, "raylab_alloc")?
-        .into_func()
-        .ok_or_else(|| wasmtime::format_err!("`raylab_alloc` is not a function"))?
-        .typed::<u32, u32>(&caller)?;
-    let len = u32::try_from(result.len())?;
-    let at = alloc.call(&mut caller, len)?;
-    memory.write(&mut caller, at as usize, &result)?;
-    Ok((u64::from(at) << 32) | u64::from(len))
-}
-
-/// `raylab.panic(ptr, len)`: the text of the student's panic, kept until the trap that follows.
-fn panic_text(mut caller: Caller<'_, State>, at: u32, len: u32) -> wasmtime::Result<()> {
-    let memory = export(&mut caller, "memory")?
-        .into_memory()
-        .ok_or_else(|| wasmtime::format_err!("`memory` is not a memory"))?;
-    let mut text = vec![0; len.min(PANIC_TEXT_LIMIT) as usize];
-    memory.read(&caller, at as usize, &mut text)?;
-    caller.data_mut().panic = Some(String::from_utf8_lossy(&text).into_owned());
-    Ok(())
-}
-
-fn export(caller: &mut Caller<'_, State>, name: &str) -> wasmtime::Result<Extern> {
-    caller
-        .get_export(name)
-        .ok_or_else(|| wasmtime::format_err!("the module exports no `{name}`"))
 }
 
 /// The student's module named by an environment variable, loaded at the first call: a graded

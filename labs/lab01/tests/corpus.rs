@@ -286,35 +286,86 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-/// One mistake, one exercise: with the key, a y-flip costs Exercise 1.1's 2 points of 10 (1.6
-/// renders with the key's `image_plane_coords`) and a panic in `camera_ray` 1.5's 1 point; the
-/// stubs earn nothing, 1.6 included. Without the key, 1.6 names the exercise to fix first.
+/// The lab's exercises as a judge takes them.
+fn table() -> Vec<std::sync::Arc<grading::Exercise<dyn CameraRays>>> {
+    lab01_checks::checks::exercises()
+        .into_iter()
+        .map(std::sync::Arc::new)
+        .collect()
+}
+
+/// Each exercise of the lab judged on `code` with the key: its id, its points and the
+/// judgement.
+fn judged(code: Variant) -> Vec<(String, u32, grading::Judgement)> {
+    let table = table();
+    let code: std::sync::Arc<dyn CameraRays> = std::sync::Arc::new(code);
+    let judge = grading::Judge::new(
+        &table,
+        &code,
+        &std::sync::Arc::new(corpus_context(reference::KEYS)),
+    );
+    table
+        .iter()
+        .map(|e| (e.id.clone(), e.points, judge.judge(e)))
+        .collect()
+}
+
+/// The points of the exercises `judged` passes.
+fn score(judged: &[(String, u32, grading::Judgement)]) -> u32 {
+    judged
+        .iter()
+        .filter(|(_, _, j)| j.outcome.is_ok())
+        .map(|(_, points, _)| points)
+        .sum()
+}
+
+/// The judgement of Exercise `id` in `judged`.
+fn of<'a>(judged: &'a [(String, u32, grading::Judgement)], id: &str) -> &'a grading::Judgement {
+    &judged
+        .iter()
+        .find(|(e, _, _)| e == id)
+        .expect("an exercise of lab 01")
+        .2
+}
+
+/// The corpus's variant whose name starts with `name`.
+fn variant(name: &str) -> Variant {
+    variants()
+        .into_iter()
+        .find(|v| v.name.starts_with(name))
+        .unwrap_or_else(|| panic!("the corpus holds '{name}'"))
+}
+
+/// One mistake, one exercise: with the key, a y-flip costs Exercise 1.1's 3 points of 10 (1.6,
+/// worth none of its own, renders with the key's `image_plane_coords` and says so) and a panic
+/// in `camera_ray` 1.5's 1 point; the stubs earn nothing, 1.6 included. Without the key, 1.6
+/// names the exercise to fix first.
 #[test]
 fn a_mistake_in_one_part_costs_that_part_alone() {
     use std::sync::Arc;
-    let table: Vec<Arc<grading::Exercise<dyn CameraRays>>> = lab01_checks::checks::exercises()
-        .into_iter()
-        .map(Arc::new)
-        .collect();
-    let ctx = corpus_context(reference::KEYS);
-    let score = |code: Arc<dyn CameraRays>, ctx: &grading::LabContext| -> u32 {
-        table
-            .iter()
-            .filter(|e| grading::judge(e, &table, &code, ctx).is_ok())
-            .map(|e| e.points)
-            .sum()
-    };
-    let y_flip = variants()
-        .into_iter()
-        .find(|v| v.name.starts_with("y not flipped"))
-        .expect("the corpus holds the y-flip");
-    assert_eq!(score(Arc::new(y_flip), &ctx), 8);
-    let panics = Variant {
+    let y_flip = variant("y not flipped");
+    let flipped = judged(y_flip);
+    assert_eq!(score(&flipped), 7);
+    let composite = of(&flipped, "1.6");
+    assert_eq!(composite.outcome, Ok(()));
+    assert_eq!(composite.key_for, ["1.1"]);
+    assert!(
+        composite.note.contains("`image_plane_coords`") && composite.note.contains("1.1"),
+        "{}",
+        composite.note
+    );
+    assert_eq!(of(&flipped, "1.1").key_for, Vec::<String>::new());
+    let panics = judged(Variant {
         ray: Some(|_, _| panic!("a camera ray that panics")),
         ..NONE
-    };
-    assert_eq!(score(Arc::new(panics), &ctx), 9);
-    assert_eq!(score(Arc::new(lab01::Student), &ctx), 0);
+    });
+    assert_eq!(score(&panics), 9);
+    assert_eq!(of(&panics, "1.6").key_for, ["1.5"]);
+    let table = table();
+    let ctx = corpus_context(reference::KEYS);
+    let stubs: Arc<dyn CameraRays> = Arc::new(lab01::Student);
+    let judge = grading::Judge::new(&table, &stubs, &Arc::new(ctx));
+    assert!(table.iter().all(|e| judge.judge(e).outcome.is_err()));
 
     let handout = corpus_context(&grading::corpus::keys_but(
         lab01_checks::checks::LAB,
@@ -327,6 +378,7 @@ fn a_mistake_in_one_part_costs_that_part_alone() {
         &(Arc::new(y_flip) as Arc<dyn CameraRays>),
         &handout,
     )
+    .outcome
     .expect_err("the y-flip's image is upside down");
     assert!(
         failure
@@ -335,6 +387,51 @@ fn a_mistake_in_one_part_costs_that_part_alone() {
         "{}",
         failure.message
     );
+}
+
+/// Only `camera_ray` right, 1.1–1.4 wrong but finite: 1.5's point and nothing for 1.6, which
+/// passes only with the key's functions in place of every wrong one the render calls.
+#[test]
+fn only_the_camera_ray_right_scores_its_own_point() {
+    let wrong = Variant {
+        coords: variant("y not flipped").coords,
+        basis: variant("x axis as up × view").basis,
+        fov: variant("field of view in radians").fov,
+        direction: variant("ray direction not normalized").direction,
+        ..NONE
+    };
+    let judged = judged(wrong);
+    assert_eq!(score(&judged), 1);
+    let composite = of(&judged, "1.6");
+    assert_eq!(composite.outcome, Ok(()), "{:?}", composite.outcome);
+    // The render calls no `field_of_view`: 1.3's mistake is its own exercise's alone.
+    assert_eq!(composite.key_for, ["1.1", "1.2", "1.4"]);
+}
+
+/// 1.1 and 1.2 both unfinished: 1.3–1.5 score theirs, and 1.6 is neither charged nor blocked:
+/// the first render stops in one of them, the next in the other, and the one after that, with
+/// the key's 1.1 and 1.2, passes on the student's 1.3–1.5.
+#[test]
+fn two_unfinished_parts_are_each_their_own_exercise_s_alone() {
+    let unfinished = Variant {
+        coords: Some(|_, _| todo!("Exercise 1.1: image_plane_coords")),
+        basis: Some(|_, _, _| todo!("Exercise 1.2: camera_basis")),
+        ..NONE
+    };
+    let judged = judged(unfinished);
+    assert_eq!(score(&judged), 4);
+    let composite = of(&judged, "1.6");
+    assert_eq!(composite.outcome, Ok(()), "{:?}", composite.outcome);
+    assert_eq!(composite.key_for, ["1.1", "1.2"]);
+    for id in ["1.1", "1.2"] {
+        let own = of(&judged, id).outcome.as_ref().expect_err(id);
+        assert_eq!(
+            own.kind,
+            grading::FailureKind::NotStarted,
+            "{}",
+            own.message
+        );
+    }
 }
 
 grading::corpus_tests!(lab01, lab01_checks);

@@ -25,8 +25,9 @@ fn raylab(args: &[&str]) -> (bool, String) {
     cargo(&root(), &target_dir(), &all)
 }
 
-/// `--timeout` of the gradings, in seconds: what the infinite loop costs, and room enough for
-/// an honest exercise in WebAssembly on a machine busy with the other workflow tests.
+/// `--timeout` of the gradings, in seconds: room enough for an honest exercise in WebAssembly
+/// on a machine busy with the other workflow tests (the infinite loop is stopped by its budget
+/// of work before).
 const TIMEOUT: &str = "20";
 
 fn write_lab(tree: &Path, lab: u32, code: &str) {
@@ -278,9 +279,10 @@ fn handout_then_grade_four_submissions() {
     // Each exercise is checked with the answer key everywhere else: the wrong focal length
     // costs Exercise 1.4 alone (1.6, the whole camera, is judged with the key's 1.4) and
     // nothing in labs 2 and 3, the NaN triangle sample 3.3 alone, the panic 2.3, the infinite
-    // loop 2.1 and the tuned shading 2.6 alone.
+    // loop 2.1 and the tuned shading 2.6 alone. (1.6 is worth no points of its own: it passes,
+    // below.)
     for id in [
-        "1.1", "1.2", "1.3", "1.5", "1.6", "2.2", "2.4", "2.5", "3.1", "3.2", "3.4",
+        "1.1", "1.2", "1.3", "1.5", "2.2", "2.4", "2.5", "3.1", "3.2", "3.4",
     ] {
         assert_ne!(row[column(id)], "0", "partial, Exercise {id}: {csv}");
     }
@@ -295,6 +297,7 @@ fn handout_then_grade_four_submissions() {
         ("2.1", "timed out"),
         ("2.3", "crashed"),
         ("1.1", "passed"),
+        ("1.6", "passed"),
     ] {
         assert!(
             report
@@ -308,10 +311,10 @@ fn handout_then_grade_four_submissions() {
         "{report}"
     );
     assert!(report.contains("returned [NaN, NaN, NaN]"), "{report}");
+    // The loop is stopped by its budget of work, long before the time limit.
     assert!(
-        report.contains(&format!(
-            "Exercise 2.1 — `intersect_plane` did not finish within {TIMEOUT} s"
-        )),
+        report.contains("Exercise 2.1 — `intersect_plane`")
+            && report.contains(contracts::wire::OUT_OF_WORK),
         "{report}"
     );
     let html = read(&grades.join("partial/report.html"));

@@ -173,6 +173,7 @@ impl Status {
             Some(FailureKind::Blocked(other)) => Self::BlockedBy(other.clone()),
             Some(FailureKind::Waiting(lab)) => Self::BlockedBy(format!("lab {lab}'s solution")),
             Some(FailureKind::Crashed) => Self::Crashed,
+            Some(FailureKind::TimedOut) => Self::TimedOut,
             Some(FailureKind::Wrong) | None => Self::Wrong,
         }
     }
