@@ -1000,3 +1000,147 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
 
     assert!(problems.0.is_empty(), "{}", problems.report());
 }
+
+/// Lab 01 submissions whose mistakes sit under its composite exercise (1.6 renders through
+/// 1.1–1.5), each with the points its own parts earn: the answer key's, a y-flip (1.1 wrong),
+/// the lazy composite (only 1.5 written, 1.1–1.4 wrong but finite) and two unfinished callees
+/// (1.1 and 1.2 `todo!()`, which the render meets one after the other). What each must score:
+/// every exercise whose own code is right, nothing for the others, and 1.6, which has no code
+/// of its own, no points at all.
+fn composite_submissions() -> Vec<(&'static str, String, &'static [&'static str])> {
+    let honest = correct_code(1);
+    let y_flip = honest.replace("(0.5 * h - raster.y) / h", "(raster.y - 0.5 * h) / h");
+    let lazy = y_flip
+        .replace("ip_normal.cross(up)", "up.cross(ip_normal)")
+        .replace(".atan()).to_degrees()", ".atan())")
+        .replace("\n            .normalize()\n", "\n");
+    let unfinished = honest
+        .replace(
+            "let (w, h) = (resolution.x as f32, resolution.y as f32);\n        Vec2::new((raster.x - 0.5 * w) / h, (0.5 * h - raster.y) / h)",
+            "let _ = (raster, resolution);\n        todo!(\"Exercise 1.1: image_plane_coords\")",
+        )
+        .replace(
+            "let ip_normal = (look_at - eye).normalize();",
+            "let _ = (eye, look_at, up);\n        todo!(\"Exercise 1.2: camera_basis\");\n        #[allow(unreachable_code)]\n        let ip_normal = (look_at - eye).normalize();",
+        );
+    for (name, code) in [
+        ("y_flip", &y_flip),
+        ("lazy", &lazy),
+        ("unfinished", &unfinished),
+    ] {
+        assert_ne!(*code, honest, "the {name} mutation changed nothing");
+    }
+    vec![
+        ("a-honest", honest, &[]),
+        ("y_flip", y_flip, &["1.1"]),
+        ("lazy_composite", lazy, &["1.1", "1.2", "1.3", "1.4"]),
+        ("two_unfinished_callees", unfinished, &["1.1", "1.2"]),
+    ]
+}
+
+#[test]
+fn composite_submissions_earn_what_their_own_parts_earn() {
+    let test = "composite_submissions_earn_what_their_own_parts_earn";
+    if !(prerequisite::program_or_skip(test, "bwrap", "apt-get install bubblewrap")
+        && prerequisite::rust_target_or_skip(test, "wasm32-unknown-unknown"))
+    {
+        return;
+    }
+    grade_composite_submissions(None);
+    use std::os::unix::fs::MetadataExt;
+    if fs::metadata("/proc/self").unwrap().uid() == 0 {
+        grade_composite_submissions(Some(RUN_AS));
+    }
+}
+
+/// Grades [`composite_submissions`] in one run, in bubblewrap or `--run-as` the user `run_as`,
+/// at 32 threads, and checks each exercise's points and that a composite judged with the key's
+/// code says whose.
+fn grade_composite_submissions(run_as: Option<&str>) {
+    let work = target_dir().join(match run_as {
+        None => "raylab-composite-test",
+        Some(_) => "raylab-composite-test-run-as",
+    });
+    let _ = fs::remove_dir_all(&work);
+    fs::create_dir_all(&work).unwrap();
+    let work = fs::canonicalize(&work).unwrap();
+    let (ok, out) = cargo(&["build", "--quiet", "-p", "raylab"]);
+    assert!(ok, "{out}");
+    let raylab = target_dir().join("debug/raylab");
+    let handout = work.join("handout");
+    let status = Command::new(&raylab)
+        .args(["handout", "--allow-dirty", "--out"])
+        .arg(&handout)
+        .status()
+        .unwrap();
+    assert!(status.success(), "raylab handout failed");
+    let submissions = composite_submissions();
+    let mut args: Vec<String> = vec!["grade".into()];
+    for (name, code, _) in &submissions {
+        let dir = work.join("submissions").join(name);
+        copy_tree(&handout, &dir);
+        fs::write(dir.join("labs/lab01/src/lib.rs"), code).unwrap();
+        args.push(dir.to_string_lossy().into_owned());
+    }
+    let grades = work.join("grades");
+    args.extend(
+        [
+            "--out",
+            &grades.to_string_lossy(),
+            "--lab",
+            "1",
+            "--timeout",
+            &TIMEOUT.to_string(),
+            "--target-dir",
+            &workflow_target_dir().to_string_lossy(),
+        ]
+        .map(String::from),
+    );
+    if let Some(user) = run_as {
+        args.extend(["--run-as".into(), user.into()]);
+    }
+    let run = run_grade(&raylab, &args, &grades, &work.join("grade-output.txt"));
+    assert!(
+        run.ok,
+        "{}",
+        fs::read_to_string(work.join("grade-output.txt")).unwrap_or_default()
+    );
+    let table = course::lab(course::LabId::of(1)).unwrap();
+    let mut problems = Problems::default();
+    for (name, _, wrong) in &submissions {
+        let results: serde_json::Value =
+            serde_json::from_str(&read(&grades.join(name).join("results.json"))).unwrap();
+        let tests = results["tests"].as_array().cloned().unwrap_or_default();
+        for e in &table.exercises {
+            let due = if wrong.contains(&e.id.as_str()) {
+                0
+            } else {
+                e.points
+            };
+            let test = tests.iter().find(|t| t["number"] == e.id.as_str());
+            let got = test.and_then(|t| t["score"].as_f64());
+            problems.check(got == Some(f64::from(due)), name, || {
+                format!("Exercise {} scored {got:?}, due {due}: {test:?}", e.id)
+            });
+        }
+        // 1.6 passes on the student's own parts with the key's for the wrong ones, and says so.
+        let composite = tests.iter().find(|t| t["number"] == "1.6");
+        let said = composite
+            .and_then(|t| t["output"].as_str())
+            .unwrap_or_default();
+        let callees: Vec<&&str> = wrong.iter().filter(|id| **id != "1.3").collect();
+        problems.check(
+            composite.is_some_and(|t| t["status"] == "passed")
+                && (callees.is_empty() || said.contains("answer key's")),
+            name,
+            || format!("1.6 is not a pass that names the key's parts: {composite:?}"),
+        );
+        let report = read(&grades.join(name).join("report.md"));
+        problems.check(
+            callees.is_empty() || report.contains("passed (with the key's code for "),
+            name,
+            || format!("report.md does not say whose code 1.6 was judged with:\n{report:.2000}"),
+        );
+    }
+    assert!(problems.0.is_empty(), "{}", problems.report());
+}

@@ -195,6 +195,9 @@ pub struct ExerciseGrade {
     pub images: Vec<PathBuf>,
     /// Wall time of its test.
     pub seconds: f64,
+    /// The exercises whose functions were the answer key's, not the student's, in the run that
+    /// decided it (their own exercises fail, and are charged there).
+    pub key_for: Vec<String>,
 }
 
 /// The grades of one submission.
@@ -355,6 +358,7 @@ impl ExerciseGrade {
             program_output: String::new(),
             images: Vec::new(),
             seconds: 0.0,
+            key_for: Vec::new(),
         }
     }
 }
@@ -942,6 +946,7 @@ fn grade_submission(
                 program_output: run.program_output,
                 images,
                 seconds: run.seconds,
+                key_for: run.key_for,
             });
         }
     }

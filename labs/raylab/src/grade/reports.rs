@@ -147,7 +147,27 @@ fn lab_wide_failure<'a>(exercises: &[&'a ExerciseGrade]) -> Option<&'a str> {
 /// Whether the report has a section of its own for `e` (its failure or its output), which the
 /// table links to.
 fn has_section(e: &ExerciseGrade, lab_wide: bool) -> bool {
-    (!e.passed() && !lab_wide) || !e.program_output.is_empty() || !e.images.is_empty()
+    shows_output(e, lab_wide) || !e.program_output.is_empty() || !e.images.is_empty()
+}
+
+/// Whether the report shows `e`'s output: why it failed, or, passed or not, that the answer
+/// key's code stood in for some of the student's functions.
+fn shows_output(e: &ExerciseGrade, lab_wide: bool) -> bool {
+    !lab_wide && (!e.passed() || !e.key_for.is_empty())
+}
+
+/// `e`'s status as the reports' tables show it: with the exercises whose functions were the
+/// answer key's in the run that decided it.
+fn result_label(e: &ExerciseGrade) -> String {
+    if e.key_for.is_empty() {
+        e.status.label()
+    } else {
+        format!(
+            "{} (with the key's code for {})",
+            e.status.label(),
+            e.key_for.join(", ")
+        )
+    }
 }
 
 /// `text` as a Markdown code span: shown as it is, never read as Markdown or HTML (a file
@@ -227,7 +247,7 @@ fn markdown(grade: &StudentGrade) -> String {
                 e.info.id,
                 e.info.title,
                 e.info.function,
-                e.status.label(),
+                result_label(e),
                 e.score,
                 e.info.points
             );
@@ -265,10 +285,10 @@ fn markdown(grade: &StudentGrade) -> String {
                 e.info.id,
                 e.info.function,
                 e.status.label(),
-                if e.passed() || lab_wide.is_some() {
-                    String::new()
-                } else {
+                if shows_output(e, lab_wide.is_some()) {
                     fenced(&e.output)
+                } else {
+                    String::new()
                 }
             );
             if !e.program_output.is_empty() {
@@ -391,7 +411,7 @@ fn html(grade: &StudentGrade) -> String {
                             " " (e.info.title)
                         }
                         td { code { (e.info.function) } }
-                        td class=(class(e)) { (e.status.label()) }
+                        td class=(class(e)) { (result_label(e)) }
                         td { (e.score) "/" (e.info.points) }
                     }
                 }
@@ -417,7 +437,7 @@ fn html(grade: &StudentGrade) -> String {
                 h3 id={ "ex-" (e.info.id) } {
                     "Exercise " (e.info.id) " — " code { (e.info.function) } ": " (e.status.label())
                 }
-                @if !e.passed() && lab_wide.is_none() {
+                @if shows_output(e, lab_wide.is_some()) {
                     pre { (e.output) }
                 }
                 @if !e.program_output.is_empty() {
@@ -914,6 +934,7 @@ mod tests {
                 program_output: String::new(),
                 images: Vec::new(),
                 seconds: 1.5,
+                key_for: Vec::new(),
             }],
             changed_files: Vec::new(),
             notes: Vec::new(),
@@ -1042,6 +1063,7 @@ mod tests {
             program_output: String::new(),
             images: Vec::new(),
             seconds: 0.25,
+            key_for: Vec::new(),
         };
         let statuses = [
             (Status::Passed, ""),
@@ -1088,6 +1110,9 @@ mod tests {
             Status::Flagged,
             "labs/lab01/src/lib.rs:7 names `look_at_rh`, which answers Exercise 1.2",
         );
+        // Passed with the key's code for the flagged part, which is charged to its own.
+        second[5].output = "This check was judged with the answer key's `camera_basis` in place of yours (Exercise 1.2 fails on its own, and is charged there).".into();
+        second[5].key_for = vec!["1.2".into()];
         second.extend(lab02.iter().map(|info| {
             exercise(
                 info,
@@ -1211,7 +1236,7 @@ mod tests {
         }
         // The pages show the same lateness and points graded by hand, escaped.
         let page = html(&class[0]);
-        assert!(page.contains("<strong>17.5/29 points</strong>"), "{page}");
+        assert!(page.contains("<strong>18.5/29 points</strong>"), "{page}");
         assert!(
             page.contains(
                 "1 day 12 h late (2 started days); late penalty 20% of the lab's points: −3 points."
@@ -1226,7 +1251,7 @@ mod tests {
             class_page.contains("unknown (no submission time): no penalty"),
             "{class_page}"
         );
-        assert!(class_page.contains("3.5/15"), "{class_page}");
+        assert!(class_page.contains("4.5/15"), "{class_page}");
         fs::remove_dir_all(&dir).unwrap();
         let ungraded = ungraded_results("labs/ holds no lab's sources");
         insta::assert_snapshot!("results-ungraded.json", unstamped(&ungraded));

@@ -191,6 +191,8 @@ pub struct Run {
     pub seconds: f64,
     /// Of it, the time of runs stopped at the grader's time limits.
     pub stopped_seconds: f64,
+    /// The exercises whose functions the check's verdict was decided with the key's code for.
+    pub key_for: Vec<String>,
 }
 
 /// The test names of a checks executable, listed in the sandbox (in `scratch`).
@@ -418,6 +420,7 @@ fn attempt(
             images,
             seconds: run.seconds,
             stopped_seconds: if stopped { run.seconds } else { 0.0 },
+            key_for: record.map(|r| r.key_for.clone()).unwrap_or_default(),
         },
         stopped,
     })
