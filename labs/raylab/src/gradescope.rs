@@ -284,6 +284,8 @@ if ! command -v rustup >/dev/null 2>&1 && [ ! -x "$HOME/.cargo/bin/rustup" ]; th
 fi
 . "$HOME/.cargo/env"
 rustup default {toolchain}
+# A submission's labs are compiled to WebAssembly, where they run apart from the checks.
+rustup target add wasm32-unknown-unknown
 cd "$source"
 cargo build --locked -p raylab --features instructor
 # Grade the handout's stubs once: the framework, the answer key and every dependency are then

@@ -83,60 +83,65 @@ impl LabBuild<'_> {
         src: &Path,
         to: &Path,
     ) -> Result<Built, Error> {
+        // A run stopped at the time limit may be the machine's load: once more, with twice the
+        // time; stopped again, the grader's limit, not the code's mistake.
+        for attempt in 1..=2 {
+            let timeout = self.timeout * attempt;
+            match self.attempt(lab, calls, src, timeout)? {
+                Step::Built => {
+                    let module = self.jail.out().join(module_file(&calls.guest)?);
+                    crate::handout::copy_file(&module, to)?;
+                    return Ok(Built::Module);
+                }
+                Step::Failed(built) => return Ok(built),
+                Step::Stopped(_) if attempt == 1 => {}
+                Step::Stopped(what) => {
+                    return Ok(Built::NotGraded(format!(
+                        "the build of {what} did not finish within {} s and was stopped, after a first attempt stopped at {} s: the grader's time limit, not a compile error (grade again with a longer --build-timeout)",
+                        timeout.as_secs(),
+                        self.timeout.as_secs()
+                    )));
+                }
+            }
+        }
+        unreachable!("the second attempt returns")
+    }
+
+    /// Stages the sources and runs the lab's and the guest's compiler runs, each within
+    /// `timeout`.
+    fn attempt(
+        &self,
+        lab: LabId,
+        calls: &LabCalls,
+        src: &Path,
+        timeout: Duration,
+    ) -> Result<Step, Error> {
         let root = self.sandbox.jail_root(self.jail.root());
         let lab_name = calls
             .lab
             .option("--crate-name")
             .unwrap_or_default()
             .to_string();
-        let steps = [
+        self.jail.stage(lab, src, self.sandbox.build_owner())?;
+        for (what, call) in [
             ("the lab's crate", &calls.lab),
             ("the module around it", &calls.guest),
-        ];
-        for attempt in 0..2 {
-            self.jail.stage(lab, src, self.sandbox.build_owner())?;
-            let timeout = self.timeout * (attempt + 1);
-            let mut failure = None;
-            for (what, call) in steps {
-                let (args, env) = in_jail(call, &self.host, &root, &lab_name, lab)?;
-                let command = self.sandbox.jailed(self.jail.root(), &args, &env);
-                let run = run_captured(command, None, timeout, COMPILER_OUTPUT_LIMIT);
-                self.sandbox.end_exercise();
-                let run = run?;
-                let text = String::from_utf8_lossy(&run.output).into_owned();
-                match run.status {
-                    Some(status) if status.success() => continue,
-                    Some(status) => {
-                        failure = Some(self.failed(what, status, &text, timeout));
-                        break;
-                    }
-                    None => {
-                        failure = Some(Built::NotGraded(format!(
-                            "the build of {what} did not finish within {} s and was stopped",
-                            timeout.as_secs()
-                        )));
-                        break;
-                    }
+        ] {
+            let (args, env) = in_jail(call, &self.host, &root, &lab_name, lab)?;
+            let command = self.sandbox.jailed(self.jail.root(), &args, &env);
+            let run = run_captured(command, None, timeout, COMPILER_OUTPUT_LIMIT);
+            self.sandbox.end_exercise();
+            let run = run?;
+            match run.status {
+                Some(status) if status.success() => {}
+                Some(status) => {
+                    let text = String::from_utf8_lossy(&run.output);
+                    return Ok(Step::Failed(self.failed(what, status, &text, timeout)));
                 }
-            }
-            match failure {
-                None => {
-                    let module = self.jail.out().join(module_file(&calls.guest)?);
-                    crate::handout::copy_file(&module, to)?;
-                    return Ok(Built::Module);
-                }
-                // A time-out may be the machine's load: once more, with twice the time.
-                Some(Built::NotGraded(why)) if attempt == 0 && why.contains("did not finish") => {}
-                Some(Built::NotGraded(why)) if why.contains("did not finish") => {
-                    return Ok(Built::NotGraded(format!(
-                        "{why}, after a first attempt stopped at {} s: the grader's time limit, not a compile error (grade again with a longer --build-timeout)",
-                        self.timeout.as_secs()
-                    )));
-                }
-                Some(other) => return Ok(other),
+                None => return Ok(Step::Stopped(what)),
             }
         }
-        unreachable!("the second attempt returns")
+        Ok(Step::Built)
     }
 
     /// What a compiler run that ended with `status` and printed `text` means: the code's
@@ -182,6 +187,16 @@ impl LabBuild<'_> {
             )),
         }
     }
+}
+
+/// How one attempt at a build ended.
+enum Step {
+    /// Both compiler runs succeeded.
+    Built,
+    /// A compiler run failed: what that means.
+    Failed(Built),
+    /// The compiler run of this part was stopped at the time limit.
+    Stopped(&'static str),
 }
 
 /// Output kept of one compiler run.

@@ -350,6 +350,10 @@ fn attempt(
     // The grader's thread count, when it sets one, is the checks' too (a test of many cores).
     let threads = std::env::var("RAYON_NUM_THREADS").ok();
     let mut env = vec![
+        // glibc reserves 64 MiB of address space for each malloc arena, one per thread up to
+        // eight per core: at 32 rendering threads that alone is 2 GiB of the address-space
+        // limit. Two arenas bound it whatever the thread count.
+        ("MALLOC_ARENA_MAX", "2"),
         ("CARGO_TARGET_DIR", "."),
         ("RUST_BACKTRACE", "0"),
         (verdict::CHANNEL_VAR, "stdin"),
