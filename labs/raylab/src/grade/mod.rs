@@ -88,9 +88,10 @@ pub struct GradeArgs {
     /// code then runs as your user, able to read and write what you can; every report says so.
     #[arg(long)]
     pub unsandboxed: bool,
-    /// Run each exercise as this unprivileged user (a name or a user id) instead of in
-    /// bubblewrap, for machines whose containers cannot make user namespaces (Gradescope's):
-    /// needs root; builds run as root, exercises cannot write the grader's files.
+    /// Build and run student code as this unprivileged user (a name or a user id) instead of
+    /// in bubblewrap, for machines whose containers cannot make user namespaces (Gradescope's):
+    /// needs root; each build is chrooted into the build jail, and nothing the user runs can
+    /// write the grader's files.
     #[arg(long, value_name = "USER", conflicts_with = "unsandboxed")]
     pub run_as: Option<String>,
     /// Also write the one submission's Gradescope results to this file — and, should the
