@@ -562,8 +562,29 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     assert!(!handout.join("labs/raylab/tests").exists());
     assert!(!handout.join("reference/src/lab02.rs").exists());
 
-    // The student clones the handout and commits work on lab 1.
+    // The student clones the handout and commits work on lab 1. The handout's lock file is
+    // the one its workspace resolves to: cargo, reading it, leaves the clone and the handout
+    // as they are (a lock naming a package the handout lacks would be rewritten, and
+    // `--update` would refuse the handout).
     git(&dir, &["clone", "--quiet", h, s]);
+    for tree in [&student, &handout] {
+        let out = Command::new(env!("CARGO"))
+            .args(["metadata", "--offline", "--format-version", "1"])
+            .current_dir(tree)
+            .output()
+            .expect("cargo runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(
+            git(tree, &["status", "--porcelain"]),
+            "",
+            "{}",
+            tree.display()
+        );
+    }
     let lab01 = student.join("labs/lab01/src/lib.rs");
     let stubs = std::fs::read_to_string(&lab01).unwrap();
     let todo_1_1 = "todo!(\"Exercise 1.1: image_plane_coords (docs/lab01.md, Exercise 1.1)\")";
