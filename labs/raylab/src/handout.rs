@@ -17,7 +17,7 @@
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
 //!
 //! The handout is a git repository, and releases are its commits (`release`): students clone
-//! it and `git pull` each release. Every release holds every lab's crate — the labs are
+//! it and `git pull --no-rebase` each release. Every release holds every lab's crate — the labs are
 //! listed in `labs/course.toml`, which the `course` crate embeds and checks against the lab
 //! folders, and the contracts, the pipeline's slots and the `reference` crate are made per lab
 //! of that list — and differs from the last in the solutions released and the course's fixes.
@@ -41,7 +41,7 @@ pub struct HandoutArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Release into the handout repository DIR (made by `--out`): build the handout again and
-    /// commit the difference, for students to `git pull`. Solutions released before stay
+    /// commit the difference, for students to `git pull --no-rebase`. Solutions released before stay
     /// released. Files students own (`labs/labNN/src/**`, `labs/labNN/answers.md`) that DIR
     /// already has are never changed.
     #[arg(long, value_name = "DIR")]
@@ -51,7 +51,7 @@ pub struct HandoutArgs {
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<LabId>,
     /// With `--update`: release even though it changes files students own (a stub fixed in the
-    /// course repository); students who changed such a file get a merge conflict on `git pull`.
+    /// course repository); students who changed such a file get a merge conflict when they pull it.
     #[arg(long, conflicts_with = "out")]
     pub force: bool,
     /// Build the handout even though files that go into it differ from the last commit (they

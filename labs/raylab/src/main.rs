@@ -61,7 +61,7 @@ enum Command {
     #[cfg(feature = "instructor")]
     Golden(golden::GoldenArgs),
     /// Write the student handout as a git repository (stubs, checks, golden data, the released
-    /// solutions), or release into it with `--update`: a commit students `git pull`.
+    /// solutions), or release into it with `--update`: a commit students `git pull --no-rebase`.
     #[cfg(feature = "instructor")]
     Handout(handout::HandoutArgs),
     /// Grade submissions: each exercise built and run in isolation, reports and gradebooks.

@@ -628,6 +628,12 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
         git(&handout, &["log", "-1", "--format=%s"]).trim(),
         "release: solutions of lab 1"
     );
+    // The command that merges a release with a student's commits (a plain `git pull` stops
+    // at their diverged branch).
+    assert!(
+        stdout.contains("students run `git pull --no-rebase`"),
+        "{stdout}"
+    );
     git(&student, &["pull", "--quiet", "--no-rebase", "--no-edit"]);
     assert!(student.join("reference/src/lab01.rs").is_file());
     assert_eq!(
