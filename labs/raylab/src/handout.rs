@@ -565,7 +565,9 @@ each release with your commits. A release never changes a file that is yours —
 `labs/labNN/src/` and `labs/labNN/answers.md` — so the pull merges without conflicts (commit
 before you pull). `cargo run -p raylab -- reset N.M` puts the function of Exercise N.M back as
 the handout had it (from the handout's own commits in your clone's history) and leaves your
-other functions as they are; `--dry-run` shows both versions and changes nothing.
+other functions as they are; your file as it was is kept in `out/reset/` (the command names
+the copy; git ignores `out/`, and grading never reads it). `--dry-run` shows both versions
+and changes nothing.
 
 Each exercise is checked in the pipeline of `reference::pipeline`: the solutions released so
 far, and your own code for the labs whose solutions are not released — so lab 3's checks use

@@ -732,30 +732,16 @@ fn junit(grades: &[StudentGrade]) -> String {
 
 /// The grader's version and the time of writing, for the foot of every report.
 fn stamp() -> String {
-    let seconds = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
     format!(
         "raylab {} (grader), {}",
         env!("CARGO_PKG_VERSION"),
-        utc_time(seconds)
+        utc_time(crate::utc::now())
     )
 }
 
-/// `seconds` since the Unix epoch as `YYYY-MM-DD HH:MM UTC` (the proleptic Gregorian calendar,
-/// by the days-to-civil algorithm of Howard Hinnant).
+/// `seconds` since the Unix epoch as `YYYY-MM-DD HH:MM UTC`.
 fn utc_time(seconds: u64) -> String {
-    let days = (seconds / 86_400) as i64;
-    let (hour, minute) = ((seconds % 86_400) / 3600, (seconds % 3600) / 60);
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
+    let [year, month, day, hour, minute, _] = crate::utc::date_time(seconds);
     format!("{year:04}-{month:02}-{day:02} {hour:02}:{minute:02} UTC")
 }
 
