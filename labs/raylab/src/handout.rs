@@ -9,13 +9,15 @@
 //!   the labs not released;
 //! - a lab whose solution is not released has nothing for its `reference` feature to switch
 //!   to: its program says so and stops;
-//! - the instructor's parts stay behind: `tests/`, each lab's tests but its program
+//! - the instructor's parts stay behind: `tests/` (and its package in `Cargo.lock`, which is
+//!   written as cargo resolves the handout's workspace: the first build in a clone changes
+//!   nothing), each lab's tests but its program
 //!   (`labs/labNN/tests/checks.rs`; the mutant corpus holds solutions), the command line's
 //!   tests (`labs/raylab/tests/`: the similarity test's class holds lab 2 solutions), `.ci/`,
 //!   and the `instructor` feature of the command line (`golden`, `handout`, `grade`).
 //!
 //! The handout is a git repository, and releases are its commits (`release`): students clone
-//! it and `git pull` each release. Every release holds every lab's crate — the labs are
+//! it and `git pull --no-rebase` each release. Every release holds every lab's crate — the labs are
 //! listed in `labs/course.toml`, which the `course` crate embeds and checks against the lab
 //! folders, and the contracts, the pipeline's slots and the `reference` crate are made per lab
 //! of that list — and differs from the last in the solutions released and the course's fixes.
@@ -39,7 +41,7 @@ pub struct HandoutArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Release into the handout repository DIR (made by `--out`): build the handout again and
-    /// commit the difference, for students to `git pull`. Solutions released before stay
+    /// commit the difference, for students to `git pull --no-rebase`. Solutions released before stay
     /// released. Files students own (`labs/labNN/src/**`, `labs/labNN/answers.md`) that DIR
     /// already has are never changed.
     #[arg(long, value_name = "DIR")]
@@ -49,7 +51,7 @@ pub struct HandoutArgs {
     #[arg(long, value_delimiter = ',')]
     pub release_solutions: Vec<LabId>,
     /// With `--update`: release even though it changes files students own (a stub fixed in the
-    /// course repository); students who changed such a file get a merge conflict on `git pull`.
+    /// course repository); students who changed such a file get a merge conflict when they pull it.
     #[arg(long, conflicts_with = "out")]
     pub force: bool,
     /// Build the handout even though files that go into it differ from the last commit (they
@@ -181,10 +183,17 @@ fn uncommitted_files(root: &Path) -> Option<Vec<String>> {
 pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), Error> {
     check_releasable(root, &options.released)?;
     fs::create_dir_all(out).map_err(io(out))?;
-    for name in [".gitignore", "Cargo.lock"] {
-        if root.join(name).exists() {
-            copy_file(&root.join(name), &out.join(name))?;
-        }
+    if root.join(".gitignore").exists() {
+        copy_file(&root.join(".gitignore"), &out.join(".gitignore"))?;
+    }
+    let lock = root.join("Cargo.lock");
+    if lock.exists() {
+        let left_out = package_name(&root.join("tests/Cargo.toml"))?;
+        let text = lock_without(&read(&lock)?, &[left_out]).map_err(|reason| Error::Invalid {
+            what: lock.display().to_string(),
+            reason,
+        })?;
+        write(&out.join("Cargo.lock"), &text)?;
     }
     copy_dir(&root.join("framework"), &out.join("framework"))?;
     if let Some(tag) = &options.framework_tag {
@@ -273,6 +282,180 @@ pub fn build_tree(root: &Path, out: &Path, options: &TreeOptions) -> Result<(), 
     } else {
         write_reference(root, out, &options.released)
     }
+}
+
+/// The `[package] name` of the manifest at `path`.
+fn package_name(path: &Path) -> Result<String, Error> {
+    let text = read(path)?;
+    let manifest: toml::Table = toml::from_str(&text).map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        line: e
+            .span()
+            .map_or(0, |s| crate::reset::line_of(&text, s.start)),
+        reason: e.message().to_string(),
+    })?;
+    manifest
+        .get("package")
+        .and_then(|p| p.get("name"))
+        .and_then(toml::Value::as_str)
+        .map(str::to_string)
+        .ok_or_else(|| Error::Parse {
+            path: path.to_path_buf(),
+            line: 0,
+            reason: "no `[package]` with a `name`".into(),
+        })
+}
+
+/// The line that starts a package's dependencies in a `Cargo.lock`, with the end of the line
+/// before it.
+const DEPENDENCIES: &str = "\ndependencies = [\n";
+
+/// One `[[package]]` of a `Cargo.lock`.
+struct LockedPackage<'a> {
+    /// Its text, after the `[[package]]` line.
+    text: &'a str,
+    name: &'a str,
+    version: &'a str,
+    /// `None` for a package of the workspace (a path).
+    source: Option<&'a str>,
+    /// Its dependencies as the file names them: "name", "name version" or
+    /// "name version (source)".
+    dependencies: Vec<&'a str>,
+}
+
+impl<'a> LockedPackage<'a> {
+    /// Reads one package's text; `None` when it has no name or no version.
+    fn parse(text: &'a str) -> Option<Self> {
+        let field = |key: &str| {
+            text.lines().find_map(|line| {
+                line.strip_prefix(key)?
+                    .strip_prefix(" = \"")?
+                    .strip_suffix('"')
+            })
+        };
+        let dependencies = text
+            .split_once(DEPENDENCIES)
+            .map(|(_, list)| {
+                list.lines()
+                    .take_while(|line| *line != "]")
+                    .filter_map(|line| line.trim().strip_prefix('"')?.strip_suffix("\","))
+                    .collect()
+            })
+            .unwrap_or_default();
+        Some(Self {
+            text,
+            name: field("name")?,
+            version: field("version")?,
+            source: field("source"),
+            dependencies,
+        })
+    }
+
+    /// Whether the dependency `spec` ("name", "name version", "name version (source)") names
+    /// this package.
+    fn is(&self, spec: &str) -> bool {
+        let mut parts = spec.splitn(3, ' ');
+        let name = parts.next() == Some(self.name);
+        let version = parts.next().is_none_or(|v| v == self.version);
+        let source = parts
+            .next()
+            .is_none_or(|s| Some(s.trim_start_matches('(').trim_end_matches(')')) == self.source);
+        name && version && source
+    }
+}
+
+/// The lock file `lock` (the repository's `Cargo.lock`) of the workspace without the packages
+/// `left_out`: without them and every package only they need, each dependency named as cargo
+/// names it (with its version only where two packages of that name remain, with its source
+/// only where two of that name and version do). That is the file cargo itself writes for the
+/// handout's workspace: any other one, cargo rewrites at a student's first build, and the
+/// handout's clone starts with a changed file.
+fn lock_without(lock: &str, left_out: &[String]) -> Result<String, String> {
+    const SEPARATOR: &str = "\n[[package]]\n";
+    let mut parts = lock.split(SEPARATOR);
+    let header = parts.next().unwrap_or_default();
+    let packages = parts
+        .enumerate()
+        .map(|(k, text)| {
+            LockedPackage::parse(text)
+                .ok_or_else(|| format!("package {} has no name or no version", k + 1))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let find = |from: &LockedPackage, spec: &str| -> Result<usize, String> {
+        let found: Vec<usize> = (0..packages.len())
+            .filter(|&k| packages[k].is(spec))
+            .collect();
+        match found[..] {
+            [one] => Ok(one),
+            _ => Err(format!(
+                "the dependency \"{spec}\" of {} {} names {} packages, not one",
+                from.name,
+                from.version,
+                found.len()
+            )),
+        }
+    };
+    // What the workspace's packages need, and what those need.
+    let mut kept = vec![false; packages.len()];
+    let mut next: Vec<usize> = (0..packages.len())
+        .filter(|&k| {
+            packages[k].source.is_none() && !left_out.iter().any(|n| n == packages[k].name)
+        })
+        .collect();
+    while let Some(k) = next.pop() {
+        if std::mem::replace(&mut kept[k], true) {
+            continue;
+        }
+        for spec in &packages[k].dependencies {
+            next.push(find(&packages[k], spec)?);
+        }
+    }
+    let same = |k: usize, version: bool| {
+        (0..packages.len())
+            .filter(|&j| {
+                kept[j]
+                    && packages[j].name == packages[k].name
+                    && (!version || packages[j].version == packages[k].version)
+            })
+            .count()
+    };
+    let mut out = header.to_string();
+    for package in packages
+        .iter()
+        .zip(&kept)
+        .filter_map(|(p, &k)| k.then_some(p))
+    {
+        out.push_str(SEPARATOR);
+        // The list of dependencies is written again, the rest as it is.
+        let Some((head, list)) = package.text.split_once(DEPENDENCIES) else {
+            out.push_str(package.text);
+            continue;
+        };
+        let end = match list.find("\n]") {
+            _ if list.starts_with(']') => 0,
+            Some(end) => end + 1,
+            None => list.len(),
+        };
+        let rest = &list[end..];
+        out.push_str(head);
+        out.push_str(DEPENDENCIES);
+        for spec in &package.dependencies {
+            let j = find(package, spec)?;
+            let dependency = &packages[j];
+            let mut named = dependency.name.to_string();
+            if same(j, false) > 1 {
+                named = format!("{named} {}", dependency.version);
+            }
+            if same(j, true) > 1
+                && let Some(source) = dependency.source
+            {
+                named = format!("{named} ({source})");
+            }
+            out.push_str(&format!(" \"{named}\",\n"));
+        }
+        out.push_str(rest);
+    }
+    Ok(out)
 }
 
 /// Refuses a repository `root` whose files differ from the last commit, unless `allow_dirty`
@@ -382,7 +565,9 @@ each release with your commits. A release never changes a file that is yours —
 `labs/labNN/src/` and `labs/labNN/answers.md` — so the pull merges without conflicts (commit
 before you pull). `cargo run -p raylab -- reset N.M` puts the function of Exercise N.M back as
 the handout had it (from the handout's own commits in your clone's history) and leaves your
-other functions as they are; `--dry-run` shows both versions and changes nothing.
+other functions as they are; your file as it was is kept in `out/reset/` (the command names
+the copy; git ignores `out/`, and grading never reads it). `--dry-run` shows both versions
+and changes nothing.
 
 Each exercise is checked in the pipeline of `reference::pipeline`: the solutions released so
 far, and your own code for the labs whose solutions are not released — so lab 3's checks use
@@ -494,6 +679,83 @@ mod tests {
             .expect("git runs")
             .status;
         assert!(status.success(), "git {args:?}");
+    }
+
+    /// A lock file of the packages `(name, version, source, dependencies)`.
+    fn lock(packages: &[(&str, &str, Option<&str>, &[&str])]) -> String {
+        let mut text = "# This file is automatically @generated by Cargo.\n# It is not intended for manual editing.\nversion = 4\n".to_string();
+        for (name, version, source, dependencies) in packages {
+            text.push_str(&format!(
+                "\n[[package]]\nname = \"{name}\"\nversion = \"{version}\"\n"
+            ));
+            if let Some(source) = source {
+                text.push_str(&format!("source = \"{source}\"\nchecksum = \"00{name}\"\n"));
+            }
+            if !dependencies.is_empty() {
+                text.push_str("dependencies = [\n");
+                for d in *dependencies {
+                    text.push_str(&format!(" \"{d}\",\n"));
+                }
+                text.push_str("]\n");
+            }
+        }
+        text
+    }
+
+    #[test]
+    fn the_handouts_lock_file_leaves_out_what_only_the_tests_need() {
+        const IO: Option<&str> = Some("registry+https://github.com/rust-lang/crates.io-index");
+        const MIRROR: Option<&str> = Some("registry+https://mirror.example/index");
+        let repository = lock(&[
+            ("core", "0.1.0", None, &["glam 0.30.0", "half"]),
+            ("glam", "0.30.0", IO, &[]),
+            ("glam", "0.34.0", IO, &[]),
+            ("half", "2.7.0", IO, &[]),
+            (
+                "lab01",
+                "0.1.0",
+                None,
+                &[
+                    "core",
+                    "log 0.4.0 (registry+https://github.com/rust-lang/crates.io-index)",
+                ],
+            ),
+            ("log", "0.4.0", IO, &[]),
+            ("log", "0.4.0", MIRROR, &[]),
+            (
+                "raylab-tests",
+                "0.1.0",
+                None,
+                &[
+                    "core",
+                    "glam 0.34.0",
+                    "lab01",
+                    "log 0.4.0 (registry+https://mirror.example/index)",
+                    "only-tests",
+                ],
+            ),
+            ("only-tests", "1.0.0", IO, &["half"]),
+        ]);
+        // Without a package left out, the file is the same.
+        assert_eq!(lock_without(&repository, &[]).unwrap(), repository);
+        // Without the tests: what only they need goes, and a name left to one package loses
+        // its version (and source).
+        let handout = lock(&[
+            ("core", "0.1.0", None, &["glam", "half"]),
+            ("glam", "0.30.0", IO, &[]),
+            ("half", "2.7.0", IO, &[]),
+            ("lab01", "0.1.0", None, &["core", "log"]),
+            ("log", "0.4.0", IO, &[]),
+        ]);
+        assert_eq!(
+            lock_without(&repository, &["raylab-tests".into()]).unwrap(),
+            handout
+        );
+        let broken = repository.replace(" \"half\",\n]", " \"halff\",\n]");
+        assert_eq!(
+            lock_without(&broken, &["raylab-tests".into()]).unwrap_err(),
+            "the dependency \"halff\" of core 0.1.0 names 0 packages, not one"
+        );
     }
 
     #[test]

@@ -22,6 +22,7 @@ mod reset;
 #[cfg(feature = "instructor")]
 mod similarity;
 mod status;
+mod utc;
 mod view;
 mod watch;
 
@@ -53,7 +54,7 @@ enum Command {
     /// with your code's image beside the reference's, camera controls and each pixel's value.
     View(view::ViewArgs),
     /// Put one exercise's function back as the handout had it (e.g. `raylab reset 1.2`),
-    /// leaving the rest of your code as it is.
+    /// leaving the rest of your code as it is and your file as it was in `out/reset/`.
     Reset(reset::ResetArgs),
     /// Measure the ray-tracing core: rays per second and BVH build time (docs/performance.md).
     Bench(bench::BenchArgs),
@@ -61,7 +62,7 @@ enum Command {
     #[cfg(feature = "instructor")]
     Golden(golden::GoldenArgs),
     /// Write the student handout as a git repository (stubs, checks, golden data, the released
-    /// solutions), or release into it with `--update`: a commit students `git pull`.
+    /// solutions), or release into it with `--update`: a commit students `git pull --no-rebase`.
     #[cfg(feature = "instructor")]
     Handout(handout::HandoutArgs),
     /// Grade submissions: each exercise built and run in isolation, reports and gradebooks.

@@ -8,6 +8,17 @@
 //! handout. In a repository without such commits, it is the commit that added the file. The function is found by
 //! its tokens (`proc-macro2`, whose spans give byte ranges), from its doc comment and
 //! attributes to its closing brace.
+//!
+//! What it replaces is kept: before the file is written, the student's whole file as it was goes
+//! to `out/reset/labNN-lib-N.M-YYYYMMDDTHHMMSSZ.rs` of the handout, and the command names it.
+//! A copy rather than a refusal of uncommitted changes (unless forced): work not yet committed
+//! is exactly what a reset loses, and git could only keep it in a commit — which, made to get
+//! past a refusal, would move the lab's submission time (grading takes it from the last commit
+//! that changed the lab's sources). `out/` is where a copy changes nothing else: git ignores
+//! it (the handout's `.gitignore`), so the clone gets no file to commit or merge; grading never
+//! reads it (it takes the regular files of `labs/labNN/src/` and `labs/labNN/answers.md`, and
+//! compares no `out/` folder); and no crate's build reads it (cargo compiles what a crate's
+//! `src/lib.rs` names, and `out/` is no crate's).
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -102,12 +113,59 @@ pub fn run(args: &ResetArgs) -> Result<(), Error> {
         return Ok(());
     }
     let restored = format!("{}{stub}{}", &current[..range.start], &current[range.end..]);
+    let kept = keep(
+        &root,
+        exercise.lab,
+        &exercise.id,
+        &current,
+        crate::utc::now(),
+    )?;
     std::fs::write(&path, restored).map_err(|e| Error::io(&path, e))?;
     println!(
-        "Exercise {}: restored `{function}` in {file} (your version was lines {first}–{last}) to the handout's stub; every other function is as you left it. If you had committed your version, `git diff {file}` shows it.",
+        "Exercise {}: restored `{function}` in {file} (your version was lines {first}–{last}) to the handout's stub; every other function is as you left it. Your {file} as it was is kept in {kept} (git ignores out/, and grading never reads it).",
         exercise.id
     );
     Ok(())
+}
+
+/// The folder of the handout where [`keep`] puts the files `reset` replaced.
+pub const KEPT: &str = "out/reset";
+
+/// Writes `text`, the student's source of `lab` before exercise `exercise` was reset at
+/// `seconds` since the Unix epoch, to a new file of [`KEPT`] in the handout `root`, named by
+/// the lab, the exercise and the time (UTC), and never over another; its path relative to
+/// `root`.
+fn keep(
+    root: &Path,
+    lab: course::LabId,
+    exercise: &str,
+    text: &str,
+    seconds: u64,
+) -> Result<String, Error> {
+    let dir = root.join(KEPT);
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let [year, month, day, hour, minute, second] = crate::utc::date_time(seconds);
+    let stem = format!(
+        "{lab}-lib-{exercise}-{year:04}{month:02}{day:02}T{hour:02}{minute:02}{second:02}Z"
+    );
+    let mut n = 1;
+    loop {
+        let name = match n {
+            1 => format!("{stem}.rs"),
+            _ => format!("{stem}-{n}.rs"),
+        };
+        let path = dir.join(&name);
+        match std::fs::File::create_new(&path) {
+            Ok(mut file) => {
+                std::io::Write::write_all(&mut file, text.as_bytes())
+                    .map_err(|e| Error::io(&path, e))?;
+                return Ok(format!("{KEPT}/{name}"));
+            }
+            // Reset twice in one second.
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => n += 1,
+            Err(e) => return Err(Error::io(&path, e)),
+        }
+    }
 }
 
 /// Whether `name` is a plain Rust identifier (a function's name, not a description).
@@ -321,5 +379,28 @@ fn helper() {}
         assert!(error.contains("does not parse"), "{error}");
         assert!(!is_identifier("CameraRays (all of it)"));
         assert!(is_identifier("camera_basis"));
+    }
+
+    #[test]
+    fn what_a_reset_replaces_is_kept_where_git_and_grading_do_not_look() {
+        let root = std::env::temp_dir().join(format!("raylab-kept-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        // 2026-10-12T21:30:05Z.
+        let at = 1_791_840_605;
+        let lab = course::LabId::of(1);
+        let first = keep(&root, lab, "1.2", "mine", at).unwrap();
+        assert_eq!(first, "out/reset/lab01-lib-1.2-20261012T213005Z.rs");
+        // A second reset in the same second gets a file of its own.
+        let second = keep(&root, lab, "1.2", "mine again", at).unwrap();
+        assert_eq!(second, "out/reset/lab01-lib-1.2-20261012T213005Z-2.rs");
+        for (kept, text) in [(&first, "mine"), (&second, "mine again")] {
+            assert_eq!(std::fs::read_to_string(root.join(kept)).unwrap(), text);
+        }
+        // `out/` is what the handout's `.gitignore` (the repository's) leaves out, so a copy
+        // is nothing to commit; and no lab's sources, which grading takes.
+        let ignored = include_str!("../../../.gitignore");
+        assert!(ignored.lines().any(|line| line == "/out"), "{ignored}");
+        assert!(!first.starts_with("labs/"));
+        std::fs::remove_dir_all(&root).unwrap();
     }
 }

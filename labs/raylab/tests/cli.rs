@@ -562,8 +562,29 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     assert!(!handout.join("labs/raylab/tests").exists());
     assert!(!handout.join("reference/src/lab02.rs").exists());
 
-    // The student clones the handout and commits work on lab 1.
+    // The student clones the handout and commits work on lab 1. The handout's lock file is
+    // the one its workspace resolves to: cargo, reading it, leaves the clone and the handout
+    // as they are (a lock naming a package the handout lacks would be rewritten, and
+    // `--update` would refuse the handout).
     git(&dir, &["clone", "--quiet", h, s]);
+    for tree in [&student, &handout] {
+        let out = Command::new(env!("CARGO"))
+            .args(["metadata", "--offline", "--format-version", "1"])
+            .current_dir(tree)
+            .output()
+            .expect("cargo runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(
+            git(tree, &["status", "--porcelain"]),
+            "",
+            "{}",
+            tree.display()
+        );
+    }
     let lab01 = student.join("labs/lab01/src/lib.rs");
     let stubs = std::fs::read_to_string(&lab01).unwrap();
     let todo_1_1 = "todo!(\"Exercise 1.1: image_plane_coords (docs/lab01.md, Exercise 1.1)\")";
@@ -607,6 +628,12 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
         git(&handout, &["log", "-1", "--format=%s"]).trim(),
         "release: solutions of lab 1"
     );
+    // The command that merges a release with a student's commits (a plain `git pull` stops
+    // at their diverged branch).
+    assert!(
+        stdout.contains("students run `git pull --no-rebase`"),
+        "{stdout}"
+    );
     git(&student, &["pull", "--quiet", "--no-rebase", "--no-edit"]);
     assert!(student.join("reference/src/lab01.rs").is_file());
     assert_eq!(
@@ -619,13 +646,27 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     assert_eq!(std::fs::read_to_string(&lab01).unwrap(), work);
     assert!(git(&student, &["status", "--porcelain"]).is_empty());
 
-    // `raylab reset 1.2` puts back 1.2's stub and keeps 1.1's work byte for byte.
+    // `raylab reset 1.2` puts back 1.2's stub and keeps 1.1's work byte for byte, and the
+    // file it replaced in `out/reset/`, which it names: nothing git would commit.
     let (ok, stdout, stderr) = raylab(&["reset", "1.2", "--handout", s], &dir);
     assert!(ok, "{stderr}");
     assert!(stdout.contains("restored `camera_basis`"), "{stdout}");
     assert_eq!(
         std::fs::read_to_string(&lab01).unwrap(),
         stubs.replace(todo_1_1, "Vec2::ZERO // my 1.1")
+    );
+    let kept = |stdout: &str| {
+        let (_, rest) = stdout
+            .split_once(" is kept in ")
+            .unwrap_or_else(|| panic!("no copy named: {stdout}"));
+        let path = rest.split_whitespace().next().unwrap();
+        assert!(path.starts_with("out/reset/lab"), "{path}");
+        std::fs::read_to_string(student.join(path)).unwrap()
+    };
+    assert_eq!(kept(&stdout), work, "the file as it was, 1.2 half done");
+    assert_eq!(
+        git(&student, &["status", "--porcelain"]),
+        " M labs/lab01/src/lib.rs\n"
     );
     for (exercise, expected) in [
         ("1.6", "not one function of labs/lab01/src/lib.rs"),
@@ -686,11 +727,16 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
         repository_stubs.replace(todo_2_1, "None // mine"),
     )
     .unwrap();
-    let (ok, _, stderr) = raylab(&["reset", "2.1", "--handout", s], &dir);
+    let (ok, stdout, stderr) = raylab(&["reset", "2.1", "--handout", s], &dir);
     assert!(ok, "{stderr}");
     assert_eq!(
         std::fs::read_to_string(&student_lab02).unwrap(),
         repository_stubs
+    );
+    // Work never committed is what the copy keeps.
+    assert_eq!(
+        kept(&stdout),
+        repository_stubs.replace(todo_2_1, "None // mine")
     );
     std::fs::remove_dir_all(dir).ok();
 }

@@ -1,9 +1,12 @@
-//! A short term on raylab, end to end: the handout as a git repository that three students
-//! clone; two releases they pull without conflicts; lab 2 done, its written answers filled in;
-//! `raylab grade` with the course's due dates and the instructor's points for the answers, which
-//! penalises Bob's late submission from his commit's time; `raylab similarity`, which finds
-//! Bob's copy of Alice's work and not Carol's own; Gradescope's results with the images inline,
-//! a page per student for an LMS and Canvas's gradebook; every page checked in Chromium.
+//! A short term on raylab, end to end: the handout as a git repository that four students
+//! clone; the commands a student runs (`cargo test`, `status`, `report`), which leave a clone as
+//! it was; two releases they pull without conflicts; lab 2 done by three, its written answers
+//! filled in, and never started by Dave; `raylab grade` with the course's due dates and the
+//! instructor's points for the answers, which penalises Bob's late submission from his commit's
+//! time and finds no submission of Dave's (not a late one at the handout's time); `raylab
+//! similarity`, which finds Bob's copy of Alice's work and not Carol's own; Gradescope's
+//! results with the images inline, a page per student for an LMS and Canvas's gradebook; every
+//! page checked in Chromium.
 //!
 //! The trees are kept in `target/raylab-term-test/` to be looked at.
 
@@ -14,7 +17,8 @@ use std::time::Instant;
 
 use grading::prerequisite;
 use raylab_tests::workflow::{
-    cargo_in as cargo, check_in_browser, output_text, read, root, target_dir, workflow_target_dir,
+    cargo_in as cargo, check_in_browser, output_text, read, root, seed_target_dir, target_dir,
+    workflow_target_dir,
 };
 
 #[path = "../../../labs/raylab/tests/fixtures/lab02_class.rs"]
@@ -117,6 +121,15 @@ fn a_term_from_handout_to_gradebook() {
     );
     assert!(course.join("labs/lab02/answers.md").is_file());
     assert!(!course.join("docs/instructors.md").exists());
+    // Cargo, reading the handout's workspace, changes none of its files: its lock file is the
+    // one the workspace resolves to, and `--update` takes the repository below.
+    let (ok, out) = cargo(
+        &course,
+        &target_dir(),
+        &["metadata", "--offline", "--format-version", "1"],
+    );
+    assert!(ok, "{out}");
+    assert_eq!(git(&course, &["status", "--porcelain"], None), "");
     phase("handout repository written");
 
     // Three students clone it and do lab 2, each committing at their own time.
@@ -163,6 +176,46 @@ fn a_term_from_handout_to_gradebook() {
     }
     phase("three students cloned the handout and did lab 2");
 
+    // Dave clones it and runs what a student runs, which changes no file git tracks (nor adds
+    // one it does not ignore), and never commits.
+    let dave = work.join("class/dave");
+    git(
+        &work.join("class"),
+        &["clone", "--quiet", course_arg, "dave"],
+        None,
+    );
+    // A target directory of its own: a tree of the handout's layout shares its crates' builds
+    // by name, and another workflow's handout builds its own code of lab 1 in the workflows'.
+    let student_target = target_dir().join("raylab-term-student-target");
+    seed_target_dir(&student_target);
+    let (ok, out) = cargo(&dave, &student_target, &["test", "-p", "lab01"]);
+    assert!(!ok && out.contains("is not implemented yet"), "{out}");
+    let student = |args: &[&str]| {
+        let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
+        all.extend_from_slice(args);
+        let (ok, out) = cargo(&dave, &student_target, &all);
+        assert!(ok, "raylab {args:?} in a clone:\n{out}");
+        out
+    };
+    let status = student(&["status", "--lab", "1"]);
+    assert!(status.contains("lab01  0/"), "{status}");
+    student(&["report", "--lab", "1", "--quick"]);
+    assert!(dave.join("out/report/lab01").is_dir());
+    assert_eq!(
+        git(
+            &dave,
+            &["status", "--porcelain", "--untracked-files=all"],
+            None
+        ),
+        "",
+        "a student's commands leave the clone as it was"
+    );
+    // Where builds and figures go with cargo's own target directory: ignored as well.
+    let ignored = git(&dave, &["check-ignore", "target/debug/x", "out/x"], None);
+    assert_eq!(ignored.lines().count(), 2, "{ignored}");
+    clones.push(dave.clone());
+    phase("a fourth student ran the student commands and committed nothing");
+
     // Two releases, each one commit that every student pulls without a conflict.
     for (release, subject) in [
         ("1", "release: solutions of lab 1"),
@@ -180,13 +233,17 @@ fn a_term_from_handout_to_gradebook() {
             git(&course, &["log", "-1", "--format=%s"], None).trim(),
             subject
         );
-        for ((name, code, _), clone) in students.iter().zip(&clones) {
+        for (name, clone) in ["alice", "bob", "carol", "dave"].iter().zip(&clones) {
             let before = read(&clone.join("labs/lab02/answers.md"));
             git(
                 clone,
                 &["pull", "--quiet", "--no-rebase", "--no-edit"],
                 None,
             );
+            let code = students
+                .iter()
+                .find(|(student, _, _)| student == name)
+                .map_or(&stubs, |(_, code, _)| code);
             assert_eq!(
                 read(&clone.join("labs/lab02/src/lib.rs")),
                 *code,
@@ -262,6 +319,7 @@ fn a_term_from_handout_to_gradebook() {
     assert_eq!(field(&alice, "2.6"), "0", "{gradebook}");
     assert_eq!(field(&carol, "2.6"), field(&carol, "2.6"));
     check_lateness(&gradebook, &alice, &bob);
+    check_no_submission(&grades, &gradebook);
 
     // Alice's reports: the failed 2.6 with its images, her answers, the manual points.
     let report = read(&grades.join("alice/report.md"));
@@ -368,6 +426,68 @@ fn check_lateness(gradebook: &str, alice: &[(&str, &str)], bob: &[(&str, &str)])
     assert!(
         near(number(bob, "total"), exercises(bob) - penalty),
         "{gradebook}"
+    );
+}
+
+/// Dave never committed: his lab 2 is "no submission" in every file of the grading — not one
+/// made at the time of the handout's commits, which the test makes as it runs (on time or weeks
+/// late depending on the day) — and costs nothing.
+fn check_no_submission(grades: &Path, gradebook: &str) {
+    let dave = row(gradebook, "dave");
+    assert_eq!(
+        [
+            field(&dave, "lab02_due"),
+            field(&dave, "lab02_submitted"),
+            field(&dave, "lab02_days_late"),
+            field(&dave, "lab02_penalty"),
+        ],
+        [DUE, "no submission", "", "0"],
+        "{gradebook}"
+    );
+    let exercises: f64 = dave
+        .iter()
+        .filter(|(h, _)| h.starts_with("2."))
+        .map(|(_, v)| v.parse::<f64>().unwrap())
+        .sum();
+    assert_eq!(
+        field(&dave, "total").parse::<f64>(),
+        Ok(exercises),
+        "{gradebook}"
+    );
+    let line = format!(
+        "due {DUE}; no submission (no commit but the handout's own changed labs/lab02/src/ or labs/lab02/answers.md); not late: no penalty"
+    );
+    for file in ["dave/report.md", "dave/report.html", "index.html"] {
+        let text = read(&grades.join(file));
+        assert!(text.contains(&line), "{file}: {text}");
+    }
+    for file in ["dave/report.md", "dave/report.html"] {
+        let text = read(&grades.join(file));
+        assert!(!text.contains(" late ("), "{file}: {text}");
+    }
+    let results: serde_json::Value =
+        serde_json::from_str(&read(&grades.join("dave/results.json"))).expect("JSON");
+    assert!(
+        results["output"].as_str().unwrap().contains(&line),
+        "{results}"
+    );
+    let tests: f64 = results["tests"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["score"].as_f64().unwrap())
+        .sum();
+    assert_eq!(
+        results["score"].as_f64(),
+        Some(tests),
+        "no penalty: {results}"
+    );
+    let canvas = read(&grades.join("canvas.csv"));
+    assert!(
+        canvas
+            .lines()
+            .any(|l| l.starts_with("dave,") && l.ends_with(&format!(",{exercises}"))),
+        "{canvas}"
     );
 }
 

@@ -105,7 +105,8 @@ pub struct GradeArgs {
     pub course: Option<PathBuf>,
     /// When a student submitted (repeatable): `STUDENT=2026-10-05T23:59:00+02:00`. Otherwise
     /// the time of the last git commit that changed the lab's sources or answers, if the
-    /// submission is a git repository.
+    /// submission is a git repository; with no such commit but the handout's own, "no
+    /// submission" (never late).
     #[arg(long, value_name = "STUDENT=TIME")]
     pub submitted_at: Vec<String>,
     /// The students' submission times as CSV, columns `student,submitted_at`.

@@ -13,7 +13,7 @@ use raylab_core::Error;
 
 use crate::bench::median;
 
-use super::term::{CourseTerms, LabDeadline, Lateness, ManualPoints, rfc3339};
+use super::term::{CourseTerms, LabDeadline, Lateness, ManualPoints, Submitted, rfc3339};
 use super::{ExerciseGrade, Status, StudentGrade, feedback};
 use crate::handout::io;
 
@@ -95,12 +95,19 @@ fn json_points(points: f64) -> serde_json::Value {
 }
 
 /// A lab's deadline in one line: due date (and whether extended), submission time and where it
-/// comes from, lateness, and the points it cost.
+/// comes from (or that there is no submission), lateness, and the points it cost.
 fn deadline_line(grade: &StudentGrade, deadline: &LabDeadline) -> String {
-    let submitted = deadline.submitted.as_ref().map_or_else(
-        || "not known".to_string(),
-        |t| format!("{} ({})", rfc3339(t), deadline.submitted_source),
-    );
+    let lab = deadline.lab;
+    let submitted = match &deadline.submitted {
+        Submitted::At(time, source) => format!("submitted {} ({source})", rfc3339(time)),
+        Submitted::Nothing => format!(
+            "no submission (no commit but the handout's own changed {}/src/ or {})",
+            lab.folder(),
+            lab.answers()
+        ),
+        Submitted::Unknown(None) => "submitted not known".into(),
+        Submitted::Unknown(Some(why)) => format!("submitted not known ({why})"),
+    };
     let penalty = grade.lab_penalty(deadline.lab);
     let cost = match &deadline.lateness {
         Lateness::Late { fraction, .. } => format!(
@@ -112,7 +119,7 @@ fn deadline_line(grade: &StudentGrade, deadline: &LabDeadline) -> String {
         _ => String::new(),
     };
     format!(
-        "due {}{}; submitted {submitted}; {}{cost}",
+        "due {}{}; {submitted}; {}{cost}",
         rfc3339(&deadline.due),
         if deadline.extended { " (extended)" } else { "" },
         deadline.lateness.describe()
@@ -605,9 +612,13 @@ fn gradebook(grades: &[StudentGrade]) -> String {
             match grade.deadline(lab) {
                 Some(d) => row.extend([
                     rfc3339(&d.due),
-                    d.submitted.as_ref().map(rfc3339).unwrap_or_default(),
+                    match &d.submitted {
+                        Submitted::At(time, _) => rfc3339(time),
+                        Submitted::Nothing => "no submission".into(),
+                        Submitted::Unknown(_) => String::new(),
+                    },
                     match d.lateness {
-                        Lateness::Unknown => String::new(),
+                        Lateness::Unknown | Lateness::NoSubmission => String::new(),
                         _ => format!("{:.2}", d.lateness.days_late()),
                     },
                     pts(grade.lab_penalty(lab)),
@@ -721,30 +732,16 @@ fn junit(grades: &[StudentGrade]) -> String {
 
 /// The grader's version and the time of writing, for the foot of every report.
 fn stamp() -> String {
-    let seconds = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
     format!(
         "raylab {} (grader), {}",
         env!("CARGO_PKG_VERSION"),
-        utc_time(seconds)
+        utc_time(crate::utc::now())
     )
 }
 
-/// `seconds` since the Unix epoch as `YYYY-MM-DD HH:MM UTC` (the proleptic Gregorian calendar,
-/// by the days-to-civil algorithm of Howard Hinnant).
+/// `seconds` since the Unix epoch as `YYYY-MM-DD HH:MM UTC`.
 fn utc_time(seconds: u64) -> String {
-    let days = (seconds / 86_400) as i64;
-    let (hour, minute) = ((seconds % 86_400) / 3600, (seconds % 3600) / 60);
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
+    let [year, month, day, hour, minute, _] = crate::utc::date_time(seconds);
     format!("{year:04}-{month:02}-{day:02} {hour:02}:{minute:02} UTC")
 }
 
@@ -1159,9 +1156,12 @@ mod tests {
             lab: LabId::of(1),
             due,
             extended: false,
-            submitted: Some(submitted),
-            submitted_source: "git commit".into(),
-            lateness: Lateness::assess(&due, Some(&submitted), &policy),
+            submitted: Submitted::At(submitted, "git commit".into()),
+            lateness: Lateness::assess(
+                &due,
+                &Submitted::At(submitted, "git commit".into()),
+                &policy,
+            ),
         }];
         class[0].manual = vec![
             ManualPoints {
@@ -1185,16 +1185,14 @@ mod tests {
                 lab: LabId::of(1),
                 due,
                 extended: false,
-                submitted: None,
-                submitted_source: String::new(),
+                submitted: Submitted::Unknown(None),
                 lateness: Lateness::Unknown,
             },
             LabDeadline {
                 lab: LabId::of(2),
                 due: time("2026-10-14T23:59:00+02:00"),
                 extended: true,
-                submitted: Some(submitted),
-                submitted_source: "given".into(),
+                submitted: Submitted::At(submitted, "given".into()),
                 lateness: Lateness::OnTime,
             },
         ];
@@ -1255,5 +1253,74 @@ mod tests {
         fs::remove_dir_all(&dir).unwrap();
         let ungraded = ungraded_results("labs/ holds no lab's sources");
         insta::assert_snapshot!("results-ungraded.json", unstamped(&ungraded));
+    }
+
+    /// A lab not submitted (its files as the handout's commits left them) is "no submission" in
+    /// every file a grading writes, and costs nothing, where a submission at the handout's
+    /// time would be a week late at half the lab a day.
+    #[test]
+    fn no_submission_is_never_late_in_any_grade_file() {
+        let mut class = fixed_class();
+        let terms = CourseTerms::parse(
+            Path::new("course.toml"),
+            "[late]\npenalty_per_day = 0.5\n\n[labs.1]\ndue = 2026-09-21T23:59:00+02:00\n",
+            None,
+        )
+        .unwrap();
+        let lab = LabId::of(1);
+        class[1].deadlines = super::super::term::deadlines(
+            &class[1].student.clone(),
+            &[lab],
+            Some(&terms),
+            &|_| Submitted::Nothing,
+            None,
+        );
+        let grace = &class[1];
+        assert_eq!(grace.deadlines[0].lateness, Lateness::NoSubmission);
+        assert_eq!((grace.lab_penalty(lab), grace.lab_score(lab)), (0.0, 7.0));
+        let line = "due 2026-09-21T23:59:00+02:00; no submission (no commit but the handout's own changed labs/lab01/src/ or labs/lab01/answers.md); not late: no penalty";
+        let report = markdown(grace);
+        assert!(report.contains(&format!("Deadline: {line}.")), "{report}");
+        let page = html(grace);
+        assert!(page.contains(line), "{page}");
+        let class_page = index(&class, None);
+        assert!(class_page.contains(line), "{class_page}");
+        // (The class page has Ada's late lab beside it.)
+        for text in [&report, &page] {
+            assert!(!text.contains(" late (") && !text.contains("penalty 50%"));
+        }
+        let dir = std::env::temp_dir().join(format!("raylab-no-submission-{}", std::process::id()));
+        let results = gradescope(grace, &dir);
+        let output = results["output"].as_str().unwrap();
+        assert!(output.contains(&format!("Lab 01: {line}.")), "{output}");
+        let tests: f64 = results["tests"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t["score"].as_f64().unwrap())
+            .sum();
+        assert_eq!(results["score"].as_f64(), Some(tests), "{results}");
+        let gradebook = gradebook(&class);
+        let mut rows = csv::Reader::from_reader(gradebook.as_bytes());
+        let header = rows.headers().unwrap().clone();
+        let row = rows.records().nth(1).unwrap().unwrap();
+        let field = |name: &str| &row[header.iter().position(|h| h == name).unwrap()];
+        assert_eq!(
+            (
+                field("lab01_submitted"),
+                field("lab01_days_late"),
+                field("lab01_penalty"),
+                field("total")
+            ),
+            ("no submission", "", "0", "7"),
+            "{gradebook}"
+        );
+        let canvas = canvas(&class, Some(&terms));
+        assert!(
+            canvas
+                .lines()
+                .any(|l| l.starts_with("\"grace, \"\"g\"\"\",") && l.ends_with(",7,0")),
+            "{canvas}"
+        );
     }
 }

@@ -5,7 +5,9 @@
 //! A lab submitted after its due date (the student's extension, if any) loses
 //! `penalty_per_day` of the lab's points for every day or part of a day late, counted from the
 //! due date; a submission within the grace period after the due date loses nothing; one more
-//! than `cap_days` days late is not accepted and scores 0 for the lab.
+//! than `cap_days` days late is not accepted and scores 0 for the lab. A lab the student never
+//! submitted — their clone of the handout has no commit of theirs that changes the lab, and its
+//! files are as committed — is "no submission": not late, and no penalty.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -50,11 +52,27 @@ impl Default for LatePolicy {
     }
 }
 
+/// When one lab was submitted, as far as the submission tells.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Submitted {
+    /// At this time, known from this source ("given", "git commit", "Gradescope").
+    At(Time, String),
+    /// Not at all: the submission is a git repository in which no commit after the handout's
+    /// changed the lab's sources or answers (every commit that did is the handout's own, or
+    /// there is none), and the lab's files are as its last commit holds them.
+    Nothing,
+    /// Not known: no time given and no git history to take it from, or, with the reason, a
+    /// lab whose files were changed and never committed.
+    Unknown(Option<String>),
+}
+
 /// How late a submission was for one lab.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Lateness {
     /// The submission's time is not known: no penalty.
     Unknown,
+    /// Nothing was submitted: not late, no penalty.
+    NoSubmission,
     /// At or before the due date.
     OnTime,
     /// After the due date, within the grace period: no penalty.
@@ -81,10 +99,12 @@ pub enum Lateness {
 }
 
 impl Lateness {
-    /// Judges a submission at `submitted` (if known) against `due` under `policy`.
-    pub fn assess(due: &Time, submitted: Option<&Time>, policy: &LatePolicy) -> Self {
-        let Some(submitted) = submitted else {
-            return Self::Unknown;
+    /// Judges a submission made as `submitted` says against `due` under `policy`.
+    pub fn assess(due: &Time, submitted: &Submitted, policy: &LatePolicy) -> Self {
+        let submitted = match submitted {
+            Submitted::At(time, _) => time,
+            Submitted::Nothing => return Self::NoSubmission,
+            Submitted::Unknown(_) => return Self::Unknown,
         };
         let seconds = (*submitted - *due).num_seconds();
         if seconds <= 0 {
@@ -120,6 +140,7 @@ impl Lateness {
     pub fn describe(&self) -> String {
         match self {
             Self::Unknown => "unknown (no submission time): no penalty".into(),
+            Self::NoSubmission => "not late: no penalty".into(),
             Self::OnTime => "on time".into(),
             Self::InGrace { seconds } => {
                 format!(
@@ -146,7 +167,7 @@ impl Lateness {
             Self::InGrace { seconds }
             | Self::Late { seconds, .. }
             | Self::PastCap { seconds, .. } => *seconds as f64 / DAY as f64,
-            Self::Unknown | Self::OnTime => 0.0,
+            Self::Unknown | Self::NoSubmission | Self::OnTime => 0.0,
         }
     }
 }
@@ -171,10 +192,8 @@ pub struct LabDeadline {
     pub due: Time,
     /// Whether `due` is an extension's.
     pub extended: bool,
-    /// When it was submitted, if known.
-    pub submitted: Option<Time>,
-    /// Where the submission time comes from ("given", "git commit", "Gradescope").
-    pub submitted_source: String,
+    /// When it was submitted, and where that comes from.
+    pub submitted: Submitted,
     /// How late, and what it costs.
     pub lateness: Lateness,
 }
@@ -598,15 +617,25 @@ impl SubmissionTimes {
         Ok(Self { given })
     }
 
-    /// The time of `student`'s submission of `lab` at `dir`, and where it comes from: the time
-    /// given, else that of the last commit that changed the lab's sources or answers (a pull
-    /// of a release later is no new submission).
-    pub fn of(&self, student: &str, dir: &Path, lab: LabId) -> Option<(Time, String)> {
+    /// When `student` submitted `lab` at `dir`: at the time given; else, in a git repository,
+    /// at the committer time of the last commit that changed the lab's sources or answers and
+    /// is not the handout's own (a release pulled later is no new submission, and neither is
+    /// the handout: a clone with no commit of the student's own for the lab submitted nothing,
+    /// unless its files of the lab differ from that commit — changed and never committed, when
+    /// is not known); else not known.
+    pub fn of(&self, student: &str, dir: &Path, lab: LabId) -> Submitted {
         if let Some(time) = self.given.get(student) {
-            return Some((*time, "given".into()));
+            return Submitted::At(*time, "given".into());
         }
-        let paths = [format!("{}/src", lab.folder()), lab.answers()];
-        commit_time(dir, &paths).map(|t| (t, "git commit".into()))
+        let (sources, answers) = (format!("{}/src", lab.folder()), lab.answers());
+        match last_commit(dir, &[sources.clone(), answers.clone()]) {
+            History::Unreadable => Submitted::Unknown(None),
+            History::Own(time) => Submitted::At(time, "git commit".into()),
+            History::HandoutOnly if as_committed(dir, lab) => Submitted::Nothing,
+            History::HandoutOnly => Submitted::Unknown(Some(format!(
+                "{sources}/ or {answers} changed since the last commit, which is the handout's"
+            ))),
+        }
     }
 }
 
@@ -637,10 +666,11 @@ fn csv_with_header<'a>(
     Ok(reader)
 }
 
-/// The committer time of the last commit that changed `paths` (all of them: none given) in the
-/// git repository at `dir` (only when `dir` is the repository's root), read without running the
-/// repository's hooks, pager, signature checks or file-system monitor.
-pub fn commit_time(dir: &Path, paths: &[String]) -> Option<Time> {
+/// The standard output of `git ARGS` in the git repository at `dir` (only when `dir` is the
+/// repository's root), run without the repository's hooks, pager, signature checks or
+/// file-system monitor, and only with commands that run no filter or diff program of its
+/// configuration; `None` when git fails.
+fn submission_git(dir: &Path, args: &[&str]) -> Option<Vec<u8>> {
     if !dir.join(".git").exists() {
         return None;
     }
@@ -658,18 +688,112 @@ pub fn commit_time(dir: &Path, paths: &[String]) -> Option<Time> {
         .arg(format!("safe.directory={}", absolute.display()))
         .arg("-C")
         .arg(&absolute)
-        .args(["log", "-1", "--format=%cI", "--"])
-        .args(paths)
+        .args(args)
         .env("GIT_TERMINAL_PROMPT", "0")
         .stdin(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .output()
         .ok()?;
-    if !output.status.success() {
-        return None;
+    output.status.success().then_some(output.stdout)
+}
+
+/// What a submission's git history says of the commits that changed some of its files.
+#[derive(Clone, Debug, PartialEq)]
+enum History {
+    /// No history to read: not the root of a git repository, or git fails.
+    Unreadable,
+    /// The committer time of the last one that is not the handout's own.
+    Own(Time),
+    /// Every one is the handout's own (committed by `raylab handout` as
+    /// [`crate::git::HANDOUT_EMAIL`]), or there is none.
+    HandoutOnly,
+}
+
+/// The commits the history of one submission is read back through, at most, for a commit of
+/// the student's own (a clone of the handout has the handout's first commit and one per
+/// release before it).
+const HISTORY_LIMIT: &str = "--max-count=10000";
+
+/// What the git repository at `dir` says of the commits that changed `paths`.
+fn last_commit(dir: &Path, paths: &[String]) -> History {
+    let Some(output) = submission_git(
+        dir,
+        &[
+            &["log", HISTORY_LIMIT, "--format=%ae%x00%cI", "--"][..],
+            &paths.iter().map(String::as_str).collect::<Vec<_>>(),
+        ]
+        .concat(),
+    ) else {
+        return History::Unreadable;
+    };
+    let text = String::from_utf8_lossy(&output);
+    let own = text
+        .lines()
+        .filter_map(|line| line.split_once('\0'))
+        .find(|(author, _)| *author != crate::git::HANDOUT_EMAIL);
+    match own.map(|(_, time)| parse_time(time)) {
+        Some(Ok(time)) => History::Own(time),
+        Some(Err(_)) => History::Unreadable,
+        None => History::HandoutOnly,
     }
-    let text = String::from_utf8(output.stdout).ok()?;
-    parse_time(text.lines().next()?).ok()
+}
+
+/// Whether lab `lab`'s files in the submission at `dir` — the regular files of its `src/` as
+/// grading takes them, and its answers — are the ones the repository's last commit holds.
+fn as_committed(dir: &Path, lab: LabId) -> bool {
+    use std::collections::BTreeMap;
+    let (sources, answers) = (format!("{}/src", lab.folder()), lab.answers());
+    let Some(listing) = submission_git(
+        dir,
+        &[
+            "ls-tree", "-r", "-l", "-z", "HEAD", "--", &sources, &answers,
+        ],
+    ) else {
+        return false;
+    };
+    // `<mode> blob <object> <size>\t<path>` for each file.
+    let mut committed = BTreeMap::new();
+    for entry in listing.split(|&b| b == 0).filter(|e| !e.is_empty()) {
+        let entry = String::from_utf8_lossy(entry);
+        let Some((info, path)) = entry.split_once('\t') else {
+            return false;
+        };
+        let fields: Vec<&str> = info.split_whitespace().collect();
+        let [mode, "blob", object, size] = fields[..] else {
+            return false;
+        };
+        let regular = mode == "100644" || mode == "100755";
+        if !regular
+            || size
+                .parse::<u64>()
+                .is_ok_and(|s| s > super::submission::MAX_FILE_BYTES)
+        {
+            return false;
+        }
+        let Some(contents) = submission_git(dir, &["cat-file", "blob", object]) else {
+            return false;
+        };
+        committed.insert(path.to_string(), contents);
+    }
+    let taken = super::submission::lab_sources(dir, lab);
+    if !taken.rejected.is_empty() {
+        return false;
+    }
+    let mut present: BTreeMap<String, Vec<u8>> = BTreeMap::new();
+    for (relative, contents) in taken.files.unwrap_or_default() {
+        present.insert(
+            format!("{sources}/{}", relative.to_string_lossy()),
+            contents,
+        );
+    }
+    match super::submission::read_answers(dir, lab) {
+        Ok(Some(text)) => {
+            present.insert(answers, text.into_bytes());
+        }
+        Ok(None) => {}
+        Err(_) => return false,
+    }
+    present == committed
 }
 
 /// What Gradescope's `/autograder/submission_metadata.json` says of one submission's time.
@@ -741,7 +865,7 @@ pub fn deadlines(
     student: &str,
     labs: &[LabId],
     terms: Option<&CourseTerms>,
-    submitted: &dyn Fn(LabId) -> Option<(Time, String)>,
+    submitted: &dyn Fn(LabId) -> Submitted,
     gradescope: Option<&GradescopeSubmission>,
 ) -> Vec<LabDeadline> {
     let mut out = Vec::new();
@@ -752,7 +876,7 @@ pub fn deadlines(
                 Some(due) => (
                     due,
                     g.extended,
-                    Some((g.submitted, "Gradescope".to_string())),
+                    Submitted::At(g.submitted, "Gradescope".to_string()),
                 ),
                 None => continue,
             },
@@ -761,13 +885,12 @@ pub fn deadlines(
                 None => continue,
             },
         };
-        let lateness = Lateness::assess(&due, submitted.as_ref().map(|(t, _)| t), &policy);
+        let lateness = Lateness::assess(&due, &submitted, &policy);
         out.push(LabDeadline {
             lab,
             due,
             extended,
-            submitted: submitted.as_ref().map(|(t, _)| *t),
-            submitted_source: submitted.map(|(_, s)| s).unwrap_or_default(),
+            submitted,
             lateness,
         });
     }
@@ -915,7 +1038,7 @@ mod tests {
     #[test]
     fn lateness_on_time_in_grace_late_and_past_the_cap() {
         let due = time("2026-10-05T23:59:00+02:00");
-        let at = |t: &str| Lateness::assess(&due, Some(&time(t)), &POLICY);
+        let at = |t: &str| Lateness::assess(&due, &Submitted::At(time(t), "given".into()), &POLICY);
         assert_eq!(at("2026-10-05T23:59:00+02:00"), Lateness::OnTime);
         // The same instant in another offset.
         assert_eq!(at("2026-10-05T21:59:00Z"), Lateness::OnTime);
@@ -946,8 +1069,15 @@ mod tests {
             }
         );
         assert_eq!(at("2026-10-09T00:00:00+02:00").fraction(), 1.0);
-        assert_eq!(Lateness::assess(&due, None, &POLICY), Lateness::Unknown);
+        assert_eq!(
+            Lateness::assess(&due, &Submitted::Unknown(None), &POLICY),
+            Lateness::Unknown
+        );
         assert_eq!(Lateness::Unknown.fraction(), 0.0);
+        // Nothing submitted is not late, however long after the due date it is graded.
+        let none = Lateness::assess(&due, &Submitted::Nothing, &POLICY);
+        assert_eq!(none, Lateness::NoSubmission);
+        assert_eq!((none.fraction(), none.days_late()), (0.0, 0.0));
     }
 
     #[test]
@@ -958,7 +1088,8 @@ mod tests {
             grace_minutes: 0,
             cap_days: None,
         };
-        let late = Lateness::assess(&due, Some(&time("2026-10-09T00:00:00Z")), &policy);
+        let submitted = Submitted::At(time("2026-10-09T00:00:00Z"), "given".into());
+        let late = Lateness::assess(&due, &submitted, &policy);
         assert_eq!(late.fraction(), 1.0);
     }
 
@@ -1036,7 +1167,7 @@ sis_login_id = "ada@uni.example"
             "ada",
             &[one, LabId::of(3)],
             Some(&terms),
-            &|_| Some((time("2026-10-07T11:59:00+02:00"), "given".into())),
+            &|_| Submitted::At(time("2026-10-07T11:59:00+02:00"), "given".into()),
             None,
         );
         assert_eq!(ds.len(), 1);
@@ -1098,53 +1229,87 @@ sis_login_id = "ada@uni.example"
     }
 
     #[test]
-    fn a_submission_repository_gives_its_last_commit_time() {
+    fn a_submission_repository_gives_the_time_of_the_students_last_commit() {
         let dir = std::env::temp_dir().join(format!("raylab-commit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
-        assert_eq!(commit_time(&dir, &[]), None, "not a repository");
-        let git = |args: &[&str], date: &str| {
+        let times =
+            SubmissionTimes::new(&["ada=2026-10-05T10:00:00Z".into()], None, &students()).unwrap();
+        let (one, two) = (LabId::of(1), LabId::of(2));
+        assert_eq!(
+            times.of("grace", &dir, one),
+            Submitted::Unknown(None),
+            "not a repository"
+        );
+        // git as `email`, committing at `date`.
+        let git = |args: &[&str], email: &str, date: &str| {
             let status = std::process::Command::new("git")
-                .args([
-                    "-c",
-                    "user.name=t",
-                    "-c",
-                    "user.email=t@t",
-                    "-c",
-                    "commit.gpgsign=false",
-                ])
+                .args(["-c", "user.name=t", "-c", "commit.gpgsign=false", "-c"])
+                .arg(format!("user.email={email}"))
                 .args(args)
                 .current_dir(&dir)
+                .env("GIT_AUTHOR_DATE", date)
                 .env("GIT_COMMITTER_DATE", date)
                 .status()
                 .unwrap();
             assert!(status.success());
         };
-        let (worked, pulled) = ("2026-10-07T11:59:00+02:00", "2026-10-20T09:00:00+02:00");
-        git(&["init", "-q"], worked);
-        std::fs::create_dir_all(dir.join("labs/lab01/src")).unwrap();
-        std::fs::write(dir.join("labs/lab01/src/lib.rs"), "work").unwrap();
-        git(&["add", "."], worked);
-        git(&["commit", "-qm", "work"], worked);
-        // A later commit of the course's files (a release pulled) is no new submission of lab 1.
-        std::fs::write(dir.join("README.md"), "release").unwrap();
-        git(&["add", "."], pulled);
-        git(&["commit", "-qm", "release"], pulled);
-        assert_eq!(commit_time(&dir, &[]), Some(time(pulled)));
-        let one = LabId::of(1);
-        let times =
-            SubmissionTimes::new(&["ada=2026-10-05T10:00:00Z".into()], None, &students()).unwrap();
-        assert_eq!(
-            times.of("ada", &dir, one),
-            Some((time("2026-10-05T10:00:00Z"), "given".into()))
+        let put = |file: &str, text: &str| {
+            let path = dir.join(file);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, text).unwrap();
+        };
+        let (handout, student) = (crate::git::HANDOUT_EMAIL, "grace@uni.example");
+        let (handed_out, worked, released) = (
+            "2026-09-28T09:00:00+02:00",
+            "2026-10-07T11:59:00+02:00",
+            "2026-10-20T09:00:00+02:00",
         );
+        git(&["init", "-q"], handout, handed_out);
+        put("labs/lab01/src/lib.rs", "stub");
+        put("labs/lab01/answers.md", "questions");
+        put("labs/lab02/src/lib.rs", "stub");
+        git(&["add", "."], handout, handed_out);
+        git(&["commit", "-qm", "raylab handout"], handout, handed_out);
+        // The handout as it was handed out: no submission (not one at the handout's time).
+        assert_eq!(times.of("grace", &dir, one), Submitted::Nothing);
+        // Changed and never committed: when is not known.
+        put("labs/lab01/answers.md", "questions, answered");
+        let Submitted::Unknown(Some(why)) = times.of("grace", &dir, one) else {
+            panic!("{:?}", times.of("grace", &dir, one));
+        };
+        assert!(
+            why.contains("labs/lab01/src/ or labs/lab01/answers.md"),
+            "{why}"
+        );
+        // Committed: the commit's time.
+        put("labs/lab01/src/lib.rs", "work");
+        git(&["commit", "-qam", "lab 1"], student, worked);
         assert_eq!(
             times.of("grace", &dir, one),
-            Some((time(worked), "git commit".into()))
+            Submitted::At(time(worked), "git commit".into())
         );
+        // A release pulled later, even one that changes lab 1's files (forced), is the
+        // handout's: no new submission of lab 1, and still none of lab 2.
+        put("README.md", "release");
+        put("labs/lab01/src/fixed.rs", "a fixed stub");
+        git(&["add", "."], handout, released);
+        git(&["commit", "-qm", "release"], handout, released);
         assert_eq!(
-            times.of("grace", &dir, LabId::of(2)),
-            None,
-            "no commit of lab 2"
+            times.of("grace", &dir, one),
+            Submitted::At(time(worked), "git commit".into())
+        );
+        assert_eq!(times.of("grace", &dir, two), Submitted::Nothing);
+        // A file of lab 2 never committed is a change too.
+        put("labs/lab02/src/extra.rs", "mine");
+        assert!(matches!(
+            times.of("grace", &dir, two),
+            Submitted::Unknown(Some(_))
+        ));
+        // A time given comes first.
+        assert_eq!(
+            times.of("ada", &dir, two),
+            Submitted::At(time("2026-10-05T10:00:00Z"), "given".into())
         );
         std::fs::remove_dir_all(&dir).unwrap();
         let e = SubmissionTimes::new(&["zed=2026-10-05T10:00:00Z".into()], None, &students())
@@ -1217,11 +1382,24 @@ sis_login_id = "ada@uni.example"
         let g = GradescopeSubmission::parse(path, plain).unwrap();
         assert_eq!(g.due, Some(time("2026-10-05T23:59:00+02:00")));
         assert!(!g.extended);
-        let late = deadlines("ada", &[LabId::of(1)], None, &|_| None, Some(&g));
+        // Gradescope's time, whatever the submission's history says.
+        let late = deadlines(
+            "ada",
+            &[LabId::of(1)],
+            None,
+            &|_| Submitted::Nothing,
+            Some(&g),
+        );
         // Late, but with no course file no penalty.
         assert_eq!(late[0].lateness.fraction(), 0.0);
         assert!(matches!(late[0].lateness, Lateness::Late { days: 2, .. }));
-        assert_eq!(late[0].submitted_source, "Gradescope");
+        assert_eq!(
+            late[0].submitted,
+            Submitted::At(
+                time("2026-10-07T11:59:00.365935+02:00"),
+                "Gradescope".into()
+            )
+        );
         let extended = plain.replace(
             r#""name": "Ada"}"#,
             r#""name": "Ada", "assignment": {"due_date": "2026-10-08T23:59:00+02:00"}}"#,

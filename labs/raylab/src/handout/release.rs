@@ -3,7 +3,9 @@
 //! `raylab handout --out DIR` makes DIR a repository on branch `main` with one commit; the
 //! instructor publishes it and students clone it. `raylab handout --update DIR` builds the tree
 //! again (with more solutions released, or the course's fixes) and brings DIR's work tree to
-//! it as one new commit, which students `git pull`. A release never changes a student-owned
+//! it as one new commit, which students `git pull --no-rebase` (a merge with their own
+//! commits; git reads no setting from a repository's tracked files, so a plain `git pull`
+//! cannot be made to merge from here). A release never changes a student-owned
 //! file that DIR already has — a lab's `labs/labNN/src/**` and `labs/labNN/answers.md` — so
 //! the pull merges with the students' own commits without conflicts.
 
@@ -236,12 +238,12 @@ pub fn update(args: &HandoutArgs, dir: &Path) -> Result<(), Error> {
             return Err(Error::Invalid {
                 what: format!("--update {}", dir.display()),
                 reason: format!(
-                    "the release would change files that students own and edit: {files}; students who changed them would get a merge conflict on `git pull`. Leave them as they are in the course repository, or pass --force to release them anyway"
+                    "the release would change files that students own and edit: {files}; students who changed them would get a merge conflict when they pull it. Leave them as they are in the course repository, or pass --force to release them anyway"
                 ),
             });
         }
         eprintln!(
-            "warning: --force: the release changes student-owned files ({files}); students who changed them will get a merge conflict on `git pull`"
+            "warning: --force: the release changes student-owned files ({files}); students who changed them will get a merge conflict when they pull it"
         );
     }
     let up_to_date = || {
@@ -302,7 +304,7 @@ pub fn update(args: &HandoutArgs, dir: &Path) -> Result<(), Error> {
     )?;
     let head = git_text(dir, &["rev-parse", "--short", "HEAD"])?;
     println!(
-        "{}: committed {} \"{message}\" ({details}) Publish it (git push) and students run `git pull`.",
+        "{}: committed {} \"{message}\" ({details}) Publish it (git push) and students run `git pull --no-rebase` (a plain `git pull` stops at \"Need to specify how to reconcile divergent branches\" for a student who has committed).",
         dir.display(),
         head.trim()
     );
