@@ -794,7 +794,11 @@ fn grade_submission(
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
         match submission::read_answers(submission, lab) {
-            Ok(Some(text)) => written.push(answers::LabAnswers::read(lab, &text)),
+            Ok(Some(text)) => {
+                let mut lab_answers = answers::LabAnswers::read(lab, &text);
+                rejected.extend(lab_answers.take_images(submission, dir)?);
+                written.push(lab_answers);
+            }
             Ok(None) => {}
             Err(line) => rejected.push(line),
         }
