@@ -2,7 +2,8 @@
 //! answers show it as `figures/NAME.png`, `report` copies it beside them where git keeps it, a
 //! clone of the student's repository (without `out/`) carries it, and `grade` takes it into
 //! `report.md`, `report.html`, the page for an LMS and Gradescope's `results.json`, byte for
-//! byte; an image the answers name outside the submission is named as not taken.
+//! byte; an image the answers name outside the submission is named as not taken. The grading's
+//! output, not a terminal, is a log of plain lines: the submission, the lab built, each exercise.
 //!
 //! The trees are kept in `target/raylab-answer-figures-test/` to be looked at.
 
@@ -116,7 +117,7 @@ fn a_figure_travels_from_the_report_to_the_instructor_s_pages() {
 
     let grades = work.join("grades");
     let target = workflow_target_dir();
-    raylab(&[
+    let log = raylab(&[
         "grade",
         submission.to_str().unwrap(),
         "--out",
@@ -128,6 +129,16 @@ fn a_figure_travels_from_the_report_to_the_instructor_s_pages() {
         "--target-dir",
         target.to_str().unwrap(),
     ]);
+    // Its output is no terminal: progress comes as plain lines, the points line too.
+    for line in [
+        "grading ada (1 of 1)",
+        "ada: labs/lab01/src compiled (",
+        "ada: Exercise 1.1 not started (",
+        "ada: 0/",
+        "graded 1 submission(s) in ",
+    ] {
+        assert!(log.contains(line), "{line:?} in:\n{log}");
+    }
 
     let taken = grades.join("ada/images/lab01/answers-1.png");
     assert_eq!(fs::read(&taken).unwrap(), figure, "the grader's copy");
