@@ -13,6 +13,67 @@ pub const PLACEHOLDER: &str = "<!-- Your answer here. -->";
 /// The largest answers file read (a submission's file may be anything).
 pub const FILE_LIMIT: u64 = 256 * 1024;
 
+/// The folder beside a lab's answers file (`labs/labNN/figures/`) that holds the figures the
+/// answers show: `raylab report` copies there each figure of its own that the answers name as
+/// `figures/NAME.png`, where git keeps it (git ignores `out/`).
+pub const FIGURES: &str = "figures";
+
+/// The most images of one lab's answers that grading takes.
+pub const MAX_IMAGES: usize = 16;
+
+/// The largest width or height, in pixels, of an image grading takes from the answers.
+pub const MAX_SIDE: u32 = 4096;
+
+/// An image shown in answers: Markdown's `![alt](target)` or `![alt](target "title")`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ImageLink {
+    /// Where in the text it is: from its `!` to its closing `)`.
+    pub range: std::ops::Range<usize>,
+    /// Its text (the caption).
+    pub alt: String,
+    /// Where it points, as written (without `<…>` and the title).
+    pub target: String,
+}
+
+/// The images `text` shows, in order: each inline Markdown image `![alt](target)` on one line
+/// (with an optional title, or the target in `<…>`). Reference-style images and HTML `<img>`
+/// are not read.
+pub fn image_links(text: &str) -> Vec<ImageLink> {
+    let mut links = Vec::new();
+    let mut from = 0;
+    while let Some(at) = text[from..].find("![").map(|i| from + i) {
+        from = at + 2;
+        let rest = &text[from..];
+        // The alt text: up to the first `]` (nested brackets are not read).
+        let Some(close) = rest.find(']') else { break };
+        let alt = &rest[..close];
+        let Some(inner) = rest[close + 1..].strip_prefix('(') else {
+            continue;
+        };
+        let Some(end) = inner.find(')') else { continue };
+        if alt.contains('\n') || inner[..end].contains('\n') {
+            continue;
+        }
+        let inside = inner[..end].trim();
+        let target = match inside.strip_prefix('<') {
+            Some(bracketed) => match bracketed.split_once('>') {
+                Some((target, _)) => target,
+                None => continue,
+            },
+            None => inside.split_whitespace().next().unwrap_or_default(),
+        };
+        // `inner` starts after `](`.
+        let start = from + close + 2;
+        links.push(ImageLink {
+            range: at..start + end + 1,
+            alt: alt.trim().to_string(),
+            target: target.to_string(),
+        });
+        from = start + end + 1;
+    }
+    links
+}
+
 /// One question of a lab's docs.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Question {
@@ -89,10 +150,14 @@ pub fn questions(docs: &str) -> Vec<Question> {
 pub fn template(lab: LabId, title: &str, questions: &[Question]) -> String {
     let mut out = format!(
         "# Lab {n:02} — {title}: written answers\n\n\
-         Answer each question under its heading, in Markdown (an image of your report as\n\
-         `![caption](../../out/report/{lab}/figure.png)`). Keep the `## Q…` headings as they\n\
+         Answer each question under its heading, in Markdown. Keep the `## Q…` headings as they\n\
          are: grading finds your answers by them. `raylab report --lab {n}` shows this file beside\n\
-         the figures, and `raylab grade` collects it for your instructor.\n",
+         the figures, and `raylab grade` collects it for your instructor.\n\n\
+         To show a figure of your report, write `![caption]({FIGURES}/NAME.png)`, NAME being a\n\
+         figure in `out/report/{lab}/`: `raylab report --lab {n}` copies each figure named so\n\
+         into `labs/{lab}/{FIGURES}/`, which git keeps (it ignores `out/`), and `raylab grade`\n\
+         collects it with this file (a PNG or JPEG of at most 1 MiB and {MAX_SIDE}×{MAX_SIDE}\n\
+         pixels, at most {MAX_IMAGES} images per lab).\n",
         n = lab.number()
     );
     for q in questions {
@@ -164,6 +229,25 @@ mod tests {
         assert_eq!(qs[0].body(), "How long? And why?");
         assert_eq!(qs[1].title, None);
         assert!(questions("# Lab\n\n## Questions\n\n**Why?** Because.\n").is_empty());
+    }
+
+    #[test]
+    fn the_images_of_an_answer_are_its_inline_markdown_images() {
+        let text = "See ![The rays](figures/rays.png) and ![fov]( <figures/my fov.jpg> \"t\" ).\n\
+                    Not ![this] nor ![that](\nx.png) nor [a link](y.png); ![last](../../out/a.png)";
+        let links = image_links(text);
+        let targets: Vec<&str> = links.iter().map(|l| l.target.as_str()).collect();
+        assert_eq!(
+            targets,
+            ["figures/rays.png", "figures/my fov.jpg", "../../out/a.png"]
+        );
+        assert_eq!(links[0].alt, "The rays");
+        assert_eq!(
+            &text[links[0].range.clone()],
+            "![The rays](figures/rays.png)"
+        );
+        assert_eq!(&text[links[2].range.clone()], "![last](../../out/a.png)");
+        assert!(image_links("![unclosed](x.png").is_empty());
     }
 
     #[test]

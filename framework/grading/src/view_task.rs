@@ -45,6 +45,8 @@ pub fn serve(job: &ViewJob, own: Pipeline, key: Option<Pipeline>) -> Result<(), 
         seed: job.seed,
         port: job.port,
         inspect: job.inspect,
+        target_error: view::TARGET_ERROR,
+        idle_after: view::IDLE_AFTER,
     };
     view::serve(scene, shown, &settings)
 }

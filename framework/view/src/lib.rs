@@ -4,7 +4,10 @@
 //! renders passes of a few samples per pixel through each pipeline (the student's and, beside
 //! it, the reference) with [`pipeline::render::render_partial`], so a panicking function
 //! marks its pixels instead of stopping anything; the passes accumulate into each pixel's mean
-//! until the camera moves, which starts the accumulation again at once.
+//! until the camera moves, which starts the accumulation again at once. The render pauses when
+//! the images have converged to [`TARGET_ERROR`] (the error estimated from the passes), and
+//! while no page asks for updates: a page's long poll keeps it going, and [`IDLE_AFTER`] after
+//! the last one it stops until a page asks again or the camera moves.
 //!
 //! The page ([`PAGE`], one HTML file with its script and style, embedded in the binary) asks
 //! for the state by long polling (`/wait`), fetches each pipeline's mean as linear float data
@@ -28,7 +31,7 @@ use pipeline::Pipeline;
 use raylab_core::Error;
 use raylab_core::scene::Scene;
 
-pub use accumulate::{FIRST_PASS_SAMPLES, MAX_PASSES, PASS_SAMPLES};
+pub use accumulate::{FIRST_PASS_SAMPLES, IDLE_AFTER, MAX_PASSES, PASS_SAMPLES, TARGET_ERROR};
 pub use routes::{PAGE, Route};
 
 use accumulate::Accumulator;
@@ -56,6 +59,11 @@ pub struct ViewSettings {
     pub port: u16,
     /// A pixel the page inspects as it opens.
     pub inspect: Option<[u32; 2]>,
+    /// The error at which the images have converged and the render stops until the camera
+    /// moves ([`TARGET_ERROR`]).
+    pub target_error: f32,
+    /// How long the render goes on after a page last asked for an update ([`IDLE_AFTER`]).
+    pub idle_after: std::time::Duration,
 }
 
 /// Serves the page on 127.0.0.1 until the process is stopped: prints its address as

@@ -9,7 +9,7 @@ use raylab_core::scene::CameraSetup;
 use serde_json::{Value, json};
 use tiny_http::{Header, Method, Request, Response};
 
-use crate::accumulate::{Accumulator, State};
+use crate::accumulate::{Accumulator, Paused, State};
 
 /// The page: HTML with its script and style, no file read and nothing fetched from elsewhere.
 pub const PAGE: &str = include_str!("page.html");
@@ -294,6 +294,11 @@ fn status(accumulator: &Accumulator, state: &State) -> Value {
         "generation": state.generation,
         "updates": state.updates,
         "passes": state.shown_passes(),
+        // Why the render is waiting, while it is: "converged", "idle", "done" or "all marked";
+        // and the images' estimated error against the target.
+        "paused": state.paused.map(Paused::word),
+        "error": state.error(),
+        "target_error": accumulator.target_error,
         "first_pass_seconds": state.first_pass_seconds,
         "camera": camera(&state.camera),
         "initial_camera": camera(&state.initial_camera),

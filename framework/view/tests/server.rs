@@ -1,10 +1,12 @@
 //! The view's server against requests a browser would not send: each gets a 4xx and the
 //! server goes on answering; a pipeline whose every function panics gives marked pixels; and
-//! only requests for its own address (`Host`) are answered.
+//! only requests for its own address (`Host`) are answered. And the render's pauses: it stops
+//! when no page asks for updates and when the image has converged, and goes on when a page
+//! asks again or the camera moves.
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use pipeline::Pipeline;
 use raylab_core::scene::builtin_scene;
@@ -62,6 +64,8 @@ fn start_view() -> String {
         seed: 0,
         port: 0,
         inspect: None,
+        target_error: view::TARGET_ERROR,
+        idle_after: view::IDLE_AFTER,
     };
     let view = View::start(scene, shown, &settings).unwrap();
     let url = view.url.clone();
@@ -233,4 +237,152 @@ fn only_requests_for_the_view_s_own_address_are_answered() {
         &format!("host:  localhost:{port} \r\n"),
     );
     assert_eq!(status, 200, "{state}");
+}
+
+/// A view of the Cornell box through the answer key's pipeline of lab `lab`, 128 × 96, whose
+/// images have converged at `target_error` and whose render goes on `idle_after` after a page
+/// last asked; its address.
+fn start_key_view(lab: u32, target_error: f32, idle_after: Duration) -> String {
+    let scene = builtin_scene("cornell").unwrap();
+    let shown = vec![Shown {
+        name: "Reference".into(),
+        pipeline: reference::pipeline(lab),
+    }];
+    let settings = ViewSettings {
+        width: 128,
+        height: 96,
+        seed: 0,
+        port: 0,
+        inspect: None,
+        target_error,
+        idle_after,
+    };
+    let view = View::start(scene, shown, &settings).unwrap();
+    let address = view
+        .url
+        .trim_start_matches("http://")
+        .trim_end_matches('/')
+        .to_string();
+    std::thread::spawn(move || view.serve_forever());
+    address
+}
+
+/// The state as `target` answers it.
+fn state(address: &str, target: &str) -> serde_json::Value {
+    let (status, body) = get(address, target);
+    assert_eq!(status, 200, "{target}: {body}");
+    serde_json::from_str(&body).unwrap()
+}
+
+/// A page's request for an update after `state`: the state once it has changed.
+fn wait_after(address: &str, state_now: &serde_json::Value) -> serde_json::Value {
+    state(
+        address,
+        &format!(
+            "/wait?generation={}&updates={}",
+            state_now["generation"], state_now["updates"]
+        ),
+    )
+}
+
+/// `/status` (which asks for no update) every 50 ms until `done` holds, at most 60 s.
+fn status_until(address: &str, done: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+    let started = Instant::now();
+    loop {
+        let now = state(address, "/status");
+        if done(&now) {
+            return now;
+        }
+        assert!(started.elapsed() < Duration::from_secs(60), "never: {now}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn the_render_stops_when_no_page_asks_and_goes_on_when_one_does() {
+    // Path tracing, which never converges to an error of 0.
+    let address = start_key_view(12, 0.0, Duration::from_secs(1));
+    let first = wait_after(&address, &state(&address, "/status"));
+    assert!(first["passes"].as_u64().unwrap() >= 1, "{first}");
+    assert!(first["paused"].is_null(), "{first}");
+
+    // No page asks: a second after the last request the passes stop, and stay stopped.
+    let idle = status_until(&address, |s| s["paused"] == "idle");
+    std::thread::sleep(Duration::from_millis(1500));
+    let later = state(&address, "/status");
+    assert_eq!(later["passes"], idle["passes"], "{idle}\n{later}");
+    assert_eq!(later["paused"], "idle", "{later}");
+    assert!(
+        later["passes"].as_u64().unwrap() < u64::from(view::MAX_PASSES),
+        "{later}"
+    );
+
+    // A page asks again: the passes go on.
+    let resumed = wait_after(&address, &later);
+    assert!(
+        resumed["passes"].as_u64() > later["passes"].as_u64(),
+        "{later}\n{resumed}"
+    );
+    assert!(resumed["paused"].is_null(), "{resumed}");
+}
+
+#[test]
+fn a_converged_render_stops_until_the_camera_moves() {
+    // Lab 2's key (whose noise is the pixels' jittered positions) converged at an error of
+    // 4%: after some 16 passes. No pause for want of a page.
+    let address = start_key_view(2, 0.04, Duration::from_secs(600));
+    // A page following the updates, as the page does.
+    let started = Instant::now();
+    let mut converged = state(&address, "/status");
+    while converged["paused"] != "converged" {
+        converged = wait_after(&address, &converged);
+        assert!(started.elapsed() < Duration::from_secs(15), "{converged}");
+    }
+    // The pause is an update of its own (one more than the passes): a page whose long poll
+    // began after the last pass learns it at once.
+    assert_eq!(
+        converged["updates"].as_u64(),
+        converged["passes"].as_u64().map(|p| p + 1),
+        "{converged}"
+    );
+    let error = converged["error"].as_f64().unwrap();
+    assert!(error <= 0.04 && error > 0.0, "{converged}");
+    let passes = converged["passes"].as_u64().unwrap();
+    assert!(
+        (4..u64::from(view::MAX_PASSES)).contains(&passes),
+        "{converged}"
+    );
+    // A page asking meanwhile gets no new pass.
+    let asking = address.clone();
+    let held = converged.clone();
+    std::thread::spawn(move || wait_after(&asking, &held));
+    std::thread::sleep(Duration::from_millis(500));
+    assert_eq!(state(&address, "/status")["passes"], converged["passes"]);
+
+    // The camera moves: the accumulation starts again, and converges again.
+    let camera = &converged["camera"];
+    let point = |v: &serde_json::Value, dx: f64| {
+        let v: Vec<f64> = v
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_f64().unwrap())
+            .collect();
+        format!("{},{},{}", v[0] + dx, v[1], v[2])
+    };
+    let moved = state(
+        &address,
+        &format!(
+            "/camera?eye={}&look={}&up={}",
+            point(&camera["eye"], 0.05),
+            point(&camera["look"], 0.0),
+            point(&camera["up"], 0.0)
+        ),
+    );
+    assert_eq!(moved["generation"], 1, "{moved}");
+    assert!(moved["paused"].is_null(), "{moved}");
+    let again = status_until(&address, |s| {
+        s["generation"] == 1 && s["paused"] == "converged"
+    });
+    assert!(again["passes"].as_u64().unwrap() >= 2, "{again}");
 }

@@ -583,8 +583,13 @@ cyan, and the command names each unfinished exercise and the pixels it cost. `--
 reference` (the default) is `reference::pipeline` too, so here it runs your own code for every
 lab not released yet (the command says so): compare with the snapshot PNGs instead.
 
+Answer each lab's questions in `labs/labNN/answers.md`. To show a figure of your report there,
+write `![caption](figures/NAME.png)` with NAME a figure in `out/report/labNN/`: `report` copies
+it into `labs/labNN/figures/`, which git keeps (it ignores `out/`), and grading shows it to your
+instructor with your answer.
+
 Hand in the whole directory. Only the regular files of `labs/labNN/src/` are graded (no
-symbolic links, nothing over 1 MiB): the tests, golden data and snapshots come from the
+symbolic links, nothing over 1 MiB), with your answers and their figures: the tests, golden data and snapshots come from the
 course's own copy, and a change to any other file is reported to your instructor. Your lab is
 compiled where it sees its own `src/` and nothing else, so code that reads files outside it at
 compile time (`#[path]`, `include_str!`, …) does not compile, and `unsafe` code is not allowed. Grading runs your code in a sandbox with time and memory

@@ -73,7 +73,7 @@ fn judge(lab: LabId) -> Result<Vec<(String, String, u32, State)>, String> {
         .collect())
 }
 
-/// Runs `raylab status`.
+/// Runs `raylab status`: lab by lab, each built, run and printed before the next is built.
 pub fn run(args: &StatusArgs) -> Result<(), Error> {
     let labs: Vec<LabId> = match args.lab {
         Some(l) => {

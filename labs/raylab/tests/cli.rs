@@ -320,11 +320,83 @@ fn rayon_num_threads_does_not_change_the_image() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+/// A stand-in for cargo that runs the real one, except that its `k`-th run (k > 1) first waits,
+/// at most 30 s, until `dir/seen-(k-1)` exists: the test's sign that it has read the line of
+/// the lab built before. A wait that runs out is written to `dir/not-seen`, and the runs after
+/// it wait no more.
+fn cargo_held_until_seen(dir: &std::path::Path) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let real = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let d = dir.display();
+    let script = format!(
+        r#"#!/bin/sh
+k=$(( $(cat "{d}/calls" 2>/dev/null || echo 0) + 1 ))
+echo "$k" > "{d}/calls"
+if [ "$k" -gt 1 ] && [ ! -e "{d}/not-seen" ]; then
+  i=0
+  while [ ! -e "{d}/seen-$((k - 1))" ] && [ "$i" -lt 1500 ]; do sleep 0.02; i=$((i + 1)); done
+  [ -e "{d}/seen-$((k - 1))" ] || echo "$k" > "{d}/not-seen"
+fi
+exec "{real}" "$@"
+"#
+    );
+    let path = dir.join("cargo");
+    std::fs::write(&path, script).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
 #[test]
 fn status_lists_every_exercise_and_the_next_one() {
+    use std::io::{BufRead, BufReader, Read};
     let dir = scratch("status");
-    let (ok, stdout, stderr) = raylab(&["status"], &dir);
+    // Each lab's line is printed before the next lab is built: with a cargo that builds a lab
+    // only once the test has read the line of the lab before it.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .arg("status")
+        .current_dir(&dir)
+        .env("CARGO", cargo_held_until_seen(&dir))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("raylab runs");
+    let mut stderr = child.stderr.take().unwrap();
+    let errors = std::thread::spawn(move || {
+        let mut text = String::new();
+        stderr.read_to_string(&mut text).ok();
+        text
+    });
+    let mut stdout = String::new();
+    let mut labs = Vec::new();
+    for line in BufReader::new(child.stdout.take().unwrap()).lines() {
+        let line = line.unwrap();
+        if let Some(lab) = line
+            .split_whitespace()
+            .next()
+            .filter(|w| w.starts_with("lab") && w[3..].bytes().all(|b| b.is_ascii_digit()))
+        {
+            labs.push(lab.to_string());
+            std::fs::write(dir.join(format!("seen-{}", labs.len())), "").unwrap();
+        }
+        stdout.push_str(&line);
+        stdout.push('\n');
+    }
+    let ok = child.wait().unwrap().success();
+    let stderr = errors.join().unwrap();
     assert!(ok, "{stderr}");
+    assert!(
+        !dir.join("not-seen").exists(),
+        "a lab was built before the line of the lab before it was printed:\n{stdout}"
+    );
+    // Every lab, in order, each built once.
+    let mut sorted = labs.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(labs, sorted, "{stdout}");
+    assert_eq!(labs.first().map(String::as_str), Some("lab01"), "{stdout}");
+    assert_eq!(labs.last().map(String::as_str), Some("lab12"), "{stdout}");
+    let calls = std::fs::read_to_string(dir.join("calls")).unwrap();
+    assert_eq!(calls.trim(), labs.len().to_string(), "{stdout}");
     for id in ["1.1", "2.6", "3.4", "4.6", "7.2"] {
         assert!(
             stdout.contains(&format!("  {id} ")),

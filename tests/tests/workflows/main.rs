@@ -3,6 +3,7 @@
 //! sandbox), which the other fills. One at a time:
 //!
 //! ```text
+//! cargo test -p raylab-tests --test workflows answer_figures -- --nocapture
 //! cargo test -p raylab-tests --test workflows cold_grading -- --nocapture
 //! cargo test -p raylab-tests --test workflows handout_and_grade -- --nocapture
 //! cargo test -p raylab-tests --test workflows hostile_submissions -- --nocapture
@@ -10,6 +11,7 @@
 //! cargo test -p raylab-tests --test workflows term -- --nocapture
 //! ```
 
+mod answer_figures;
 mod cold_grading;
 mod handout_and_grade;
 mod hostile_submissions;

@@ -8,6 +8,7 @@ use std::path::Path;
 use base64::Engine as _;
 use maud::html;
 
+use super::answers::LabAnswers;
 use super::{ExerciseGrade, StudentGrade};
 
 /// The most image bytes (before encoding) one `results.json` carries: Gradescope stores the
@@ -18,18 +19,79 @@ pub const RESULTS_IMAGE_BUDGET: u64 = 768 * 1024;
 /// The largest image inlined at all.
 const IMAGE_LIMIT: u64 = 512 * 1024;
 
-/// `path` (a PNG the grader wrote) as a `data:` URL, when it is a regular file within
-/// [`IMAGE_LIMIT`].
+/// `path` (a PNG, or a JPEG named `.jpg`, that the grader wrote) as a `data:` URL, when it is a
+/// regular file within [`IMAGE_LIMIT`].
 fn data_url(path: &Path) -> Option<String> {
     let meta = fs::symlink_metadata(path).ok()?;
     if !meta.is_file() || meta.len() > IMAGE_LIMIT {
         return None;
     }
     let bytes = fs::read(path).ok()?;
+    let kind = match path.extension().and_then(|e| e.to_str()) {
+        Some("jpg") => "jpeg",
+        _ => "png",
+    };
     Some(format!(
-        "data:image/png;base64,{}",
+        "data:image/{kind};base64,{}",
         base64::engine::general_purpose::STANDARD.encode(bytes)
     ))
+}
+
+/// `path` (relative to `dir`) as a `data:` URL while `budget` lasts, which it uses up.
+fn budgeted_data_url(dir: &Path, path: &Path, budget: &mut u64) -> Option<String> {
+    let path = dir.join(path);
+    let size = fs::symlink_metadata(&path).ok()?.len();
+    if size > *budget {
+        return None;
+    }
+    let url = data_url(&path)?;
+    *budget -= size;
+    Some(url)
+}
+
+/// Gradescope's output of lab `answers`' written answers, in its `html` format: each question
+/// with the student's answer and the images it shows (relative to `dir`) while `budget` lasts,
+/// which they use up.
+pub fn gradescope_answers(answers: &LabAnswers, dir: &Path, budget: &mut u64) -> String {
+    let mut left_out = 0;
+    let mut shown = Vec::new();
+    for (question, answer) in answers.questions_and_answers() {
+        let images: Vec<(String, String)> = answers
+            .images_of(question)
+            .filter_map(|image| {
+                let path = image.taken.as_ref().ok()?;
+                let url = budgeted_data_url(dir, path, budget);
+                left_out += usize::from(url.is_none());
+                Some((image.link.alt.clone(), url?))
+            })
+            .collect();
+        shown.push((question, answer, images));
+    }
+    html! {
+        @for (question, answer, images) in &shown {
+            p { strong { (question.id) @if let Some(title) = &question.title { " — " (title) } } " " (question.body()) }
+            @if answer.is_empty() {
+                p { em { "(no answer)" } }
+            } @else {
+                pre { (answer) }
+            }
+            @for (caption, url) in images {
+                figure style="display:inline-block;margin:0 1em 1em 0" {
+                    img src=(url) alt=(caption) style="max-width:480px";
+                    figcaption { (caption) }
+                }
+            }
+            @for image in answers.images_of(question) {
+                @if let Err(why) = &image.taken {
+                    p { "The image " code { (image.link.target) } " was not taken: " (why) }
+                }
+            }
+        }
+        @if left_out > 0 {
+            p { (left_out) " more image(s) of these answers are in your instructor's per-student report." }
+        }
+    }
+    .into_string()
 }
 
 /// Gradescope's output of a failed exercise with images, in its `html` format: the text of
@@ -40,13 +102,7 @@ pub fn gradescope_html(e: &ExerciseGrade, output: &str, dir: &Path, budget: &mut
         .images
         .iter()
         .filter_map(|image| {
-            let path = dir.join(image);
-            let size = fs::metadata(&path).ok()?.len();
-            if size > *budget {
-                return None;
-            }
-            let url = data_url(&path)?;
-            *budget -= size;
+            let url = budgeted_data_url(dir, image, budget)?;
             Some((super::reports::image_caption(image), url))
         })
         .collect();

@@ -22,6 +22,7 @@ mod answers;
 mod feedback;
 mod jail;
 mod lab_build;
+mod progress;
 pub(crate) mod reports;
 mod runner;
 pub(crate) mod rustc_record;
@@ -40,11 +41,11 @@ use std::time::Duration;
 
 use clap::Args;
 use grading::{ExerciseInfo, FailureKind};
-use indicatif::{ProgressBar, ProgressStyle};
 use raylab_core::Error;
 
 use crate::handout::{TreeOptions, build_tree, io, repository_root};
 use lab_build::{Built, HostPaths, LabBuild};
+use progress::{Progress, seconds};
 use runner::ExerciseRun;
 use sandbox::{Limits, RunAs, Sandbox};
 use shared_build::{Shared, Workspace};
@@ -528,27 +529,25 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         Ok((Manifest::of(&workspace.tree)?, shared))
     };
     let started = std::time::Instant::now();
-    let bar = ProgressBar::new(args.submissions.len() as u64).with_style(
-        ProgressStyle::with_template("grading {bar:30} {pos}/{len} [{elapsed}] {msg}")
-            .expect("the progress template is valid"),
-    );
-    bar.enable_steady_tick(Duration::from_millis(500));
-    bar.set_message(
-        "building what every submission shares: the framework, the checks and the build jail",
+    let bar = Progress::new(args.submissions.len());
+    bar.doing(
+        "building what every submission shares: the framework, the checks and the build jail"
+            .into(),
+        true,
     );
     let preparing = std::time::Instant::now();
     let (mut pristine, mut shared) = make_tree()?;
-    // Printed whether or not the output is a terminal (where the bar prints nothing).
-    bar.suspend(|| {
-        println!(
-            "built what every submission shares in {:.0} s (no submission's time)",
-            preparing.elapsed().as_secs_f64()
-        );
-    });
+    bar.line(&format!(
+        "built what every submission shares in {:.0} s (no submission's time)",
+        preparing.elapsed().as_secs_f64()
+    ));
     let timeout = Duration::from_secs(args.timeout);
     let mut grades = Vec::new();
-    for (submission, student) in args.submissions.iter().zip(&students) {
-        bar.set_message(student.clone());
+    for (k, (submission, student)) in args.submissions.iter().zip(&students).enumerate() {
+        bar.doing(
+            format!("grading {student} ({} of {})", k + 1, students.len()),
+            true,
+        );
         let dir = args.out.join(student);
         if dir.exists() {
             fs::remove_dir_all(&dir).map_err(io(&dir))?;
@@ -565,7 +564,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         };
         let mut grade = grade_submission(submission, student, &dir, &class).unwrap_or_else(|e| {
             // The details, which may name places of this machine, are the instructor's.
-            bar.suspend(|| eprintln!("{student}: not graded: {e}"));
+            bar.warn(&format!("{student}: not graded: {e}"));
             StudentGrade::ungraded(
                 student,
                 &labs,
@@ -594,7 +593,7 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
         let started = std::time::Instant::now();
         reports::write_student(&grade, &dir)?;
         grade.timings.report = started.elapsed().as_secs_f64();
-        bar.println(format!(
+        bar.line(&format!(
             "{student}: {}/{} points{}",
             grade.score(),
             grade.max_score(),
@@ -608,9 +607,9 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             }
         ));
         grades.push(grade);
-        bar.inc(1);
+        bar.submission_done();
     }
-    bar.finish_and_clear();
+    bar.finish();
     println!("{}", summary(&grades, started.elapsed()));
     reports::write_class(&grades, &args.out, terms.as_ref())?;
     println!(
@@ -740,7 +739,7 @@ struct ClassGrading<'a> {
     /// and the framework items that answer an exercise).
     scan: bool,
     /// The progress shown while grading.
-    bar: &'a ProgressBar,
+    bar: &'a Progress,
 }
 
 /// Grades one submission into `dir` (its images go to `dir/images/`).
@@ -795,7 +794,11 @@ fn grade_submission(
         notes.extend(intake.missing);
         rejected.extend(intake.rejected);
         match submission::read_answers(submission, lab) {
-            Ok(Some(text)) => written.push(answers::LabAnswers::read(lab, &text)),
+            Ok(Some(text)) => {
+                let mut lab_answers = answers::LabAnswers::read(lab, &text);
+                rejected.extend(lab_answers.take_images(submission, dir)?);
+                written.push(lab_answers);
+            }
             Ok(None) => {}
             Err(line) => rejected.push(line),
         }
@@ -817,7 +820,7 @@ fn grade_submission(
                 flagged.push(denied.line);
             }
         }
-        bar.set_message(format!("{student}: compiling labs/{lab}/src"));
+        bar.doing(format!("{student}: compiling labs/{lab}/src"), false);
         let started = std::time::Instant::now();
         let module = runs.join(format!("{lab}.wasm"));
         let calls = shared.calls.get(&lab).ok_or_else(|| Error::Invalid {
@@ -825,7 +828,16 @@ fn grade_submission(
             reason: "the shared build has no compiler record of it".into(),
         })?;
         let built = builder.build(lab, calls, &staged.join(format!("labs/{lab}/src")), &module)?;
-        timings.build += started.elapsed().as_secs_f64();
+        let took = started.elapsed().as_secs_f64();
+        timings.build += took;
+        bar.logged(|| {
+            let outcome = match &built {
+                Built::Module => "compiled",
+                Built::DoesNotCompile(_) => "does not compile: its exercises fail",
+                Built::NotGraded(_) => "not graded (the grader's limit): its exercises score 0",
+            };
+            format!("{student}: labs/{lab}/src {outcome} ({})", seconds(took))
+        });
         match built {
             Built::Module => {}
             Built::DoesNotCompile(errors) => {
@@ -894,6 +906,7 @@ fn grade_submission(
                     info.id,
                     lines.join("\n")
                 );
+                bar.logged(|| format!("{student}: Exercise {} flagged (not run)", info.id));
                 exercises.push(ExerciseGrade::failed(info, Status::Flagged, why));
                 continue;
             }
@@ -903,6 +916,7 @@ fn grade_submission(
                     info.test_prefix(),
                     info.id
                 );
+                bar.logged(|| format!("{student}: Exercise {} not graded: {why}", info.id));
                 exercises.push(ExerciseGrade::failed(info, Status::NotGraded, why));
                 continue;
             };
@@ -919,8 +933,16 @@ fn grade_submission(
                 timeout,
                 memory_limit: workspace.sandbox.memory_limit(),
             };
-            bar.set_message(format!("{student}: Exercise {}", info.id));
+            bar.doing(format!("{student}: Exercise {}", info.id), false);
             let run = runner::run_exercise(&how, test, &info)?;
+            bar.logged(|| {
+                format!(
+                    "{student}: Exercise {} {} ({})",
+                    info.id,
+                    run.status.label(),
+                    seconds(run.seconds)
+                )
+            });
             timings.timed_out += run.stopped_seconds;
             timings.run += run.seconds - run.stopped_seconds;
             let mut images = Vec::new();

@@ -181,7 +181,7 @@ fn result_label(e: &ExerciseGrade) -> String {
 /// name in a submission is the student's to choose: `docs/<img src=x onerror=…>.md`). The
 /// fence is one backtick longer than the longest run in `text`; control characters become
 /// U+FFFD.
-fn code_span(text: &str) -> String {
+pub(super) fn code_span(text: &str) -> String {
     let text: String = text
         .chars()
         .map(|c| if c.is_control() { '\u{fffd}' } else { c })
@@ -494,7 +494,7 @@ pub fn ungraded_results(why: &str) -> String {
 /// with images shows them inline (its output in Gradescope's `html` format).
 fn gradescope(grade: &StudentGrade, dir: &Path) -> serde_json::Value {
     let mut budget = feedback::RESULTS_IMAGE_BUDGET;
-    let tests: Vec<serde_json::Value> = grade
+    let mut tests: Vec<serde_json::Value> = grade
         .exercises
         .iter()
         .map(|e| {
@@ -532,6 +532,24 @@ fn gradescope(grade: &StudentGrade, dir: &Path) -> serde_json::Value {
             })
         }))
         .collect();
+    // After the exercises, whose images take the budget first; no points: the answers' points
+    // are the tests graded by hand.
+    let written = grade.answers.iter().map(|answers| {
+        let (answered, total) = answers.counts();
+        serde_json::json!({
+            "name": format!(
+                "Lab {:02} written answers ({answered} of {total} answered)",
+                answers.lab.number()
+            ),
+            "score": 0,
+            "max_score": 0,
+            "output": feedback::gradescope_answers(answers, dir, &mut budget),
+            "output_format": "html",
+            "visibility": "visible",
+        })
+    });
+    let at = grade.exercises.len();
+    tests.splice(at..at, written);
     let mut output = String::new();
     for deadline in &grade.deadlines {
         let _ = writeln!(
@@ -884,6 +902,7 @@ fn exercise_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize, S
 #[cfg(test)]
 mod tests {
     use super::*;
+    use base64::Engine as _;
     use course::ExerciseInfo;
     use std::path::PathBuf;
 
@@ -1135,12 +1154,29 @@ mod tests {
         let questions = course::answers::questions(
             "## Questions\n\n1. **Render time.** How does the time grow?\n2. Why flip y?\n",
         );
+        let answers = course::answers::parse(
+            "## Q1 — Render time\n\n> (the question)\n\nLinear in the pixels: 4× for twice the width and height. <&>\n\
+             ![The times](figures/times.png)\n![gone](../../out/gone.png)\n\n## Q2\n\n<!-- Your answer here. -->\n",
+        );
+        // The answer's images: one taken, one not.
+        let mut links = course::answers::image_links(&answers[0].text).into_iter();
+        let images = vec![
+            super::super::answers::AnswerImage {
+                answer: 0,
+                link: links.next().unwrap(),
+                taken: Ok("images/lab01/answers-1.png".into()),
+            },
+            super::super::answers::AnswerImage {
+                answer: 0,
+                link: links.next().unwrap(),
+                taken: Err("not in the submission".into()),
+            },
+        ];
         class[0].answers = vec![super::super::answers::LabAnswers {
             lab: LabId::of(1),
             questions,
-            answers: course::answers::parse(
-                "## Q1 — Render time\n\n> (the question)\n\nLinear in the pixels: 4× for twice the width and height. <&>\n\n## Q2\n\n<!-- Your answer here. -->\n",
-            ),
+            answers,
+            images,
         }];
         class[0].changed_files = vec!["changed: Cargo.toml".into()];
         // Ada: lab 01 a day and a half late at 10% a day, and two questions graded by hand.
@@ -1226,6 +1262,8 @@ mod tests {
             b"\x89PNG\r\n\x1a\n",
         )
         .unwrap();
+        // And the figure of ada's answer.
+        fs::write(dir.join("images/lab01/answers-1.png"), b"\x89PNG answer").unwrap();
         for (k, grade) in class.iter().enumerate() {
             let results =
                 serde_json::to_string_pretty(&gradescope(grade, &dir)).unwrap_or_default();
@@ -1243,6 +1281,24 @@ mod tests {
         );
         assert!(page.contains("<h3>Graded by hand</h3>"), "{page}");
         assert!(page.contains("right idea | no units &lt;b&gt;"), "{page}");
+        assert!(
+            page.contains("<img src=\"images/lab01/answers-1.png\" alt=\"The times\">"),
+            "{page}"
+        );
+        assert!(
+            page.contains(
+                "The image <code>../../out/gone.png</code> was not taken: not in the submission"
+            ),
+            "{page}"
+        );
+        let results = serde_json::to_string(&gradescope(&class[0], &dir)).unwrap();
+        assert!(
+            results.contains(&format!(
+                "<img src=\\\"data:image/png;base64,{}\\\" alt=\\\"The times\\\"",
+                base64::engine::general_purpose::STANDARD.encode(b"\x89PNG answer")
+            )),
+            "{results}"
+        );
         let class_page = index(&class, None);
         assert!(class_page.contains("<th>lateness</th>"), "{class_page}");
         assert!(

@@ -502,6 +502,193 @@ pub fn read_answers(submission: &Path, lab: LabId) -> Result<Option<String>, Str
     Ok(Some(String::from_utf8_lossy(&contents).into_owned()))
 }
 
+/// The largest image taken from a lab's written answers (1 MiB).
+pub const MAX_ANSWER_IMAGE_BYTES: u64 = 1 << 20;
+
+/// The most image bytes taken from one lab's written answers (4 MiB).
+pub const MAX_ANSWER_IMAGES_BYTES: u64 = 4 << 20;
+
+/// The deepest path, in components, an image of the answers may name.
+const MAX_IMAGE_PATH_DEPTH: usize = 32;
+
+/// What an image of the answers is, by its first bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageKind {
+    /// A PNG file.
+    Png,
+    /// A JPEG file.
+    Jpeg,
+}
+
+impl ImageKind {
+    /// The file name extension the grader gives it.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::Png => "png",
+            Self::Jpeg => "jpg",
+        }
+    }
+}
+
+/// An image taken from a submission: its bytes as read, once.
+#[derive(Debug)]
+pub struct TakenImage {
+    /// The file's contents.
+    pub bytes: Vec<u8>,
+    /// What it is.
+    pub kind: ImageKind,
+}
+
+/// The path, relative to the submission, that `target` names in lab `lab`'s answers file:
+/// resolved lexically from `labs/labNN/` (`.` and `..` by their names, never by the file
+/// system). Refused, with why, when it is a URL or an absolute path, has control characters,
+/// or leaves the submission.
+pub fn answer_image_path(lab: LabId, target: &str) -> Result<PathBuf, String> {
+    if target.is_empty() {
+        return Err("no path".into());
+    }
+    if target.contains(':') || target.starts_with('/') || target.starts_with('\\') {
+        return Err("not a path inside the submission (a URL or an absolute path)".into());
+    }
+    if target.chars().any(char::is_control) || target.contains(['?', '#', '\\']) {
+        return Err("a path with characters the grader does not take".into());
+    }
+    let folder = lab.to_string();
+    let mut resolved: Vec<&str> = vec!["labs", &folder];
+    for part in target.split('/') {
+        match part {
+            "" | "." => {}
+            ".." => {
+                if resolved.pop().is_none() {
+                    return Err("a path that leaves the submission".into());
+                }
+            }
+            name => resolved.push(name),
+        }
+        if resolved.len() > MAX_IMAGE_PATH_DEPTH {
+            return Err(format!("a path over {MAX_IMAGE_PATH_DEPTH} levels deep"));
+        }
+    }
+    if resolved.is_empty() || target.ends_with('/') {
+        return Err("not a file".into());
+    }
+    Ok(resolved.iter().collect())
+}
+
+/// The image at `relative` (a path [`answer_image_path`] gave) in `submission`, at most `limit`
+/// bytes: a regular file under real directories (no symbolic link followed, nothing else
+/// opened), refused past the limit before it is read, and a PNG or JPEG by its signature whose
+/// header gives a size of at most [`course::answers::MAX_SIDE`] on each side.
+pub fn read_answer_image(
+    submission: &Path,
+    relative: &Path,
+    limit: u64,
+) -> Result<TakenImage, String> {
+    let parent = relative.parent().unwrap_or(Path::new(""));
+    if !parent.as_os_str().is_empty() {
+        real_dir(submission, parent)
+            .map_err(|line| line.unwrap_or_else(|| "not in the submission".into()))?;
+    }
+    let path = submission.join(relative);
+    match fs::symlink_metadata(&path) {
+        Err(err) if err.kind() == ErrorKind::NotFound => {
+            return Err("not in the submission".into());
+        }
+        Ok(meta) if meta.file_type().is_file() && meta.len() > limit => {
+            return Err(format!(
+                "{}, over the {} limit of an image (not read)",
+                bytes(meta.len()),
+                bytes(limit)
+            ));
+        }
+        _ => {}
+    }
+    let contents = read_regular(&path, limit).map_err(|refusal| match refusal {
+        Refusal::TooLarge(_) => format!("over the {} limit of an image", bytes(limit)),
+        other => other.rejection(),
+    })?;
+    let (kind, _) = image_header(&contents)?;
+    Ok(TakenImage {
+        bytes: contents,
+        kind,
+    })
+}
+
+/// What `bytes` are by their signature, and the size their header gives: a PNG (its `IHDR`)
+/// or a JPEG (its first start-of-frame), within [`course::answers::MAX_SIDE`] on each side.
+pub fn image_header(bytes: &[u8]) -> Result<(ImageKind, (u32, u32)), String> {
+    const PNG: &[u8] = b"\x89PNG\r\n\x1a\n";
+    let be16 = |at: usize| {
+        bytes
+            .get(at..at + 2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]))
+    };
+    let be32 = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .map(|b| u32::from_be_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let (kind, size) = if bytes.starts_with(PNG) {
+        match (bytes.get(12..16), be32(16), be32(20)) {
+            (Some(b"IHDR"), Some(w), Some(h)) => (ImageKind::Png, (w, h)),
+            _ => return Err("a PNG without its header (not taken)".into()),
+        }
+    } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+        let mut at = 2;
+        let size = loop {
+            // Markers, each 0xFF (fill bytes 0xFF allowed) and a code; all but a few carry a
+            // length that the scan skips.
+            let Some(&0xFF) = bytes.get(at) else {
+                break None;
+            };
+            while bytes.get(at + 1) == Some(&0xFF) {
+                at += 1;
+            }
+            let Some(&code) = bytes.get(at + 1) else {
+                break None;
+            };
+            match code {
+                0xD8 | 0x01 | 0xD0..=0xD7 => at += 2,
+                0xD9 | 0xDA => break None,
+                0xC0..=0xCF if ![0xC4, 0xC8, 0xCC].contains(&code) => {
+                    break be16(at + 5)
+                        .zip(be16(at + 7))
+                        .map(|(h, w)| (u32::from(w), u32::from(h)));
+                }
+                _ => match be16(at + 2) {
+                    Some(length) if length >= 2 => at += 2 + usize::from(length),
+                    _ => break None,
+                },
+            }
+        };
+        match size {
+            Some(size) => (ImageKind::Jpeg, size),
+            None => return Err("a JPEG without a frame header (not taken)".into()),
+        }
+    } else {
+        return Err("not a PNG or JPEG file by its contents (not taken)".into());
+    };
+    let side = course::answers::MAX_SIDE;
+    if size.0 == 0 || size.1 == 0 || size.0 > side || size.1 > side {
+        return Err(format!(
+            "{}×{} pixels, outside the 1 to {side} pixels of a side that the grader takes",
+            size.0, size.1
+        ));
+    }
+    Ok((kind, size))
+}
+
+/// Whether `path` (relative to the tree) is in a lab's folder of figures for its written
+/// answers, `labs/labNN/figures/`: the student's own, never a change.
+fn is_answer_figure(path: &Path) -> bool {
+    let parts: Vec<_> = path.components().map(|c| c.as_os_str()).collect();
+    parts.len() >= 4
+        && parts[0] == "labs"
+        && parts[1].to_string_lossy().starts_with("lab")
+        && parts[1] != "raylab"
+        && parts[2] == course::answers::FIGURES
+}
+
 /// Whether `parts` are `labs`, `labNN`, `src`: a lab's code directory.
 fn is_lab_src(parts: &[&OsStr]) -> bool {
     parts.len() == 3
@@ -664,7 +851,10 @@ pub fn changed_files(submission: &Path, handout: &Path) -> Result<Vec<String>, E
         };
     }
     let ignored = |p: &Path| {
-        is_student_code(p) || is_written_answers(p) || REGENERATED.iter().any(|r| p == Path::new(r))
+        is_student_code(p)
+            || is_written_answers(p)
+            || is_answer_figure(p)
+            || REGENERATED.iter().any(|r| p == Path::new(r))
     };
     let mut changes = Vec::new();
     for (path, entry) in theirs.entries.iter().filter(|(p, _)| !ignored(p)) {
@@ -794,6 +984,109 @@ mod tests {
             .into_iter()
             .map(|(p, c)| (p.display().to_string(), c))
             .collect()
+    }
+
+    /// The first bytes of a PNG of `width` × `height` pixels: its signature and `IHDR`.
+    fn png_header(width: u32, height: u32) -> Vec<u8> {
+        let mut bytes = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR".to_vec();
+        bytes.extend_from_slice(&width.to_be_bytes());
+        bytes.extend_from_slice(&height.to_be_bytes());
+        bytes.extend_from_slice(&[8, 2, 0, 0, 0]);
+        bytes
+    }
+
+    #[test]
+    fn answer_images_are_named_by_paths_inside_the_submission() {
+        let lab = LabId::of(2);
+        let resolved = |target| answer_image_path(lab, target);
+        assert_eq!(
+            resolved("figures/rays.png"),
+            Ok(PathBuf::from("labs/lab02/figures/rays.png"))
+        );
+        assert_eq!(
+            resolved("./figures/../../../out/report/lab02/a.png"),
+            Ok(PathBuf::from("out/report/lab02/a.png"))
+        );
+        for refused in [
+            "../../../etc/passwd",
+            "../../..",
+            "/etc/passwd",
+            "https://example.org/a.png",
+            "data:image/png;base64,AAAA",
+            "figures/",
+            "",
+            "a\u{1b}[2J.png",
+            "a.png?x",
+        ] {
+            assert!(resolved(refused).is_err(), "{refused:?}");
+        }
+        let deep = "a/".repeat(40) + "x.png";
+        assert!(resolved(&deep).is_err());
+    }
+
+    #[test]
+    fn answer_images_are_small_regular_png_or_jpeg_files() {
+        let submission = Scratch::new("answer-images");
+        let png = png_header(64, 48);
+        submission.write("labs/lab02/figures/ok.png", &png);
+        let mut jpeg = vec![0xFF, 0xD8, 0xFF, 0xE0, 0, 4, 0, 0];
+        jpeg.extend_from_slice(&[0xFF, 0xC0, 0, 11, 8, 0, 30, 0, 40, 3, 0, 0]);
+        submission.write("labs/lab02/figures/ok.jpg", &jpeg);
+        submission.write("labs/lab02/figures/fake.png", b"<svg onload=alert(1)>");
+        submission.write("labs/lab02/figures/huge.png", &png_header(100_000, 100_000));
+        submission.write("labs/lab02/figures/empty.png", &png_header(0, 10));
+        submission.write(
+            "labs/lab02/figures/cut.jpg",
+            &[0xFF, 0xD8, 0xFF, 0xE0, 0, 200],
+        );
+        let mut big = png.clone();
+        big.resize(2 << 20, 0);
+        submission.write("labs/lab02/figures/big.png", &big);
+        let secret = submission.write("secret.png", &png);
+        submission.link(&secret, "labs/lab02/figures/link.png");
+        submission.link(submission.0.join("labs/lab02/figures"), "labs/lab02/linked");
+        submission.fifo("labs/lab02/figures/pipe.png");
+        let read = |relative: &str| {
+            read_answer_image(&submission.0, Path::new(relative), MAX_ANSWER_IMAGE_BYTES)
+        };
+        let ok = read("labs/lab02/figures/ok.png").unwrap();
+        assert_eq!((ok.kind, ok.bytes), (ImageKind::Png, png.clone()));
+        assert_eq!(
+            read("labs/lab02/figures/ok.jpg").unwrap().kind,
+            ImageKind::Jpeg
+        );
+        assert_eq!(image_header(&jpeg), Ok((ImageKind::Jpeg, (40, 30))));
+        assert_eq!(read("secret.png").unwrap().kind, ImageKind::Png);
+        let refusals = [
+            ("labs/lab02/figures/fake.png", "not a PNG or JPEG"),
+            ("labs/lab02/figures/huge.png", "100000×100000 pixels"),
+            ("labs/lab02/figures/empty.png", "0×10 pixels"),
+            (
+                "labs/lab02/figures/cut.jpg",
+                "a JPEG without a frame header",
+            ),
+            ("labs/lab02/figures/big.png", "over the 1048576 bytes limit"),
+            ("labs/lab02/figures/link.png", "a symbolic link"),
+            ("labs/lab02/linked/ok.png", "a symbolic link"),
+            ("labs/lab02/figures/pipe.png", "a FIFO"),
+            ("labs/lab02/figures/none.png", "not in the submission"),
+            ("labs/lab09/figures/ok.png", "not in the submission"),
+        ];
+        for (relative, why) in refusals {
+            let refused = read(relative).map(|i| i.kind).unwrap_err();
+            assert!(refused.contains(why), "{relative}: {refused}");
+        }
+        // A smaller budget (what is left of the lab's 4 MiB) refuses a file within 1 MiB.
+        let refused = read_answer_image(&submission.0, Path::new("labs/lab02/figures/ok.png"), 10);
+        assert!(refused.unwrap_err().contains("over the 10 bytes limit"));
+    }
+
+    #[test]
+    fn a_lab_s_figures_for_its_answers_are_not_changes() {
+        assert!(is_answer_figure(Path::new("labs/lab01/figures/rays.png")));
+        assert!(!is_answer_figure(Path::new("labs/lab01/figures")));
+        assert!(!is_answer_figure(Path::new("labs/raylab/figures/a.png")));
+        assert!(!is_answer_figure(Path::new("docs/figures/a.png")));
     }
 
     #[test]
