@@ -71,7 +71,7 @@ impl LabProgram {
             command.arg("--features").arg(features.join(","));
         }
         let failed = |e: std::io::Error| {
-            BuildFailure::Cargo(Error::Invalid {
+            BuildFailure::Cargo(Error::Failed {
                 what: format!("cargo test -p {lab} --no-run"),
                 reason: format!("could not run cargo: {e}"),
             })
@@ -118,7 +118,7 @@ impl LabProgram {
             (Some(executable), true) => Ok(Self { executable }),
             _ => Err(match first_error {
                 Some(error) => BuildFailure::Compile(error.trim_end().to_string()),
-                None => BuildFailure::Cargo(Error::Invalid {
+                None => BuildFailure::Cargo(Error::Failed {
                     what: format!("cargo test -p {lab} --no-run"),
                     reason: cargo_said.join("\n"),
                 }),
