@@ -81,7 +81,7 @@ pub struct TreeOptions {
 
 /// The repository the command line was built from.
 pub fn repository_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    crate::lab_program::workspace_root()
 }
 
 /// Runs `raylab handout`.
