@@ -30,12 +30,23 @@ pub enum Error {
         /// What was found and what was expected (with line and column when known).
         reason: String,
     },
-    /// A texture that cannot be decoded.
-    #[error("{path}: cannot decode texture: {reason}")]
+    /// A texture (or a light probe) that cannot be read or decoded.
+    #[error("{path}: cannot read {}: {reason}", .named_by.as_deref().unwrap_or("the texture"))]
     Texture {
         /// The image file.
         path: PathBuf,
-        /// The decoder's complaint.
+        /// What names the file, with its place: "the texture of materials.floor at scene.toml,
+        /// line 8, column 1" (`None`: the file was loaded directly).
+        named_by: Option<String>,
+        /// Why it cannot be read: the operating system's or the decoder's reason, in words.
+        reason: String,
+    },
+    /// An image that cannot be read or decoded (a reference snapshot, say).
+    #[error("{path}: cannot read the image: {reason}")]
+    Image {
+        /// The image file.
+        path: PathBuf,
+        /// Why it cannot be read: the operating system's or the decoder's reason, in words.
         reason: String,
     },
     /// A scene that is syntactically fine but cannot be rendered.
@@ -46,7 +57,9 @@ pub enum Error {
         /// What is wrong and what was expected.
         reason: String,
     },
-    /// A bad option or argument value.
+    /// A bad option or argument value: `what` names the value ("--width 0", "lab 99"), so
+    /// that the message reads "invalid --width 0: …". A step that cannot be done is
+    /// [`Error::Failed`].
     #[error("invalid {what}: {reason}")]
     Invalid {
         /// Which option or value.

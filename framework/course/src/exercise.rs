@@ -63,6 +63,22 @@ impl ExerciseInfo {
     pub fn test_name(&self) -> String {
         format!("{}{}", self.test_prefix(), self.function)
     }
+
+    /// The command that runs its test alone, from anywhere in the workspace: `cargo test -p
+    /// lab02 exercise_2_2_`. The filter is the test's prefix, `_` included, so that
+    /// `exercise_12_1_` leaves 12.10–12.13 out; a hidden exercise's test is built only with
+    /// the lab's `hidden-exercises` feature.
+    pub fn test_command(&self) -> String {
+        let features = match self.visibility {
+            Visibility::Visible => "",
+            Visibility::Hidden => " --features hidden-exercises",
+        };
+        format!(
+            "cargo test -p {}{features} {}",
+            self.lab,
+            self.test_prefix()
+        )
+    }
 }
 
 /// An item a handout ships that computes what an exercise asks (the framework's closest-hit
@@ -215,6 +231,14 @@ mod tests {
         assert_eq!(exercises.len(), 2);
         assert_eq!(exercises[1].visibility, Visibility::Hidden);
         assert_eq!(exercises[0].test_name(), "exercise_3_1_f");
+        assert_eq!(
+            exercises[0].test_command(),
+            "cargo test -p lab03 exercise_3_1_"
+        );
+        assert_eq!(
+            exercises[1].test_command(),
+            "cargo test -p lab03 --features hidden-exercises exercise_3_2_"
+        );
         assert!(denied.is_empty());
         // An exercise of several functions together is worth none of its own.
         let composite = format!(

@@ -256,10 +256,10 @@ fn read_answers(path: &std::path::Path) -> Result<String, Error> {
         .map_err(|e| Error::io(path, e))?
         .len();
     if size > course::answers::FILE_LIMIT {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: path.display().to_string(),
             reason: format!(
-                "{size} bytes: a written answers file is at most {} bytes (put images beside it and link them)",
+                "it is {size} bytes; a written answers file is at most {} bytes (put images beside it and link them)",
                 course::answers::FILE_LIMIT
             ),
         });

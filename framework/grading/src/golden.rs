@@ -46,7 +46,7 @@ impl<I: Serialize + DeserializeOwned, O: Serialize + DeserializeOwned> GoldenFil
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
         serde_json::from_str(&text).map_err(|e| Error::SceneFile {
             path: path.to_path_buf(),
-            reason: format!("malformed golden data: {e}; regenerate it with `raylab golden`"),
+            reason: format!("malformed golden data: {e}"),
         })
     }
 
@@ -55,7 +55,7 @@ impl<I: Serialize + DeserializeOwned, O: Serialize + DeserializeOwned> GoldenFil
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         }
-        let mut text = serde_json::to_string_pretty(self).map_err(|e| Error::Invalid {
+        let mut text = serde_json::to_string_pretty(self).map_err(|e| Error::Failed {
             what: "golden data".into(),
             reason: e.to_string(),
         })?;

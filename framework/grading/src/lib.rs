@@ -24,7 +24,7 @@ pub mod view_task;
 pub use charged_once::{Judge, Judgement, judge};
 pub use course::{DeniedItem, ExerciseInfo, LabId, Visibility};
 pub use golden::{GoldenCase, GoldenFile, compare_f32, compare_vec2, compare_vec3};
-pub use property::for_all;
+pub use property::{for_all, for_all_named};
 pub use snapshot::{
     PixelTolerance, SnapshotReport, compare_snapshot, mark_non_finite, write_failure_images,
     write_reference_pngs,
@@ -125,9 +125,14 @@ impl LabContext {
     /// Failure images go to `$CARGO_TARGET_DIR/raylab-failures/labNN` (default target dir:
     /// `target/` at the workspace root).
     pub fn new(lab: LabId, lab_dir: &Path, base: Pipeline) -> Self {
+        // The workspace's `target/`, two levels above the lab's directory, named without `..`:
+        // failure messages show the images' paths.
         let target = std::env::var_os("CARGO_TARGET_DIR")
             .map(PathBuf::from)
-            .unwrap_or_else(|| lab_dir.join("../../target"));
+            .unwrap_or_else(|| match lab_dir.ancestors().nth(2) {
+                Some(root) if lab_dir.is_absolute() => root.join("target"),
+                _ => lab_dir.join("../../target"),
+            });
         Self {
             lab,
             lab_dir: lab_dir.to_path_buf(),
@@ -176,6 +181,27 @@ impl LabContext {
     /// Path of a snapshot image of this lab.
     pub fn snapshot_path(&self, name: &str) -> PathBuf {
         self.lab_dir.join("snapshots").join(name)
+    }
+
+    /// The golden-case file `name` of this lab (`golden/NAME`); an error says how to restore
+    /// it.
+    pub fn golden<I, O>(&self, name: &str) -> Result<GoldenFile<I, O>, String>
+    where
+        I: serde::Serialize + serde::de::DeserializeOwned,
+        O: serde::Serialize + serde::de::DeserializeOwned,
+    {
+        GoldenFile::load(&self.golden_path(name))
+            .map_err(|e| self.unreadable(&format!("golden/{name}"), e))
+    }
+
+    /// The message of this lab's file `relative` (`golden/x.json`, `snapshots/y.exr`) that
+    /// cannot be read, `error`: the file comes with the lab, and the handout is a git
+    /// repository, so the command that puts it back as it was handed out.
+    pub fn unreadable(&self, relative: &str, error: impl std::fmt::Display) -> String {
+        format!(
+            "{error}; the file comes with the lab: restore it with `git checkout -- {}/{relative}`",
+            self.lab.folder()
+        )
     }
 }
 

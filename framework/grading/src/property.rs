@@ -3,10 +3,32 @@ use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRu
 
 /// Checks `property` on `cases` inputs drawn from `strategy` with proptest, from a fixed seed
 /// (the same inputs on every run, nothing written to disk). On failure proptest shrinks the
-/// input, and the message shows the smallest failing input and what was wrong with it.
+/// input, and the message shows the smallest failing input (its debug form: see
+/// [`for_all_named`] for inputs a student should read in words) and what was wrong with it.
 pub fn for_all<S>(
     cases: u32,
     strategy: S,
+    property: impl Fn(S::Value) -> Result<(), String>,
+) -> Result<(), String>
+where
+    S: Strategy,
+    S::Value: std::fmt::Debug,
+{
+    for_all_named(
+        cases,
+        strategy,
+        |input| format!("input {input:?}"),
+        property,
+    )
+}
+
+/// [`for_all`] whose message names the smallest failing input as `name` says, in the words of
+/// the exercise ("the resolution 1×1 (resolution.x = 1, resolution.y = 1)"), instead of by
+/// its debug form (`UVec2(1, 1)`).
+pub fn for_all_named<S>(
+    cases: u32,
+    strategy: S,
+    name: impl Fn(&S::Value) -> String,
     property: impl Fn(S::Value) -> Result<(), String>,
 ) -> Result<(), String>
 where
@@ -43,9 +65,9 @@ where
             let reason = reason.message();
             // The smallest failing input panicked: the message leads with the panic.
             if panicked.borrow().as_deref() == Some(reason) && reason.starts_with("panicked") {
-                format!("{reason}\n  for input {input:?}")
+                format!("{reason}\n  for {}", name(&input))
             } else {
-                format!("for input {input:?}:\n  {reason}")
+                format!("for {}:\n  {reason}", name(&input))
             }
         }
         proptest::test_runner::TestError::Abort(reason) => {
@@ -88,5 +110,24 @@ mod tests {
         })
         .unwrap_err();
         assert_eq!(message, "for input 10:\n  10 is too big");
+    }
+
+    #[test]
+    fn a_named_input_is_shown_by_its_name() {
+        let message = for_all_named(
+            64,
+            (0u32..1000, 0u32..1000),
+            |(w, h)| format!("the resolution {w}×{h}"),
+            |(w, h)| {
+                if w + h >= 10 {
+                    Err("too big".into())
+                } else {
+                    Ok(())
+                }
+            },
+        )
+        .unwrap_err();
+        assert!(message.starts_with("for the resolution "), "{message}");
+        assert!(!message.contains('('), "{message}");
     }
 }

@@ -145,9 +145,8 @@ impl LabContext {
         tol: &PixelTolerance,
     ) -> Result<(), String> {
         let path = self.snapshot_path(&format!("{name}.exr"));
-        let reference = raylab_core::film::read_exr(&path).map_err(|e| {
-            format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
-        })?;
+        let reference = raylab_core::film::read_exr(&path)
+            .map_err(|e| self.unreadable(&format!("snapshots/{name}.exr"), e))?;
         if (reference.width, reference.height) != (render.width, render.height) {
             return Err(format!(
                 "the render is {}×{} but the snapshot {} is {}×{}",
@@ -224,9 +223,9 @@ impl LabContext {
     /// `raylab golden` stores them: `NAME-mean.exr` and `NAME-variance.exr` (one render's).
     pub fn noisy_reference(&self, name: &str, renders: u32) -> Result<RenderStatistics, String> {
         let read = |what: &str| {
-            read_exr(&self.snapshot_path(&format!("{name}-{what}.exr"))).map_err(|e| {
-                format!("cannot read the reference snapshot ({e}); regenerate it with `cargo run -p raylab -- golden`")
-            })
+            let file = format!("{name}-{what}.exr");
+            read_exr(&self.snapshot_path(&file))
+                .map_err(|e| self.unreadable(&format!("snapshots/{file}"), e))
         };
         Ok(RenderStatistics {
             renders,

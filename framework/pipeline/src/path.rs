@@ -153,7 +153,7 @@ pub fn with_sky(pipeline: &Pipeline, scene: &Scene) -> Result<Pipeline, Error> {
         sky.defect()
     };
     if let Some(reason) = defect {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: format!(
                 "the distribution of the sky {} (Exercise 12.11)",
                 env.texture.path.display()

@@ -434,4 +434,23 @@ fn two_unfinished_parts_are_each_their_own_exercise_s_alone() {
     }
 }
 
+/// Exercise 1.1's failures name the image the check shrank them to as the resolution, in the
+/// words of the exercise, not as the debug form of a `UVec2`.
+#[test]
+fn a_wrong_image_plane_names_its_resolution() {
+    let judged = judged(variant("y not flipped"));
+    let failure = of(&judged, "1.1")
+        .outcome
+        .as_ref()
+        .expect_err("an upside-down image fails 1.1");
+    assert!(
+        failure
+            .message
+            .contains("for the resolution 1×1 (resolution.x = 1, resolution.y = 1):"),
+        "{}",
+        failure.message
+    );
+    assert!(!failure.message.contains("UVec2"), "{}", failure.message);
+}
+
 grading::corpus_tests!(lab01, lab01_checks);

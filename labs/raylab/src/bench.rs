@@ -34,7 +34,7 @@ use scenes::{bumpy_sphere, camera_rays, diffuse_rays, mesh_scene, triangles};
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// Rays per query set: camera rays through an N×N grid of pixel centres.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, value_parser = crate::arguments::pixels, allow_negative_numbers = true)]
     pub resolution: u32,
     /// Timed repetitions per measurement; the median is reported.
     #[arg(long, default_value_t = 5)]
@@ -127,7 +127,7 @@ fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| Error::Invalid {
+        .map_err(|e| Error::Failed {
             what: "thread pool".into(),
             reason: e.to_string(),
         })
@@ -252,8 +252,8 @@ fn throughput(entries: &[Entry<'_>], rays: &[Ray], runs: usize) -> Vec<(f64, f64
         .collect()
 }
 
-/// Runs `raylab bench`.
-pub fn run(args: &BenchArgs) -> Result<(), Error> {
+/// Checks `raylab bench`'s numbers.
+pub fn check(args: &BenchArgs) -> Result<(), Error> {
     if args.resolution == 0 || args.runs == 0 || !(1..=64).contains(&args.copies) {
         return Err(Error::Invalid {
             what: format!(
@@ -263,6 +263,12 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
             reason: "expected whole numbers of at least 1 (and at most 64 copies)".into(),
         });
     }
+    Ok(())
+}
+
+/// Runs `raylab bench`.
+pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    check(args)?;
     if cfg!(debug_assertions) {
         eprintln!(
             "warning: this is a debug build; measure with `cargo run --release -p raylab -- bench`"

@@ -25,14 +25,14 @@ pub fn git(dir: &Path, args: &[&str]) -> Result<Vec<u8>, Error> {
         .stdin(Stdio::null())
         .output()
         .map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => Error::Invalid {
+            std::io::ErrorKind::NotFound => Error::Failed {
                 what: format!("git {}", args.join(" ")),
                 reason: "git is not installed (or not on PATH); the handout is a git repository, install git".into(),
             },
             _ => Error::io(Path::new("git"), e),
         })?;
     if !output.status.success() {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: format!("git {} (in {})", args.join(" "), dir.display()),
             reason: String::from_utf8_lossy(&output.stderr).trim().to_string(),
         });

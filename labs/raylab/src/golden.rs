@@ -29,8 +29,8 @@ fn find_root() -> Result<PathBuf, Error> {
     cwd.ancestors()
         .find(|d| d.join("Cargo.toml").is_file() && d.join("labs").is_dir())
         .map(Path::to_path_buf)
-        .ok_or_else(|| Error::Invalid {
-            what: format!("directory {}", cwd.display()),
+        .ok_or_else(|| Error::Failed {
+            what: format!("the working directory {}", cwd.display()),
             reason:
                 "not inside a raylab workspace (no Cargo.toml with labs/ beside it); pass --root"
                     .into(),
@@ -63,7 +63,7 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
 /// write the lab's golden data under `root`; the files it wrote.
 pub fn generate(workspace: &Path, root: &Path, lab: LabId) -> Result<Vec<PathBuf>, Error> {
     let program =
-        LabProgram::build_in(workspace, lab, &["reference"]).map_err(|e| Error::Invalid {
+        LabProgram::build_in(workspace, lab, &["reference"]).map_err(|e| Error::Failed {
             what: format!("{lab}"),
             reason: e.to_string(),
         })?;
@@ -74,7 +74,7 @@ pub fn generate(workspace: &Path, root: &Path, lab: LabId) -> Result<Vec<PathBuf
         .output()
         .map_err(|e| Error::io(&program.executable, e))?;
     if !output.status.success() {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: format!("{lab}'s golden data"),
             reason: format!(
                 "its program stopped ({}); its messages are above",

@@ -251,7 +251,7 @@ fn toolchain() -> Result<String, Error> {
         .nth(1)
         .filter(|v| v.split('.').all(|n| n.parse::<u32>().is_ok()))
         .map(str::to_string)
-        .ok_or_else(|| Error::Invalid {
+        .ok_or_else(|| Error::Failed {
             what: "rustc --version".into(),
             reason: format!("expected `rustc X.Y.Z (…)`, got {text:?}"),
         })

@@ -83,7 +83,7 @@ pub struct TreeOptions {
 
 /// The repository the command line was built from.
 pub fn repository_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    crate::lab_program::workspace_root()
 }
 
 /// Runs `raylab handout`.
@@ -92,7 +92,7 @@ pub fn run(args: &HandoutArgs) -> Result<(), Error> {
         (_, Some(dir)) => return release::update(args, dir),
         (Some(out), None) => out,
         (None, None) => {
-            return Err(Error::Invalid {
+            return Err(Error::Failed {
                 what: "raylab handout".into(),
                 reason: "expected --out DIR (a new handout) or --update DIR (a release)".into(),
             });
@@ -465,8 +465,8 @@ pub fn check_clean(root: &Path, allow_dirty: bool) -> Result<(), Error> {
         Some(files) if !files.is_empty() => {
             let list = files.join(", ");
             if !allow_dirty {
-                return Err(Error::Invalid {
-                    what: format!("the repository {}", root.display()),
+                return Err(Error::Failed {
+                    what: format!("the repository {} has uncommitted changes", root.display()),
                     reason: format!(
                         "these files differ from the last commit: {list}; commit them, or pass --allow-dirty to take them as they are"
                     ),
@@ -648,7 +648,7 @@ fn write(path: &Path, text: &str) -> Result<(), Error> {
 /// `from` is not there (the repository changed in a way the handout does not know).
 fn replace_once(text: &str, from: &str, to: &str, place: &str) -> Result<String, Error> {
     if text.matches(from).count() != 1 {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: place.to_string(),
             reason: format!(
                 "expected exactly one occurrence of {from:?} to rewrite for the handout"
@@ -785,6 +785,15 @@ mod tests {
                 "labs/lab01/src/new.rs".to_string()
             ])
         );
+        // The refusal names the repository and its state, not an invalid value.
+        assert_eq!(
+            check_clean(&dir, false).unwrap_err().to_string(),
+            format!(
+                "the repository {} has uncommitted changes: these files differ from the last commit: framework/src/lib.rs, labs/lab01/src/new.rs; commit them, or pass --allow-dirty to take them as they are",
+                dir.display()
+            )
+        );
+        assert!(check_clean(&dir, true).is_ok());
         let _ = fs::remove_dir_all(&dir);
     }
 }

@@ -3,7 +3,7 @@
 //! points; the stub says what to compute and the docs give the formula.
 
 use clap::Args;
-use course::{ExerciseInfo, LabId};
+use course::{ExerciseInfo, LabId, Visibility};
 use raylab_core::Error;
 
 /// Options of `raylab hint`.
@@ -19,21 +19,27 @@ pub fn run(args: &HintArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// The hint of exercise `id` with where to find the exercise, or an error naming the
-/// exercises there are.
+/// The hint of exercise `id` with where to find the exercise and the command that checks it,
+/// or an error naming the exercises there are. A hidden exercise's test is not among a
+/// handout's: its hint says so and names the lab's tests instead.
 pub fn hint(id: &str) -> Result<String, Error> {
     let exercise = find(id)?;
     let lab = exercise.lab;
+    let check = match exercise.visibility {
+        Visibility::Visible => format!("check your code with `{}`.", exercise.test_command()),
+        Visibility::Hidden => format!(
+            "its test runs only when your work is graded, not in `cargo test -p {lab}`, which \
+             checks the exercises it builds on."
+        ),
+    };
     Ok(format!(
         "Exercise {id} — {title} (`{function}` in labs/{lab}/src/lib.rs)\n\n\
          {hint}\n\n\
-         The exercise is in docs/{lab}.md, Exercise {id}; check your code with \
-         `cargo test -p {lab} exercise_{test}`.",
+         The exercise is in docs/{lab}.md, Exercise {id}; {check}",
         id = exercise.id,
         title = exercise.title,
         function = exercise.function,
         hint = exercise.hint,
-        test = exercise.id.replace('.', "_"),
     ))
 }
 
@@ -71,6 +77,28 @@ mod tests {
                     "Exercise {} repeats a hint",
                     e.id
                 );
+            }
+        }
+    }
+
+    /// A visible exercise's hint names the command that runs its test alone; a hidden one's,
+    /// whose test a handout does not have, names none of its own.
+    #[test]
+    fn a_hint_names_a_test_command_only_for_a_test_the_handout_has() {
+        for lab in crate::labs::labs() {
+            for e in crate::labs::exercises(lab) {
+                let text = hint(&e.id).unwrap();
+                let own = format!("exercise_{}", e.id.replace('.', "_"));
+                match e.visibility {
+                    Visibility::Visible => assert!(
+                        text.contains(&format!("`cargo test -p {lab} {own}_`")),
+                        "{text}"
+                    ),
+                    Visibility::Hidden => {
+                        assert!(!text.contains(&own), "{text}");
+                        assert!(!text.contains("raylab-failures"), "{text}");
+                    }
+                }
             }
         }
     }

@@ -10,9 +10,14 @@ use course::LabId;
 use grading::task::Task;
 use raylab_core::Error;
 
-/// The workspace's root (where `cargo` builds the labs).
+/// The workspace's root (where `cargo` builds the labs): two levels above this crate's
+/// directory, without `..` in it, so that the paths messages show are the ones to type.
 pub fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    let manifest_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    manifest_dir
+        .ancestors()
+        .nth(2)
+        .map_or_else(|| manifest_dir.join("../.."), Path::to_path_buf)
 }
 
 /// The cargo that runs this command (`cargo run` says which), else the one on the `PATH`.
@@ -71,7 +76,7 @@ impl LabProgram {
             command.arg("--features").arg(features.join(","));
         }
         let failed = |e: std::io::Error| {
-            BuildFailure::Cargo(Error::Invalid {
+            BuildFailure::Cargo(Error::Failed {
                 what: format!("cargo test -p {lab} --no-run"),
                 reason: format!("could not run cargo: {e}"),
             })
@@ -118,7 +123,7 @@ impl LabProgram {
             (Some(executable), true) => Ok(Self { executable }),
             _ => Err(match first_error {
                 Some(error) => BuildFailure::Compile(error.trim_end().to_string()),
-                None => BuildFailure::Cargo(Error::Invalid {
+                None => BuildFailure::Cargo(Error::Failed {
                     what: format!("cargo test -p {lab} --no-run"),
                     reason: cargo_said.join("\n"),
                 }),
@@ -132,5 +137,29 @@ impl LabProgram {
         let mut command = Command::new(&self.executable);
         command.env(grading::task::TASK_VAR, task.to_env());
         command
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Messages show paths below the workspace's root (Dolos's `target/dolos`, say): without
+    /// `..` in them, they are the paths to type.
+    #[test]
+    fn the_workspace_root_is_named_without_parent_steps() {
+        let root = workspace_root();
+        assert!(
+            root.join("labs/raylab/Cargo.toml").is_file(),
+            "{}",
+            root.display()
+        );
+        assert!(
+            !root
+                .components()
+                .any(|c| c == std::path::Component::ParentDir),
+            "{}",
+            root.display()
+        );
     }
 }

@@ -1,6 +1,7 @@
 //! `raylab`: render scenes through the reference or a student's pipeline, and regenerate the
 //! labs' golden data from the reference.
 
+mod arguments;
 mod bench;
 mod git;
 #[cfg(feature = "instructor")]
@@ -81,6 +82,31 @@ enum Command {
     Similarity(similarity::SimilarityArgs),
 }
 
+/// With this variable set, a command checks its arguments — the parser's checks, then those the
+/// command makes before it builds, loads or writes anything — says "arguments accepted" and
+/// stops. The tests run so the commands that hints, `status` and the checks' messages print,
+/// where running them would build a lab or serve a page.
+const CHECK_ARGUMENTS_VAR: &str = "RAYLAB_CHECK_ARGUMENTS";
+
+/// The checks `command` makes of its arguments before any work (see [`CHECK_ARGUMENTS_VAR`]).
+fn check_arguments(command: &Option<Command>) -> Result<(), raylab_core::Error> {
+    let lab = |lab: Option<course::LabId>| lab.map_or(Ok(()), labs::check_lab);
+    match command {
+        None => render::job(&render::RenderArgs::default()).map(drop),
+        Some(Command::Render(args)) => render::job(args).map(drop),
+        Some(Command::Report(args)) => labs::check_lab(args.lab),
+        Some(Command::Status(args)) => lab(args.lab),
+        Some(Command::Hint(args)) => hint::find(&args.exercise).map(drop),
+        Some(Command::Watch(args)) => lab(args.lab),
+        Some(Command::View(args)) => view::check(args).map(drop),
+        Some(Command::Reset(args)) => reset::check(args).map(drop),
+        Some(Command::Bench(args)) => bench::check(args),
+        // The instructor's commands: what the parser checks.
+        #[allow(unreachable_patterns)]
+        Some(_) => Ok(()),
+    }
+}
+
 /// The status of a command whose output pipe was closed: killed by SIGPIPE, as a Unix tool is.
 const CLOSED_PIPE_STATUS: i32 = 128 + 13;
 
@@ -109,6 +135,9 @@ fn main() -> ExitCode {
     grade::rustc_record::wrap_if_asked();
     exit_quietly_on_closed_pipe();
     let cli = Cli::parse();
+    if std::env::var_os(CHECK_ARGUMENTS_VAR).is_some() {
+        return exit(check_arguments(&cli.command).map(|()| println!("arguments accepted")));
+    }
     let result = match cli.command {
         None => render::run(&render::RenderArgs::default()),
         Some(Command::Render(args)) => render::run(&args),
@@ -132,6 +161,11 @@ fn main() -> ExitCode {
         #[cfg(feature = "instructor")]
         Some(Command::Similarity(args)) => similarity::run(&args),
     };
+    exit(result)
+}
+
+/// The command's exit status; an error is printed on standard error first.
+fn exit(result: Result<(), raylab_core::Error>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -10,6 +10,7 @@ use pipeline::job::RenderJob;
 use pipeline::photon::PhotonSettings;
 use raylab_core::Error;
 
+use crate::arguments::{count, pixels};
 use crate::lab_program::LabProgram;
 
 /// Whose code renders.
@@ -46,20 +47,20 @@ pub struct RenderArgs {
     #[arg(long, short, default_value = "default")]
     pub scene: String,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, value_parser = pixels, allow_negative_numbers = true)]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 384)]
+    #[arg(long, default_value_t = 384, value_parser = pixels, allow_negative_numbers = true)]
     pub height: u32,
     /// Samples per pixel (1 traces through pixel centres) [default: 1; 32 from lab 12 on, whose
     /// path tracer needs many]
-    #[arg(long)]
+    #[arg(long, value_parser = count, allow_negative_numbers = true)]
     pub spp: Option<u32>,
     /// Pixel subdivision s (lab 7 on): s × s jittered subpixel rays per sample.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = count, allow_negative_numbers = true)]
     pub subdivisions: u32,
     /// Area-light samples n (lab 3 on): n × n stratified samples per shading point.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, value_parser = count, allow_negative_numbers = true)]
     pub light_samples: u32,
     /// Random seed.
     #[arg(long, default_value_t = 0)]
@@ -81,10 +82,10 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = ViewChoice::Shaded)]
     pub view: ViewChoice,
     /// Photons emitted for the caustic photon map (lab 8 on).
-    #[arg(long, default_value_t = PhotonSettings::DEFAULT.emitted)]
+    #[arg(long, default_value_t = PhotonSettings::DEFAULT.emitted, value_parser = count, allow_negative_numbers = true)]
     pub photons: u32,
     /// The caustic estimate gathers the k nearest photons (lab 8 on) …
-    #[arg(long, default_value_t = PhotonSettings::DEFAULT.k)]
+    #[arg(long, default_value_t = PhotonSettings::DEFAULT.k, value_parser = count, allow_negative_numbers = true)]
     pub photon_k: u32,
     /// … within this radius, in scene units (lab 8 on) [default: 5.2 % of the diagonal of the
     /// scene's bounds, 5 cm in the Cornell box]
@@ -155,8 +156,9 @@ pub fn prepare_output(output: &Path) -> Result<PathBuf, Error> {
 /// Samples per pixel of a render from lab 12 on when `--spp` is not given.
 pub const PATH_TRACED_SPP: u32 = 32;
 
-/// Runs `raylab render`.
-pub fn run(args: &RenderArgs) -> Result<(), Error> {
+/// The render `args` ask for, its arguments checked (before any scene is loaded or program
+/// built), and the lab it renders at.
+pub fn job(args: &RenderArgs) -> Result<(LabId, RenderJob), Error> {
     let lab = args.lab.unwrap_or_else(course::last);
     crate::labs::check_lab(lab)?;
     let ext = args
@@ -170,7 +172,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             reason: "expected a file name ending in .png or .exr".into(),
         });
     }
-    let mut job = RenderJob {
+    let job = RenderJob {
         scene: args.scene.clone(),
         width: args.width,
         height: args.height,
@@ -204,6 +206,12 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         target_error: args.target_error,
     };
     job.validate()?;
+    Ok((lab, job))
+}
+
+/// Runs `raylab render`.
+pub fn run(args: &RenderArgs) -> Result<(), Error> {
+    let (lab, mut job) = job(args)?;
     job.output = prepare_output(&args.output)?;
     if let Some(note) = student_code_note(args.pipeline, lab) {
         eprintln!("note: {note}");
@@ -220,7 +228,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
 /// until the program ends: it reads nothing from the terminal, and a program that serves (the
 /// view) ends when this command is killed and the pipe closes.
 pub fn run_in_lab_program(lab: LabId, features: &[&str], task: &Task) -> Result<(), Error> {
-    let program = LabProgram::build(lab, features).map_err(|e| Error::Invalid {
+    let program = LabProgram::build(lab, features).map_err(|e| Error::Failed {
         what: format!("{lab}"),
         reason: e.to_string(),
     })?;
@@ -236,7 +244,7 @@ pub fn run_in_lab_program(lab: LabId, features: &[&str], task: &Task) -> Result<
     if status.success() {
         return Ok(());
     }
-    Err(Error::Invalid {
+    Err(Error::Failed {
         what: format!("{lab}'s program"),
         reason: format!("it stopped ({status}); its messages are above"),
     })

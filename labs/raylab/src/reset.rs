@@ -25,6 +25,7 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use clap::Args;
+use course::ExerciseInfo;
 use proc_macro2::{Delimiter, TokenStream, TokenTree};
 use raylab_core::Error;
 
@@ -47,29 +48,37 @@ pub struct ResetArgs {
 /// A lab's source larger than this is refused rather than read.
 const MAX_SOURCE_BYTES: u64 = 4 << 20;
 
+/// The exercise `raylab reset` would reset: one whose stub is one function.
+pub fn check(args: &ResetArgs) -> Result<&'static ExerciseInfo, Error> {
+    let exercise = crate::hint::find(&args.exercise)?;
+    if !is_identifier(&exercise.function) {
+        return Err(Error::Invalid {
+            what: format!("exercise {}", exercise.id),
+            reason: format!(
+                "its stub is `{}`, not one function of {}; reset the exercises it is made of one by one",
+                exercise.function,
+                exercise.lab.source()
+            ),
+        });
+    }
+    Ok(exercise)
+}
+
 /// Runs `raylab reset`.
 pub fn run(args: &ResetArgs) -> Result<(), Error> {
     let root = args
         .handout
         .clone()
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."));
-    let exercise = crate::hint::find(&args.exercise)?;
+        .unwrap_or_else(crate::lab_program::workspace_root);
+    let exercise = check(args)?;
     let function = exercise.function.as_str();
-    let file = format!("labs/{}/src/lib.rs", exercise.lab);
-    if !is_identifier(function) {
-        return Err(Error::Invalid {
-            what: format!("exercise {}", exercise.id),
-            reason: format!(
-                "its stub is `{function}`, not one function of {file}; reset the exercises it is made of one by one"
-            ),
-        });
-    }
+    let file = exercise.lab.source();
     let path = root.join(&file);
     let size = std::fs::metadata(&path)
         .map_err(|e| Error::io(&path, e))?
         .len();
     if size > MAX_SOURCE_BYTES {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: file.clone(),
             reason: format!(
                 "{size} bytes, more than the {MAX_SOURCE_BYTES} a lab's source may have"
@@ -78,11 +87,11 @@ pub fn run(args: &ResetArgs) -> Result<(), Error> {
     }
     let current = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
     let original = original_text(&root, &file)?;
-    let original_range = only_function(&original, function).map_err(|why| Error::Invalid {
+    let original_range = only_function(&original, function).map_err(|why| Error::Failed {
         what: format!("the handout's original of {file}"),
         reason: format!("cannot find the stub of exercise {}: {why}", exercise.id),
     })?;
-    let range = only_function(&current, function).map_err(|why| Error::Invalid {
+    let range = only_function(&current, function).map_err(|why| Error::Failed {
         what: file.clone(),
         reason: format!("cannot reset exercise {}: {why}", exercise.id),
     })?;
@@ -179,7 +188,7 @@ fn is_identifier(name: &str) -> bool {
 /// of the handout's own (`raylab handout` and its releases) that changed it holds it, or,
 /// in a repository with none, as the commit that added it.
 fn original_text(root: &Path, file: &str) -> Result<String, Error> {
-    let cannot = |why: String| Error::Invalid {
+    let cannot = |why: String| Error::Failed {
         what: format!("the handout's original of {file}"),
         reason: format!(
             "{why}; `raylab reset` takes it from the git history of your clone of the handout repository"

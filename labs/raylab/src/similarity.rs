@@ -195,7 +195,7 @@ pub fn run(args: &SimilarityArgs) -> Result<(), Error> {
             rejected,
         } = lab_sources(&repository_root(), lab);
         let Some(stubs) = stubs.filter(|_| rejected.is_empty()) else {
-            return Err(Error::Invalid {
+            return Err(Error::Failed {
                 what: format!("the repository's labs/{lab}/src"),
                 reason: rejected
                     .into_iter()
@@ -319,7 +319,7 @@ fn dolos_dir(given: Option<&Path>) -> Result<PathBuf, Error> {
             .join("node_modules/@dodona/dolos-lib/package.json")
             .is_file();
     if !installed {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: format!("Dolos directory {}", dir.display()),
             reason: format!(
                 "Dolos, the plagiarism detector `raylab similarity` runs, is not installed there: run `{INSTALL}` (or pass --dolos DIR)"
@@ -379,13 +379,13 @@ fn compare(
         .arg(&script)
         .arg(&manifest_path)
         .output()
-        .map_err(|err| Error::Invalid {
+        .map_err(|err| Error::Failed {
             what: "node".into(),
             reason: format!(
                 "cannot run Node.js, which runs Dolos ({err}): install it (apt-get install nodejs npm) and run `{INSTALL}`"
             ),
         })?;
-    let invalid = |reason: String| Error::Invalid {
+    let invalid = |reason: String| Error::Failed {
         what: format!(
             "Dolos's answer ({} {})",
             script.display(),
@@ -437,7 +437,7 @@ fn compare(
 /// The CSV of the pairs (see [`CSV`]).
 fn csv(pairs: &[Pair]) -> Result<String, Error> {
     let mut csv = csv::Writer::from_writer(Vec::new());
-    let bad = |err: csv::Error| Error::Invalid {
+    let bad = |err: csv::Error| Error::Failed {
         what: CSV.into(),
         reason: err.to_string(),
     };

@@ -29,9 +29,12 @@ enum State {
     Failing(String),
 }
 
+/// One exercise's row: its number, function, points, state, and the command that runs its test.
+type Row = (String, String, u32, State, String);
+
 /// Runs lab `lab`'s exercises on the student's code in the lab's program: a row per exercise
-/// of its table (`(id, function, points, state)`), or why the program did not build or run.
-fn judge(lab: LabId) -> Result<Vec<(String, String, u32, State)>, String> {
+/// of its table, or why the program did not build or run.
+fn judge(lab: LabId) -> Result<Vec<Row>, String> {
     // A handout has no tests for hidden exercises; the instructor's tree shows them all.
     let features: &[&str] = if cfg!(feature = "instructor") {
         &["hidden-exercises"]
@@ -63,12 +66,18 @@ fn judge(lab: LabId) -> Result<Vec<(String, String, u32, State)>, String> {
                 // The program ended before this exercise's record: an exit or a crash of the
                 // code an earlier check ran, or of this one.
                 None => State::Failing(format!(
-                    "the checks stopped before this exercise ({}): run `cargo test -p {lab} {}`",
+                    "the checks stopped before this exercise ({}): run `{}`",
                     output.status,
-                    e.test_prefix()
+                    e.test_command()
                 )),
             };
-            (e.id.to_string(), e.function.to_string(), e.points, state)
+            (
+                e.id.to_string(),
+                e.function.to_string(),
+                e.points,
+                state,
+                e.test_command(),
+            )
         })
         .collect())
 }
@@ -115,7 +124,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
                 println!("{lab}  {earned}/{total} points (+{h} hidden points, checked when graded)")
             }
         }
-        for (id, function, points, state) in &rows {
+        for (id, function, points, state, test) in &rows {
             let (mark, detail) = match state {
                 State::Passed => ("passed     ", String::new()),
                 State::NotStarted => ("not started", String::new()),
@@ -131,8 +140,7 @@ pub fn run(args: &StatusArgs) -> Result<(), Error> {
             println!("  {id:<5} {mark} {function:<26} {points} pt{detail}");
             if next.is_none() && !matches!(state, State::Passed) {
                 next = Some(format!(
-                    "Exercise {id} (`{function}` in labs/{lab}/src/lib.rs, docs/{lab}.md); check it with `cargo test -p {lab} exercise_{}`; stuck? `cargo run -p raylab -- hint {id}`",
-                    id.replace('.', "_")
+                    "Exercise {id} (`{function}` in labs/{lab}/src/lib.rs, docs/{lab}.md); check it with `{test}`; stuck? `cargo run -p raylab -- hint {id}`"
                 ));
             }
         }

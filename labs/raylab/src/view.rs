@@ -7,6 +7,7 @@ use course::LabId;
 use grading::task::{Task, ViewJob};
 use raylab_core::Error;
 
+use crate::arguments::pixels;
 use crate::render::PipelineChoice;
 
 /// Options of `raylab view`.
@@ -28,10 +29,10 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 0)]
     pub port: u16,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, value_parser = pixels, allow_negative_numbers = true)]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, value_parser = pixels, allow_negative_numbers = true)]
     pub height: u32,
     /// The seed of the first pass (pass p uses seed + p).
     #[arg(long, default_value_t = 0)]
@@ -53,9 +54,9 @@ fn parse_pixel(text: &str) -> Result<[u32; 2], String> {
 /// The largest image side `raylab view` renders.
 pub const MAX_SIDE: u32 = 4096;
 
-/// Runs `raylab view`: builds the lab's program with its `view` feature (and `reference` for
-/// the reference pipeline where the tree holds the solution) and runs it until it is stopped.
-pub fn run(args: &ViewArgs) -> Result<(), Error> {
+/// Checks `raylab view`'s arguments, before anything is built: the lab `args` name (or the
+/// last) and a pixel inside an image of sides up to [`MAX_SIDE`].
+pub fn check(args: &ViewArgs) -> Result<LabId, Error> {
     let lab = args.lab.unwrap_or_else(course::last);
     crate::labs::check_lab(lab)?;
     if let Some([x, y]) = args.pixel
@@ -74,6 +75,13 @@ pub fn run(args: &ViewArgs) -> Result<(), Error> {
             });
         }
     }
+    Ok(lab)
+}
+
+/// Runs `raylab view`: builds the lab's program with its `view` feature (and `reference` for
+/// the reference pipeline where the tree holds the solution) and runs it until it is stopped.
+pub fn run(args: &ViewArgs) -> Result<(), Error> {
+    let lab = check(args)?;
     let has_solution = crate::render::has_solution(lab);
     let job = ViewJob {
         scene: args.scene.clone(),

@@ -125,8 +125,45 @@ fn bad_input_is_a_clear_error_not_a_panic() {
     std::fs::write(dir.join("nocam.toml"), "[materials.white]\ndiffuse = [0.8, 0.8, 0.8]\n\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\n").unwrap();
     std::fs::write(dir.join("broken.toml"), "[camera]\neye = [0, 0\n").unwrap();
     std::fs::write(dir.join("cut.obj"), "v 0 0 0\nv 1 0 0\n").unwrap();
+    // A PNG whose header (its IHDR chunk) no longer matches its checksum, and a texture that is
+    // not there.
+    let mut png = Vec::new();
+    image::RgbImage::new(2, 2)
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    png[16] ^= 0x40;
+    std::fs::write(dir.join("damaged.png"), png).unwrap();
+    let camera =
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfocal_distance = 1.0\n";
+    for (scene, texture) in [("damaged", "damaged.png"), ("untextured", "nothere.png")] {
+        std::fs::write(
+            dir.join(format!("{scene}.toml")),
+            format!("{camera}\n[materials.floor]\ntexture = \"{texture}\"\n"),
+        )
+        .unwrap();
+    }
     let cases: &[(&[&str], &str)] = &[
-        (&["render", "--width", "0"], "image width 0"),
+        (
+            &["render", "--width", "0"],
+            "'0' for '--width <WIDTH>': 0 is not positive",
+        ),
+        (
+            &["render", "--width", "-5"],
+            "'-5' for '--width <WIDTH>': -5 is negative",
+        ),
+        (
+            &["render", "--width=-5"],
+            "'-5' for '--width <WIDTH>': -5 is negative",
+        ),
+        (&["render", "--height", "many"], "'many' is not a number"),
+        (
+            &["render", "-s", "damaged.toml"],
+            "damaged.png: cannot read the texture of materials.floor at damaged.toml, line 7",
+        ),
+        (
+            &["render", "-s", "untextured.toml"],
+            "nothere.png: cannot read the texture of materials.floor at untextured.toml, line 7",
+        ),
         (&["render", "-s", "missing.toml"], "missing.toml"),
         (&["render", "-s", "nocam.toml"], "camera"),
         (&["render", "-s", "broken.toml"], "broken.toml"),
@@ -406,6 +443,62 @@ fn status_lists_every_exercise_and_the_next_one() {
     // The exercises of the stubs are not started; the first one is next.
     assert!(stdout.contains("not started"), "{stdout}");
     assert!(stdout.contains("next: Exercise 1.1"), "{stdout}");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// The commands that hints and the checks' failure messages print, in the mode that checks a
+/// command's arguments and does nothing else (`RAYLAB_CHECK_ARGUMENTS`, which the test of the
+/// printed commands in a handout runs them in): a snapshot's `raylab view` command is accepted
+/// without a page being served, and arguments the command would refuse are refused the same.
+#[test]
+fn printed_commands_have_their_arguments_checked_without_running() {
+    let dir = scratch("check-arguments");
+    let check = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .args(args)
+            .current_dir(&dir)
+            .env("RAYLAB_CHECK_ARGUMENTS", "1")
+            .output()
+            .expect("raylab runs");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    for args in [
+        "view --lab 3 --scene cornell-spheres --width 4 --height 3 --pixel 0,0",
+        "render --lab 1 --pipeline student --width 160 --height 120",
+        "render --lab 7 --pipeline student --subdivisions 4",
+        "hint 1.6",
+        "status --lab 2",
+    ] {
+        let (ok, stdout, stderr) = check(&args.split(' ').collect::<Vec<_>>());
+        assert!(
+            ok && stdout == "arguments accepted\n",
+            "{args}: {stdout}{stderr}"
+        );
+    }
+    assert!(
+        !dir.join("raylab.png").exists(),
+        "a checked render writes nothing"
+    );
+    for (args, expected) in [
+        (
+            "view --lab 3 --scene cornell --width 4 --height 3 --pixel 4,0",
+            "pixel 4,0",
+        ),
+        ("render --lab 99", "invalid lab 99"),
+        ("hint 1.9", "'1.9'"),
+        ("render --width 0", "0 is not positive"),
+        ("reset 1.6", "not one function"),
+    ] {
+        let (ok, stdout, stderr) = check(&args.split(' ').collect::<Vec<_>>());
+        assert!(
+            !ok && stdout.is_empty() && stderr.contains(expected),
+            "{args}: {stdout}{stderr}"
+        );
+    }
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -8,6 +8,7 @@
 //! cargo test -p raylab-tests --test workflows handout_and_grade -- --nocapture
 //! cargo test -p raylab-tests --test workflows hostile_submissions -- --nocapture
 //! cargo test -p raylab-tests --test workflows new_lab -- --nocapture
+//! cargo test -p raylab-tests --test workflows printed_commands -- --nocapture
 //! cargo test -p raylab-tests --test workflows term -- --nocapture
 //! ```
 
@@ -16,4 +17,5 @@ mod cold_grading;
 mod handout_and_grade;
 mod hostile_submissions;
 mod new_lab;
+mod printed_commands;
 mod term;

@@ -85,7 +85,7 @@ fn decode_image_reason(path: &Path, budget: &LoadBudget) -> Result<DecodedImage,
     })
     .map_err(|caught| {
         format!(
-            "the {} decoder failed on this file (it panicked: {})",
+            "not a valid {} file: the decoder failed on it (it panicked: {})",
             format.name(),
             caught.message
         )
@@ -142,10 +142,10 @@ fn decode_png(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String>
     let mut decoder = png::Decoder::new_with_limits(Cursor::new(bytes), limits);
     // Palettes and samples under 8 bits become 8-bit samples; 16-bit samples stay.
     decoder.set_transformations(png::Transformations::EXPAND);
-    let header = decoder.read_header_info().map_err(|e| e.to_string())?;
+    let header = decoder.read_header_info().map_err(png_reason)?;
     let (width, height) = (header.width, header.height);
     check_size(u64::from(width), u64::from(height), 8, budget)?;
-    let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let mut reader = decoder.read_info().map_err(png_reason)?;
     let (colour, depth) = reader.output_color_type();
     let channels = colour.samples();
     if colour == png::ColorType::Indexed || !(1..=4).contains(&channels) {
@@ -157,7 +157,7 @@ fn decode_png(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String>
         .output_buffer_size()
         .ok_or("the PNG image is too large to decode")?;
     let mut buffer = vec![0; size];
-    let frame = reader.next_frame(&mut buffer).map_err(|e| e.to_string())?;
+    let frame = reader.next_frame(&mut buffer).map_err(png_reason)?;
     let data = &buffer[..frame.buffer_size()];
     let rgb = match depth {
         png::BitDepth::Eight => rgb_from_samples(data.iter().map(|&v| v as f32 / 255.0), channels),
@@ -176,6 +176,113 @@ fn decode_png(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String>
     })
 }
 
+/// The PNG decoder's error as "not a valid PNG file: …" in words: its message names chunks by
+/// their debug structure (`ChunkType { type: IHDR, critical: true, … }`) and compressed data's
+/// faults by an enum variant, which a reader should not have to decipher.
+fn png_reason(error: png::DecodingError) -> String {
+    let reason = match error {
+        png::DecodingError::IoError(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
+            CUT_SHORT.to_string()
+        }
+        png::DecodingError::IoError(e) => e.to_string(),
+        png::DecodingError::Format(e) => png_format_reason(&e.to_string()),
+        png::DecodingError::Parameter(e) => e.to_string(),
+        png::DecodingError::LimitsExceeded => {
+            "decoding it takes more memory than the load budget allows".to_string()
+        }
+    };
+    format!("not a valid PNG file: {reason}")
+}
+
+/// What a file that ends too soon is told.
+const CUT_SHORT: &str = "the file ends before its image data do (it is cut short)";
+
+/// The PNG decoder's message of a fault of the file's format, in words.
+fn png_format_reason(message: &str) -> String {
+    let message = chunk_names(message);
+    if message.starts_with("CRC error") {
+        let chunk = message
+            .split_once("while decoding ")
+            .and_then(|(_, rest)| rest.split_whitespace().next())
+            .unwrap_or("a");
+        return format!(
+            "the checksum of its {chunk} chunk does not match the chunk's data (the file is damaged)"
+        );
+    }
+    if let Some(fault) = message.strip_prefix("Corrupt deflate stream.") {
+        return format!(
+            "its compressed image data are damaged ({})",
+            words(fault.trim())
+        );
+    }
+    let message = message.trim().trim_end_matches('.');
+    let mut chars = message.chars();
+    match chars.next() {
+        Some(first) => first.to_lowercase().chain(chars).collect(),
+        None => "the decoder gave no reason".to_string(),
+    }
+}
+
+/// `message` with each chunk's debug structure, `ChunkType { type: IHDR, critical: true, … }`,
+/// replaced by the chunk's name, `IHDR`.
+fn chunk_names(message: &str) -> String {
+    const START: &str = "ChunkType { type: ";
+    let mut out = String::new();
+    let mut rest = message;
+    while let Some(at) = rest.find(START) {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + START.len()..];
+        let name_end = after.find([',', ' ', '}']).unwrap_or(after.len());
+        out.push_str(&after[..name_end]);
+        rest = after.find('}').map_or("", |end| &after[end + 1..]);
+    }
+    out.push_str(rest);
+    out
+}
+
+/// An identifier in words: `BadLiteralLengthHuffmanTree` → "bad literal length huffman tree".
+pub(crate) fn words(identifier: &str) -> String {
+    let mut out = String::new();
+    for c in identifier.chars() {
+        if c.is_uppercase() && !out.is_empty() {
+            out.push(' ');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out
+}
+
+/// The JPEG decoder's error as "not a valid JPEG file: …" in words (its own display is its
+/// debug form: strings in quotes, I/O errors as enum variants).
+fn jpeg_reason(error: zune_jpeg::errors::DecodeErrors) -> String {
+    use zune_jpeg::errors::DecodeErrors as E;
+    use zune_jpeg::zune_core::bytestream::ZByteIoError;
+    let reason = match error {
+        E::Format(why) | E::MCUError(why) => why,
+        E::FormatStatic(why) => why.to_string(),
+        E::HuffmanDecode(why) => format!("its Huffman-coded data are damaged: {why}"),
+        E::ZeroError => "its width or height is 0".to_string(),
+        E::DqtError(why) => format!("its quantization table is damaged: {why}"),
+        E::SosError(why) => format!("its start-of-scan segment is damaged: {why}"),
+        E::SofError(why) => format!("its start-of-frame segment is damaged: {why}"),
+        E::IllegalMagicBytes(bytes) => {
+            format!("it does not start with a JPEG marker (it starts with 0x{bytes:04X})")
+        }
+        E::Unsupported(scheme) => {
+            format!("it is encoded in a way raylab does not read: {scheme:?}")
+        }
+        E::ExhaustedData | E::IoErrors(ZByteIoError::NotEnoughBytes(..)) => CUT_SHORT.to_string(),
+        E::IoErrors(other) => format!("{other:?}"),
+        E::LargeDimensions(side) => {
+            format!("a side of {side} pixels is larger than the decoder reads")
+        }
+        E::TooSmallOutput(expected, found) => {
+            format!("the decoder needed {expected} bytes of output and had {found}")
+        }
+    };
+    format!("not a valid JPEG file: {}", reason.trim())
+}
+
 fn decode_jpeg(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String> {
     use zune_jpeg::zune_core::bytestream::ZCursor;
     use zune_jpeg::zune_core::colorspace::ColorSpace;
@@ -186,7 +293,7 @@ fn decode_jpeg(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String
         .set_max_width(side)
         .set_max_height(side);
     let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
-    decoder.decode_headers().map_err(|e| e.to_string())?;
+    decoder.decode_headers().map_err(jpeg_reason)?;
     let (width, height) = decoder
         .dimensions()
         .ok_or("the JPEG headers hold no size")?;
@@ -202,7 +309,7 @@ fn decode_jpeg(bytes: &[u8], budget: &LoadBudget) -> Result<DecodedImage, String
     };
     check_size(width as u64, height as u64, channels as u64, budget)?;
     decoder.set_options(options.jpeg_set_out_colorspace(out));
-    let data = decoder.decode().map_err(|e| e.to_string())?;
+    let data = decoder.decode().map_err(jpeg_reason)?;
     if data.len() != width * height * channels {
         return Err(format!(
             "the JPEG decoder gave {} bytes for a {width} × {height} image",
@@ -281,6 +388,74 @@ mod tests {
             }
         }
         assert!(seen >= 6, "{seen} images compared");
+    }
+
+    /// A 2 × 1 RGB PNG written by the `image` crate's encoder.
+    fn small_png() -> Vec<u8> {
+        let mut bytes = Vec::new();
+        image::RgbImage::from_raw(2, 1, vec![10, 20, 30, 40, 50, 60])
+            .unwrap()
+            .write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
+            .unwrap();
+        bytes
+    }
+
+    /// The reason `decode_image` gives for the file of `bytes`.
+    fn reason_for(name: &str, bytes: &[u8]) -> String {
+        let dir = std::env::temp_dir().join(format!("raylab-decode-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let reason = decode_image(&path, &LoadBudget::DEFAULT)
+            .err()
+            .unwrap_or_else(|| panic!("{name} decoded"));
+        std::fs::remove_file(&path).unwrap();
+        reason
+    }
+
+    /// A damaged PNG is "not a valid PNG file" with the decoder's reason in words: the chunk by
+    /// its name, not the decoder's debug structure of it.
+    #[test]
+    fn a_damaged_png_is_not_a_valid_png_in_plain_words() {
+        let good = small_png();
+        assert!(decode_ok(&good));
+        // Byte 16 is the first byte of the width, inside the IHDR chunk its checksum covers.
+        let mut damaged = good.clone();
+        damaged[16] ^= 0x40;
+        assert_eq!(
+            reason_for("damaged.png", &damaged),
+            "not a valid PNG file: the checksum of its IHDR chunk does not match the chunk's data (the file is damaged)"
+        );
+        // Cut inside the pixel data.
+        let cut = &good[..good.len() - 16];
+        let reason = reason_for("cut.png", cut);
+        assert!(reason.starts_with("not a valid PNG file: "), "{reason}");
+        for debug in ["ChunkType", "{", "Error", "critical"] {
+            assert!(!reason.contains(debug), "{reason}");
+        }
+    }
+
+    /// Whether `bytes` decode (the test's own PNG must, for the damage to be what fails).
+    fn decode_ok(bytes: &[u8]) -> bool {
+        decode_png(bytes, &LoadBudget::DEFAULT).is_ok()
+    }
+
+    #[test]
+    fn decoder_messages_lose_their_debug_forms() {
+        assert_eq!(
+            chunk_names(
+                "Chunk ChunkType { type: PLTE, critical: true, private: false, reserved: false, safecopy: false } must appear at most once."
+            ),
+            "Chunk PLTE must appear at most once."
+        );
+        assert_eq!(
+            png_format_reason("Corrupt deflate stream. BadLiteralLengthHuffmanTree"),
+            "its compressed image data are damaged (bad literal length huffman tree)"
+        );
+        assert_eq!(
+            png_format_reason("Invalid PNG signature."),
+            "invalid PNG signature"
+        );
     }
 
     #[test]

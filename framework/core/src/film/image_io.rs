@@ -208,7 +208,7 @@ pub fn write_exr(film: &Film, path: &Path) -> Result<(), Error> {
 /// Reads a float image (OpenEXR, or any format the loaders decode) into a film, under the
 /// [`LoadBudget::current`] budget.
 pub fn read_exr(path: &Path) -> Result<Film, Error> {
-    let image = decode_image(path, &LoadBudget::current()).map_err(|reason| Error::Texture {
+    let image = decode_image(path, &LoadBudget::current()).map_err(|reason| Error::Image {
         path: path.to_path_buf(),
         reason,
     })?;

@@ -703,7 +703,10 @@ fn zip_decompress(data: &[u8], expected: usize, index: usize) -> Result<Vec<u8>,
         TINFLStatus::HasMoreOutput => {
             format!("chunk {index}'s ZIP data gives more than its {expected} bytes")
         }
-        status => format!("chunk {index}'s ZIP data is not zlib data ({status:?})"),
+        status => format!(
+            "chunk {index}'s ZIP data is not zlib data ({})",
+            super::decode::words(&format!("{status:?}"))
+        ),
     })?;
     if out.len() != expected {
         return Err(format!(

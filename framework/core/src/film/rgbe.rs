@@ -28,6 +28,7 @@ impl RgbeImage {
     pub fn read(path: &Path) -> Result<Self, Error> {
         let fail = |reason: String| Error::Texture {
             path: path.to_path_buf(),
+            named_by: None,
             reason,
         };
         let budget = LoadBudget::current();

@@ -207,6 +207,15 @@ impl Builder<'_> {
         }
     }
 
+    /// Where the current entry is: "at scene.toml, line 8, column 1", or "in scene.toml"
+    /// before any entry.
+    fn place(&self) -> String {
+        match self.at.get() {
+            Some(at) => format!("at {}, {}", self.path.display(), position(self.text, at)),
+            None => format!("in {}", self.path.display()),
+        }
+    }
+
     /// Makes later errors name the line of the entry `span`.
     fn entry(&self, span: std::ops::Range<usize>) {
         self.at.set(Some(span.start));
@@ -374,7 +383,23 @@ impl Builder<'_> {
                     obj_path.display().to_string().escape_debug()
                 ))
             })?;
-            let obj = load_obj_with(&obj_path, &text, self.read)?;
+            // A texture of the OBJ's materials names its MTL line, and then this entry.
+            let obj = load_obj_with(&obj_path, &text, self.read).map_err(|e| match e {
+                Error::Texture {
+                    path,
+                    named_by,
+                    reason,
+                } => Error::Texture {
+                    path,
+                    named_by: Some(format!(
+                        "{}, in the OBJ file of {what} {}",
+                        named_by.as_deref().unwrap_or("the texture"),
+                        self.place()
+                    )),
+                    reason,
+                },
+                other => other,
+            })?;
             let mut part = self.transform(&what, m, obj.mesh)?;
             match overridden {
                 Some(id) => part.face_materials.fill(id),
@@ -428,14 +453,7 @@ impl Builder<'_> {
             )));
         }
         let path = self.base_dir.join(&env.probe);
-        let named_by = match self.at.get() {
-            Some(at) => format!(
-                "the probe of [environment] at {}, {}",
-                self.path.display(),
-                position(self.text, at)
-            ),
-            None => format!("the probe of [environment] in {}", self.path.display()),
-        };
+        let named_by = format!("the probe of [environment] {}", self.place());
         let texture = Texture::load_for(&path, &named_by)?;
         Ok(EnvironmentMap {
             texture: Arc::new(texture),
@@ -506,14 +524,7 @@ impl Builder<'_> {
             let texture = match textures.get(&path) {
                 Some(t) => Arc::clone(t),
                 None => {
-                    let statement = match self.at.get() {
-                        Some(at) => format!(
-                            "{what} at {}, {}",
-                            self.path.display(),
-                            position(self.text, at)
-                        ),
-                        None => format!("{what} in {}", self.path.display()),
-                    };
+                    let statement = format!("the texture of {what} {}", self.place());
                     let t = Arc::new(Texture::load_for(&path, &statement)?);
                     textures.insert(path, Arc::clone(&t));
                     t
@@ -884,17 +895,53 @@ material = "glass"
             Err(e @ Error::Texture { .. }) => {
                 let message = e.to_string();
                 assert!(
-                    message.contains("tex.png: cannot decode texture"),
-                    "{message}"
-                );
-                assert!(
-                    message.contains("(the texture of materials.floor at ")
-                        && message.contains("scene.toml, line 8, column 1)"),
+                    message.contains("tex.png: cannot read the texture of materials.floor at ")
+                        && message.contains("scene.toml, line 8, column 1: "),
                     "{message}"
                 );
             }
             other => panic!("expected a texture error, got {other:?}"),
         }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A texture that is not there names the file, the entry that named it and that entry's
+    /// line; one named by the MTL file of a mesh names the MTL line and the mesh's entry.
+    #[test]
+    fn a_missing_texture_names_the_file_and_what_named_it() {
+        let dir = temp_dir("missing-texture");
+        let scene = dir.join("scene.toml");
+        std::fs::write(
+            &scene,
+            format!("{CAMERA}\n[materials.floor]\ntexture = \"nothere.png\"\n"),
+        )
+        .unwrap();
+        let message = load_scene_file(&scene).unwrap_err().to_string();
+        assert_eq!(
+            message,
+            format!(
+                "{}: cannot read the texture of materials.floor at {}, line 8, column 1: No such file or directory (os error 2)",
+                dir.join("nothere.png").display(),
+                scene.display()
+            )
+        );
+        std::fs::write(dir.join("m.mtl"), "newmtl a\nKd 1 1 1\nmap_Kd gone.png\n").unwrap();
+        std::fs::write(
+            dir.join("tri.obj"),
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+        )
+        .unwrap();
+        std::fs::write(&scene, format!("{CAMERA}[[meshes]]\nfile = \"tri.obj\"\n")).unwrap();
+        let message = load_scene_file(&scene).unwrap_err().to_string();
+        assert_eq!(
+            message,
+            format!(
+                "{}: cannot read the texture map_Kd of material 'a' at {}:3, in the OBJ file of meshes[0] at {}, line 7, column 1: No such file or directory (os error 2)",
+                dir.join("gone.png").display(),
+                dir.join("m.mtl").display(),
+                scene.display()
+            )
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 

@@ -763,7 +763,7 @@ fn convert_material(
                 Some(t) => t.clone(),
                 None => {
                     let statement = format!(
-                        "map_Kd of material '{}' at {}:{}",
+                        "the texture map_Kd of material '{}' at {}:{}",
                         m.name,
                         mtl_path.display(),
                         texture_line.unwrap_or(0)
@@ -1207,12 +1207,8 @@ map_Ks ignored.png
             Err(e @ Error::Texture { .. }) => {
                 let message = e.to_string();
                 assert!(
-                    message.contains("bad.png: cannot decode texture"),
-                    "{message}"
-                );
-                assert!(
-                    message.ends_with(&format!(
-                        "(the texture of map_Kd of material 'b' at {}:5)",
+                    message.contains(&format!(
+                        "bad.png: cannot read the texture map_Kd of material 'b' at {}:5: the file is not an image raylab reads",
                         dir.join("m.mtl").display()
                     )),
                     "{message}"

@@ -12,8 +12,8 @@ pub trait TextureFile: Sized {
     /// from sRGB to linear, float images (EXR, HDR) are taken as linear.
     fn load(path: &Path) -> Result<Self, Error>;
 
-    /// [`TextureFile::load`] for the statement `named_by` (e.g. "map_Kd of material 'a' at
-    /// m.mtl:3"), which an error names after the decoder's reason.
+    /// [`TextureFile::load`] for what names the file, with its place (e.g. "the texture
+    /// map_Kd of material 'a' at m.mtl:3"), which an error names with the file.
     fn load_for(path: &Path, named_by: &str) -> Result<Self, Error>;
 }
 
@@ -22,6 +22,7 @@ impl TextureFile for Texture {
         let decoded =
             decode_image(path, &LoadBudget::current()).map_err(|reason| Error::Texture {
                 path: path.to_path_buf(),
+                named_by: None,
                 reason,
             })?;
         let (width, height) = (decoded.width, decoded.height);
@@ -46,9 +47,10 @@ impl TextureFile for Texture {
 
     fn load_for(path: &Path, named_by: &str) -> Result<Self, Error> {
         Self::load(path).map_err(|e| match e {
-            Error::Texture { path, reason } => Error::Texture {
+            Error::Texture { path, reason, .. } => Error::Texture {
                 path,
-                reason: format!("{reason} (the texture of {named_by})"),
+                named_by: Some(named_by.to_string()),
+                reason,
             },
             other => other,
         })

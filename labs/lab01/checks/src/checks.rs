@@ -9,7 +9,7 @@ use contracts::lab01::{CameraBasis, CameraRays};
 use grading::strategies::{point, resolution, unit_vector};
 use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec2, compare_vec3,
-    for_all,
+    for_all_named,
 };
 use pipeline::render::render;
 use pipeline::{Pipeline, View};
@@ -99,9 +99,22 @@ pub fn scaled_basis_input() -> impl Strategy<Value = BasisInput> + Clone {
         )
 }
 
+/// A resolution of Exercise 1.1 as a failure names it.
+fn resolution_named(res: &UVec2) -> String {
+    format!(
+        "the resolution {}×{} (resolution.x = {}, resolution.y = {})",
+        res.x, res.y, res.x, res.y
+    )
+}
+
+/// A camera of Exercise 1.2 as a failure names it.
+fn camera_named((eye, look_at, up): &BasisInput) -> String {
+    format!("eye = {eye}, look_at = {look_at}, up = {up}")
+}
+
 fn exercise_1_1(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
     // Invariants: the image centre is the origin; the corners are at (±W/2H, ±1/2), y up.
-    for_all(200, resolution(), |res| {
+    for_all_named(200, resolution(), resolution_named, |res| {
         let (w, h) = (res.x as f32, res.y as f32);
         let centre = s.image_plane_coords(Vec2::new(w / 2.0, h / 2.0), res);
         compare_vec2("the image centre", centre, Vec2::ZERO, 1e-5, 0.0)?;
@@ -122,8 +135,7 @@ fn exercise_1_1(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
             1e-5,
         )
     })?;
-    let golden: GoldenFile<ImagePlaneInput, Vec2> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_IMAGE_PLANE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<ImagePlaneInput, Vec2> = ctx.golden(GOLDEN_IMAGE_PLANE)?;
     for case in &golden.cases {
         let (raster, res) = case.input;
         let got = s.image_plane_coords(raster, res);
@@ -186,9 +198,11 @@ fn check_basis(s: &dyn CameraRays, (eye, look_at, up): BasisInput) -> Result<(),
 }
 
 fn exercise_1_2(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
-    for_all(300, basis_input(), |input| check_basis(s.as_ref(), input))?;
+    for_all_named(300, basis_input(), camera_named, |input| {
+        check_basis(s.as_ref(), input)
+    })?;
     // The same relations for cameras from 10⁻³ to 10³ units, up to 10⁴ units from the origin.
-    for_all(300, scaled_basis_input(), |input| {
+    for_all_named(300, scaled_basis_input(), camera_named, |input| {
         check_basis(s.as_ref(), input).map_err(|e| {
             format!(
                 "{e} (a camera at the scale of its view, |look_at − eye| = {})",
@@ -196,8 +210,7 @@ fn exercise_1_2(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
             )
         })
     })?;
-    let golden: GoldenFile<BasisInput, CameraBasis> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_BASIS)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<BasisInput, CameraBasis> = ctx.golden(GOLDEN_BASIS)?;
     for case in &golden.cases {
         let (eye, look_at, up) = case.input;
         let b = s.camera_basis(eye, look_at, up);
@@ -236,15 +249,16 @@ fn exercise_1_3(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
         1e-3,
         0.0,
     )?;
-    for_all(100, (0.05f32..10.0, 0.05f32..10.0), |(a, b)| {
+    let distances =
+        |(a, b): &(f32, f32)| format!("the focal distances {} and {}", a.min(*b), a.max(*b));
+    for_all_named(100, (0.05f32..10.0, 0.05f32..10.0), distances, |(a, b)| {
         let (near, far) = (a.min(b), a.max(b));
         if far - near > 1e-3 && s.field_of_view(far) >= s.field_of_view(near) {
             return Err("a longer focal distance must give a narrower field of view".into());
         }
         Ok(())
     })?;
-    let golden: GoldenFile<f32, f32> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_FOV)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<f32, f32> = ctx.golden(GOLDEN_FOV)?;
     for case in &golden.cases {
         compare_f32(
             &format!("field_of_view({}) (degrees)", case.input),
@@ -282,7 +296,13 @@ pub fn wide_direction_input() -> impl Strategy<Value = DirectionInput> + Clone {
 
 fn exercise_1_4(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String> {
     // In the camera's own coordinates the direction is (x_ip, y_ip, d), normalized.
-    for_all(300, wide_direction_input(), |(basis, d, ip)| {
+    let named = |(basis, d, ip): &DirectionInput| {
+        format!(
+            "d = {d}, ip = {ip} and the basis ip_xaxis = {}, ip_yaxis = {}, ip_normal = {}",
+            basis.ip_xaxis, basis.ip_yaxis, basis.ip_normal
+        )
+    };
+    for_all_named(300, wide_direction_input(), named, |(basis, d, ip)| {
         let got = s.ray_direction(&basis, d, ip);
         let call = format!("ray_direction(basis, d = {d}, ip = {ip})");
         compare_f32(
@@ -308,8 +328,7 @@ fn exercise_1_4(s: &Arc<dyn CameraRays>, ctx: &LabContext) -> Result<(), String>
             0.0,
         )
     })?;
-    let golden: GoldenFile<DirectionInput, Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_DIRECTION)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<DirectionInput, Vec3> = ctx.golden(GOLDEN_DIRECTION)?;
     for case in &golden.cases {
         let (basis, d, ip) = case.input;
         let got = s.ray_direction(&basis, d, ip);
@@ -331,7 +350,8 @@ fn exercise_1_5(s: &Arc<dyn CameraRays>, _ctx: &LabContext) -> Result<(), String
         point(10.0),
         scaled_basis_input().prop_map(|(eye, _, _)| eye)
     ];
-    for_all(200, (eyes, unit_vector()), |(eye, dir)| {
+    let named = |(eye, dir): &(Vec3, Vec3)| format!("eye = {eye}, direction = {dir}");
+    for_all_named(200, (eyes, unit_vector()), named, |(eye, dir)| {
         let r = s.camera_ray(eye, dir);
         compare_vec3("the ray origin (the eye)", r.origin, eye, 0.0, 0.0)?;
         compare_vec3("the ray direction", r.direction, dir, 1e-6, 0.0)?;

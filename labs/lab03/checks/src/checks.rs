@@ -974,8 +974,7 @@ fn exercise_3_4(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
         (area_sample_strategy(), scale()),
         |((p, q, n, le, pdf), k)| judge((k * p, k * q, n, le, pdf / (k * k)), k),
     )?;
-    let golden: GoldenFile<AreaSampleInput, LightSample> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_AREA_SAMPLE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<AreaSampleInput, LightSample> = ctx.golden(GOLDEN_AREA_SAMPLE)?;
     for case in &golden.cases {
         let (p, q, n, le, pdf) = case.input;
         compare_area_sample(

@@ -354,7 +354,7 @@ where
     I: serde::Serialize + serde::de::DeserializeOwned,
     O: serde::Serialize + serde::de::DeserializeOwned,
 {
-    GoldenFile::load(&ctx.golden_path(name)).map_err(|e| e.to_string())
+    ctx.golden(name)
 }
 
 fn finite(what: &str, v: Vec3) -> Result<(), String> {

@@ -260,8 +260,7 @@ where
     I: Serialize + serde::de::DeserializeOwned + PartialEq + std::fmt::Debug,
     O: Serialize + serde::de::DeserializeOwned,
 {
-    let golden: GoldenFile<I, O> =
-        GoldenFile::load(&ctx.golden_path(file)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<I, O> = ctx.golden(file)?;
     for case in &golden.cases {
         let got = student(&case.input);
         compare(&got, &case.expected).map_err(|e| {
@@ -1234,13 +1233,20 @@ fn check_variances(
     estimator: Estimator,
     ctx: &LabContext,
 ) -> Result<(), String> {
-    let golden: GoldenFile<u32, EstimatorVariance> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_VARIANCE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<u32, EstimatorVariance> = ctx.golden(GOLDEN_VARIANCE)?;
     let cases = light_cases();
     for case in &golden.cases {
         let light = cases
             .get(case.input as usize)
-            .ok_or("the golden variances name a configuration this framework does not have; regenerate them with `raylab golden`")?;
+            .ok_or_else(|| {
+                ctx.unreadable(
+                    &format!("golden/{GOLDEN_VARIANCE}"),
+                    format!(
+                        "the golden variances name configuration {}, which this framework does not have",
+                        case.input
+                    ),
+                )
+            })?;
         let (_, var) = mean_and_variance(&estimates(
             s,
             estimator,

@@ -294,7 +294,7 @@ where
     I: serde::Serialize + serde::de::DeserializeOwned,
     O: serde::Serialize + serde::de::DeserializeOwned,
 {
-    GoldenFile::load(&ctx.golden_path(name)).map_err(|e| e.to_string())
+    ctx.golden(name)
 }
 
 fn vec3_close(a: Vec3, b: Vec3, abs: f32, rel: f32) -> bool {

@@ -391,15 +391,13 @@ pub fn check_jitter_statistics(j: &Arc<dyn Antialiasing>) -> Result<(), String> 
 /// The converged default scene.
 fn load_converged(ctx: &LabContext) -> Result<Film, String> {
     let path = ctx.snapshot_path(&format!("{SNAPSHOT_CONVERGED}.exr"));
-    raylab_core::film::read_exr(&path).map_err(|e| {
-        format!("cannot read the converged image ({e}); regenerate it with `cargo run -p raylab -- golden --lab 7`")
-    })
+    raylab_core::film::read_exr(&path)
+        .map_err(|e| ctx.unreadable(&format!("snapshots/{SNAPSHOT_CONVERGED}.exr"), e))
 }
 
 /// The image error with the student's jitters falls as the reference's does.
 pub fn check_image_error(j: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<(), String> {
-    let golden: GoldenFile<u32, f64> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_IMAGE_ERROR)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<u32, f64> = ctx.golden(GOLDEN_IMAGE_ERROR)?;
     let converged = load_converged(ctx)?;
     let pipeline = part_pipeline(Part::Jitters, j, &ctx.base);
     let table = golden
@@ -699,8 +697,7 @@ fn exercise_7_2(p: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<(), Strin
     for_all(100, edge_input(), |edge| {
         check_edge(p.as_ref(), ctx.base.antialiasing.as_ref(), edge)
     })?;
-    let golden: GoldenFile<PixelInput, Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_PIXEL)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<PixelInput, Vec3> = ctx.golden(GOLDEN_PIXEL)?;
     for case in &golden.cases {
         let (pixel, jitters) = &case.input;
         let got = p.compute_pixel(*pixel, jitters, &mut probe_radiance);

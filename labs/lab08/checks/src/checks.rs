@@ -301,8 +301,7 @@ fn exercise_8_1(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             Ok(())
         },
     )?;
-    let golden: GoldenFile<PointInput, Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_POINT)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<PointInput, Vec3> = ctx.golden(GOLDEN_POINT)?;
     for case in &golden.cases {
         let (position, intensity, n) = case.input;
         let photon = s.emit_point_light(&point_light(position, intensity), n, &mut Rng::new(11, 0));
@@ -470,8 +469,7 @@ fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             Ok(())
         },
     )?;
-    let golden: GoldenFile<AreaInput, Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_AREA)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<AreaInput, Vec3> = ctx.golden(GOLDEN_AREA)?;
     for case in &golden.cases {
         let (position, normal, radiance, area, n) = case.input;
         let photon = s.emit_area_light(position, normal, radiance, area, n, &mut Rng::new(11, 0));
@@ -706,8 +704,7 @@ fn exercise_8_3(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
             trace.stored_power, trace.truncated_power, trace.emitted_power
         ));
     }
-    let golden: GoldenFile<u64, [u32; 3]> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_CAUSTIC)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<u64, [u32; 3]> = ctx.golden(GOLDEN_CAUSTIC)?;
     let expected = golden
         .cases
         .first()
@@ -900,8 +897,7 @@ fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), Stri
         Ok(())
     })?;
     check_zero_radius(s.as_ref())?;
-    let golden: GoldenFile<RadianceInput, Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_RADIANCE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<RadianceInput, Vec3> = ctx.golden(GOLDEN_RADIANCE)?;
     for case in &golden.cases {
         let (diffuse, normal, photons, k, r) = &case.input;
         compare_vec3(

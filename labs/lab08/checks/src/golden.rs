@@ -52,7 +52,7 @@ pub fn generate_golden(
 
     let pipeline = part_pipeline(Part::Roulette, reference, &ctx.base);
     let counts = caustic_counts(&glass_caustic(&pipeline, CAUSTIC_GOLDEN_SEED).map_err(
-        |reason| Error::Invalid {
+        |reason| Error::Failed {
             what: "the glass caustic".into(),
             reason,
         },

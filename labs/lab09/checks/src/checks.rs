@@ -154,7 +154,7 @@ pub fn textured_scene(tex_frequency: f32) -> Result<Scene, raylab_core::Error> {
         ("gold", gradient, Vec3::new(1.0, 0.85, 0.6)),
     ] {
         let Some(i) = by_name(&scene, name) else {
-            return Err(raylab_core::Error::Invalid {
+            return Err(raylab_core::Error::Failed {
                 what: format!("the default scene's material '{name}'"),
                 reason: "lab 09's textured scene puts a texture on it; it is not in the scene"
                     .into(),
@@ -352,8 +352,7 @@ fn exercise_9_1(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             )
         })?;
     }
-    let golden: GoldenFile<(Plane, Vec3), Vec2> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_PLANE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<(Plane, Vec3), Vec2> = ctx.golden(GOLDEN_PLANE)?;
     for case in &golden.cases {
         let (plane, position) = &case.input;
         compare_vec2(
@@ -490,8 +489,7 @@ fn exercise_9_2(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             compare(&sphere, position, key.sphere_texcoord(&sphere, position))
         })?;
     }
-    let golden: GoldenFile<(Sphere, Vec3), Vec2> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_SPHERE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<(Sphere, Vec3), Vec2> = ctx.golden(GOLDEN_SPHERE)?;
     for case in &golden.cases {
         let (sphere, position) = &case.input;
         compare(sphere, *position, case.expected)?;
@@ -594,8 +592,7 @@ fn exercise_9_3(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             )
         })?;
     }
-    let golden: GoldenFile<TriangleInput, Vec2> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_TRIANGLE)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<TriangleInput, Vec2> = ctx.golden(GOLDEN_TRIANGLE)?;
     for case in &golden.cases {
         let (uvs, bary) = &case.input;
         compare_vec2(
@@ -751,8 +748,7 @@ fn exercise_9_4(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             }
         })?;
     }
-    let golden: GoldenFile<(f32, Addressing), f32> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_ADDRESS)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<(f32, Addressing), f32> = ctx.golden(GOLDEN_ADDRESS)?;
     for case in &golden.cases {
         let (t, mode) = case.input;
         let got = p.address(t, mode);
@@ -998,8 +994,7 @@ fn exercise_9_5(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             },
         )?;
     }
-    let golden: GoldenFile<(TextureCase, Vec2, Addressing), Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_NEAREST)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<(TextureCase, Vec2, Addressing), Vec3> = ctx.golden(GOLDEN_NEAREST)?;
     for case in &golden.cases {
         let (tex, uv, mode) = case.input;
         let address = |t: f32| base.address(t, mode);
@@ -1344,8 +1339,7 @@ fn exercise_9_6(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
             },
         )?;
     }
-    let golden: GoldenFile<(TextureCase, Vec2, Addressing), Vec3> =
-        GoldenFile::load(&ctx.golden_path(GOLDEN_BILINEAR)).map_err(|e| e.to_string())?;
+    let golden: GoldenFile<(TextureCase, Vec2, Addressing), Vec3> = ctx.golden(GOLDEN_BILINEAR)?;
     for case in &golden.cases {
         let (tex, uv, mode) = case.input;
         let address = |t: f32| base.address(t, mode);

@@ -105,7 +105,7 @@ where
     I: serde::Serialize + serde::de::DeserializeOwned,
     O: serde::Serialize + serde::de::DeserializeOwned,
 {
-    GoldenFile::load(&ctx.golden_path(name)).map_err(|e| e.to_string())
+    ctx.golden(name)
 }
 
 /// The normals the samplers and ambient occlusion are checked about: the axes, a grazing

@@ -45,7 +45,7 @@ pub fn generate_golden(
             let seed = 9000 + k as u64;
             let run =
                 checks::run_sampler(reference.as_ref(), &case, seed, checks::KEY_BSDF_SAMPLES)
-                    .map_err(|reason| Error::Invalid {
+                    .map_err(|reason| Error::Failed {
                         what: "the answer key's BSDF sampler".into(),
                         reason,
                     })?;
@@ -76,7 +76,7 @@ pub fn generate_golden(
         GoldenFile::record("12.10", &inputs[2..], |st| reference.relative_error(st)).save(path)
     })?;
     let pipeline =
-        checks::cornell_pipeline(reference, &ctx.base).map_err(|reason| Error::Invalid {
+        checks::cornell_pipeline(reference, &ctx.base).map_err(|reason| Error::Failed {
             what: "the reference pipeline".into(),
             reason,
         })?;

@@ -30,7 +30,7 @@ impl Embree {
     /// through the edges of neighbouring primitives — what the core's conservative traversal
     /// and watertight test guarantee.
     pub fn build(triangles: &[[Vec3; 3]], robust: bool) -> Result<Self, Error> {
-        let fail = |what: &str, e: embree3::Error| Error::Invalid {
+        let fail = |what: &str, e: embree3::Error| Error::Failed {
             what: format!("Embree {what}"),
             reason: format!("{e:?}"),
         };

@@ -77,7 +77,7 @@ impl Jail {
         }
         make_dir(&dir)?;
         for file in deps {
-            let name = file.file_name().ok_or_else(|| Error::Invalid {
+            let name = file.file_name().ok_or_else(|| Error::Failed {
                 what: file.display().to_string(),
                 reason: "a prebuilt crate without a file name".into(),
             })?;
@@ -176,7 +176,7 @@ impl Jail {
         ] {
             let from = sysroot.join(&dir);
             if !from.is_dir() {
-                return Err(Error::Invalid {
+                return Err(Error::Failed {
                     what: format!("the toolchain at {}", sysroot.display()),
                     reason: format!(
                         "it has no {dir}/ (install the target with `rustup target add {WASM}`)"
@@ -238,7 +238,7 @@ impl Jail {
                     if meta.file_type().is_symlink() {
                         links += 1;
                         if links > 40 {
-                            return Err(Error::Invalid {
+                            return Err(Error::Failed {
                                 what: path.display().to_string(),
                                 reason: "too many symbolic links".into(),
                             });
@@ -286,7 +286,7 @@ pub fn host_triple(sysroot: &Path) -> Result<String, Error> {
         .lines()
         .find_map(|l| l.strip_prefix("host: "))
         .map(str::to_string)
-        .ok_or_else(|| Error::Invalid {
+        .ok_or_else(|| Error::Failed {
             what: format!("{} -vV", sysroot.join("bin/rustc").display()),
             reason: format!("no `host:` line in {version:?}"),
         })
@@ -299,7 +299,7 @@ fn loaded_libraries(program: &Path, toolchain_lib: &Path) -> Result<Vec<PathBuf>
         .arg(program)
         .stdin(Stdio::null())
         .output()
-        .map_err(|e| Error::Invalid {
+        .map_err(|e| Error::Failed {
             what: "ldd".into(),
             reason: format!(
                 "cannot run it to find the libraries the compiler loads ({e}); it is in Debian's libc-bin"
@@ -322,7 +322,7 @@ fn loaded_libraries(program: &Path, toolchain_lib: &Path) -> Result<Vec<PathBuf>
                 .next()
                 .is_some_and(|name| toolchain_lib.join(name).is_file())
         {
-            return Err(Error::Invalid {
+            return Err(Error::Failed {
                 what: program.display().to_string(),
                 reason: format!("a library it loads is missing: {}", line.trim()),
             });

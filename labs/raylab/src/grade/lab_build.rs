@@ -207,7 +207,7 @@ fn module_file(guest: &RustcCall) -> Result<String, Error> {
     guest
         .option("--crate-name")
         .map(|name| format!("{name}.wasm"))
-        .ok_or_else(|| Error::Invalid {
+        .ok_or_else(|| Error::Failed {
             what: "the guest crate's compiler record".into(),
             reason: "it has no --crate-name".into(),
         })
@@ -324,7 +324,7 @@ fn in_jail(
     // Unsandboxed, the jail's own files are named where they are on this machine.
     let isolated = root == Path::new("/");
     if let Some(arg) = args.iter().find(|a| isolated && is_host_path(a, host)) {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: format!("the compiler record of {lab}"),
             reason: format!(
                 "an argument names a place of this machine, which the build may not see: {arg}"

@@ -823,7 +823,7 @@ fn grade_submission(
         bar.doing(format!("{student}: compiling labs/{lab}/src"), false);
         let started = std::time::Instant::now();
         let module = runs.join(format!("{lab}.wasm"));
-        let calls = shared.calls.get(&lab).ok_or_else(|| Error::Invalid {
+        let calls = shared.calls.get(&lab).ok_or_else(|| Error::Failed {
             what: format!("lab {lab}"),
             reason: "the shared build has no compiler record of it".into(),
         })?;
@@ -874,7 +874,7 @@ fn grade_submission(
                 continue;
             }
             (None, None) => {
-                return Err(Error::Invalid {
+                return Err(Error::Failed {
                     what: format!("lab {lab}"),
                     reason: "the shared build has no graded program of it".into(),
                 });

@@ -33,7 +33,7 @@ impl RustcCall {
     pub fn load(dir: &Path, crate_name: &str) -> Result<Self, Error> {
         let path = dir.join(format!("{crate_name}.json"));
         let text = std::fs::read_to_string(&path).map_err(io(&path))?;
-        serde_json::from_str(&text).map_err(|e| Error::Invalid {
+        serde_json::from_str(&text).map_err(|e| Error::Failed {
             what: path.display().to_string(),
             reason: format!("not a compiler record: {e}"),
         })

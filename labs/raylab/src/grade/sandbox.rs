@@ -155,7 +155,7 @@ impl Sandbox {
         let cargo_home = std::env::var_os("CARGO_HOME")
             .map(PathBuf::from)
             .or_else(|| std::env::var_os("HOME").map(|h| Path::new(&h).join(".cargo")))
-            .ok_or_else(|| Error::Invalid {
+            .ok_or_else(|| Error::Failed {
                 what: "CARGO_HOME".into(),
                 reason: "neither CARGO_HOME nor HOME is set: cannot find cargo's registry".into(),
             })?;
@@ -557,11 +557,11 @@ impl Sandbox {
         };
         match output {
             Ok(o) if o.status.success() => Ok(()),
-            Ok(o) => Err(Error::Invalid {
+            Ok(o) => Err(Error::Failed {
                 what,
                 reason: format!("{fix}: {}", String::from_utf8_lossy(&o.stderr).trim()),
             }),
-            Err(e) => Err(Error::Invalid {
+            Err(e) => Err(Error::Failed {
                 what,
                 reason: format!("could not start the sandbox's first process: {e}"),
             }),
@@ -605,7 +605,7 @@ fn find_bwrap() -> Result<PathBuf, Error> {
             .map(|dir| dir.join("bwrap"))
             .find(|p| p.is_file())
     });
-    found.ok_or_else(|| Error::Invalid {
+    found.ok_or_else(|| Error::Failed {
         what: "the grading sandbox".into(),
         reason: "bubblewrap (`bwrap`) is not installed: install it (Debian/Ubuntu: `apt-get install bubblewrap`), or pass --unsandboxed to run student code without isolation (the reports will say so)".into(),
     })
@@ -620,7 +620,7 @@ fn toolchain_sysroot() -> Result<PathBuf, Error> {
         .map_err(|e| Error::io(Path::new("rustc"), e))?;
     let sysroot = PathBuf::from(String::from_utf8_lossy(&output.stdout).trim());
     if !output.status.success() || !sysroot.join("bin/cargo").is_file() {
-        return Err(Error::Invalid {
+        return Err(Error::Failed {
             what: "the Rust toolchain".into(),
             reason: format!(
                 "`rustc --print sysroot` gave {:?}, which has no bin/cargo",

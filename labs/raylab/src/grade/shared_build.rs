@@ -169,7 +169,7 @@ impl Workspace {
             }
         }
         match labs.iter().find(|l| !programs.contains_key(l)) {
-            Some(lab) => Err(Error::Invalid {
+            Some(lab) => Err(Error::Failed {
                 what: format!("the graded program of {lab}"),
                 reason: "cargo built it but named no executable".into(),
             }),
@@ -386,7 +386,7 @@ impl Workspace {
         let manifest = self.tree.join("Cargo.toml");
         let text = fs::read_to_string(&manifest).map_err(io(&manifest))?;
         let Some(at) = text.find("    \"labs/*/checks\",\n") else {
-            return Err(Error::Invalid {
+            return Err(Error::Failed {
                 what: manifest.display().to_string(),
                 reason: "its workspace members have no line `\"labs/*/checks\",`".into(),
             });

@@ -385,7 +385,7 @@ pub fn install_lab_code(
             let stubs = handout.join(&src);
             let taken = Taken::from(&stubs, &src);
             if let Some(line) = taken.rejected.into_iter().next() {
-                return Err(Error::Invalid {
+                return Err(Error::Failed {
                     what: format!("the handout's {}", stubs.display()),
                     reason: line,
                 });
@@ -843,7 +843,7 @@ pub fn changed_files(submission: &Path, handout: &Path) -> Result<Vec<String>, E
         match entry {
             Entry::File(size) => our_files.insert(path.as_path(), *size),
             Entry::NotRead(why) | Entry::NotListed(why) => {
-                return Err(Error::Invalid {
+                return Err(Error::Failed {
                     what: format!("the handout's {}", handout.join(path).display()),
                     reason: why.clone(),
                 });

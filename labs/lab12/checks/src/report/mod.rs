@@ -194,7 +194,7 @@ fn lobes(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let code = ctx
         .pipeline
         .part::<dyn PathTracing>()
-        .ok_or_else(|| Error::Invalid {
+        .ok_or_else(|| Error::Failed {
             what: "the report of lab 12".into(),
             reason: "the pipeline holds no code of lab 12".into(),
         })?;

@@ -127,7 +127,7 @@ fn strategies(
 fn distribution(ctx: &ReportContext, scene: &Scene, pipeline: &Pipeline) -> Result<Figure, Error> {
     let (w, h) = if ctx.quick { (128, 64) } else { (256, 128) };
     let samples = if ctx.quick { 100_000 } else { 2_000_000 };
-    let env = scene.environment.as_ref().ok_or_else(|| Error::Invalid {
+    let env = scene.environment.as_ref().ok_or_else(|| Error::Failed {
         what: "the sky scene".into(),
         reason: "it has no [environment]".into(),
     })?;
