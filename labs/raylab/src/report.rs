@@ -13,7 +13,6 @@ use course::answers::FIGURES;
 use grading::task::{ReportJob, Task};
 use raylab_core::Error;
 
-use crate::handout::io;
 use crate::render::PipelineChoice;
 
 /// Options of `raylab report`.
@@ -74,7 +73,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
 /// `figures/NAME` that is neither a figure of this report nor there already.
 fn copy_shown_figures(answers: &Path, dir: &Path) -> Result<(), Error> {
     // The figures crate has read the file within its limit already.
-    let text = fs::read_to_string(answers).map_err(io(answers))?;
+    let text = fs::read_to_string(answers).map_err(|e| Error::io(answers, e))?;
     let folder = answers.with_file_name(FIGURES);
     let mut done: Vec<String> = Vec::new();
     for link in course::answers::parse(&text)
@@ -102,8 +101,8 @@ fn copy_shown_figures(answers: &Path, dir: &Path) -> Result<(), Error> {
         let figure = dir.join(name);
         let copy = folder.join(name);
         if fs::symlink_metadata(&figure).is_ok_and(|m| m.is_file()) {
-            fs::create_dir_all(&folder).map_err(io(&folder))?;
-            fs::copy(&figure, &copy).map_err(io(&copy))?;
+            fs::create_dir_all(&folder).map_err(|e| Error::io(&folder, e))?;
+            fs::copy(&figure, &copy).map_err(|e| Error::io(&copy, e))?;
             println!("{} (shown in the answers)", copy.display());
         } else if !copy.is_file() {
             eprintln!(

@@ -381,9 +381,11 @@ fn handout_then_grade_four_submissions() {
     assert_eq!(results["score"].as_f64(), Some(score));
     let hidden = tests.iter().find(|t| t["number"] == "1.6").unwrap();
     assert_eq!(hidden["visibility"], "after_due_date");
+    // The exercises' tests pass or fail; the written answers' (no number) has no status.
     assert!(
         tests
             .iter()
+            .filter(|t| t["number"].is_string())
             .all(|t| t["status"] == "passed" || t["status"] == "failed")
     );
 
@@ -514,17 +516,34 @@ fn gradescope_grades_like_grade(work: &Path, partial: &Path, grades: &Path, targ
     let tests = results["tests"].as_array().expect("tests[]");
     // The seconds the grading took, which Gradescope shows beside the score.
     assert!(results["execution_time"].is_u64(), "{text}");
-    let numbers: Vec<&str> = tests
-        .iter()
-        .map(|t| t["number"].as_str().unwrap())
-        .collect();
+    // The exercises, then the written answers as a test of no points and no status.
+    let numbers: Vec<Option<&str>> = tests.iter().map(|t| t["number"].as_str()).collect();
     assert_eq!(
         numbers,
-        ["1.1", "1.2", "1.3", "1.4", "1.5", "1.6"],
+        [
+            Some("1.1"),
+            Some("1.2"),
+            Some("1.3"),
+            Some("1.4"),
+            Some("1.5"),
+            Some("1.6"),
+            None
+        ],
         "{text}"
     );
+    let answers = &tests[6];
+    assert!(
+        answers["name"]
+            .as_str()
+            .is_some_and(|n| n.starts_with("Lab 01 written answers ("))
+            && answers["score"] == 0
+            && answers["max_score"] == 0
+            && answers["output_format"] == "html"
+            && answers["status"].is_null(),
+        "{answers}"
+    );
     let mut sum = 0.0;
-    for test in tests {
+    for test in &tests[..6] {
         let score = test["score"].as_f64().expect("a test's score");
         let max = test["max_score"].as_f64().expect("a test's max_score");
         assert!((0.0..=max).contains(&score), "{test}");

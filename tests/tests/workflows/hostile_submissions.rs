@@ -749,9 +749,11 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
         let r = results(name);
         let passed = r.as_ref().is_some_and(|r| {
             r["score"].as_f64() == Some(14.0)
-                && r["tests"]
-                    .as_array()
-                    .is_some_and(|t| t.len() == 6 && t.iter().all(|t| t["status"] == "passed"))
+                && r["tests"].as_array().is_some_and(|t| {
+                    // The exercises' tests; the written answers' (no number) has no status.
+                    let exercises: Vec<_> = t.iter().filter(|t| t["number"].is_string()).collect();
+                    exercises.len() == 6 && exercises.iter().all(|t| t["status"] == "passed")
+                })
         });
         problems.check(passed, name, || {
             format!("results.json is not a pass of 14/14: {r:?}")
