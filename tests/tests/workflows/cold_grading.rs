@@ -100,7 +100,13 @@ fn a_cold_grading_charges_no_student_for_its_own_builds() {
     );
     let endless = results("b-endless-build");
     assert_eq!(endless["score"], 0.0, "{endless:#}");
-    for t in endless["tests"].as_array().unwrap() {
+    let exercises = endless["tests"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|t| t["number"].is_string());
+    assert_eq!(exercises.clone().count(), 6, "{endless:#}");
+    for t in exercises {
         let why = t["output"].as_str().unwrap_or_default();
         assert!(
             why.contains("was not graded")
