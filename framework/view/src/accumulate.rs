@@ -10,7 +10,9 @@ use glam::Vec3;
 use pipeline::job::failure_lines;
 use pipeline::render::render_pixel;
 use raylab_core::Error;
-use raylab_core::render::{RenderSettings, render_partial_with, resolution};
+use raylab_core::render::{
+    PartialRender, PixelFailures, RenderSettings, render_partial_with, resolution,
+};
 use raylab_core::scene::{CameraSetup, Scene};
 
 use crate::{Shown, ViewSettings};
@@ -73,11 +75,28 @@ pub(crate) struct Accumulated {
     pub samples: u32,
     /// Passes so far.
     pub passes: u32,
-    /// The lines naming what panicked in the last pass (`pipeline::job::failure_lines`).
+    /// What the panicked pixels failed on, over every pass for this camera: a pixel is
+    /// computed until it panics once, so each is counted once.
+    pub failed: PixelFailures,
+    /// The lines naming what panicked (`pipeline::job::failure_lines` of [`Self::failed`]).
     pub failures: Vec<String>,
 }
 
 impl Accumulated {
+    /// Adds a pass of `samples` samples per pixel, rendered around the pixels marked before.
+    pub fn add_pass(&mut self, partial: &PartialRender, samples: u32) {
+        for (i, &radiance) in partial.film.pixels.iter().enumerate() {
+            self.sum[i] += radiance * samples as f32;
+            let luminance = f64::from(luminance_of(radiance));
+            self.sum_squares[i] += f64::from(samples) * luminance * luminance;
+            self.panicked[i] |= partial.panicked[i];
+        }
+        self.failed.merge(&partial.failures);
+        self.failures = failure_lines(&self.failed, self.sum.len());
+        self.samples += samples;
+        self.passes += 1;
+    }
+
     /// The mean radiance of pixel `index`, `None` where a sample panicked.
     pub fn mean(&self, index: usize) -> Option<Vec3> {
         (!self.panicked[index] && self.samples > 0).then(|| self.sum[index] / self.samples as f32)
@@ -258,6 +277,7 @@ impl Accumulator {
                         panicked: vec![false; pixels],
                         samples: 0,
                         passes: 0,
+                        failed: PixelFailures::default(),
                         failures: Vec::new(),
                     })
                     .collect(),
@@ -322,6 +342,7 @@ impl Accumulator {
             image.sum.fill(Vec3::ZERO);
             image.sum_squares.fill(0.0);
             image.panicked.fill(false);
+            image.failed = PixelFailures::default();
             image.samples = 0;
             image.passes = 0;
         }
@@ -420,26 +441,14 @@ impl Accumulator {
                 }
                 let image = &mut state.images[index];
                 match outcome {
-                    Ok(partial) => {
-                        for (i, &radiance) in partial.film.pixels.iter().enumerate() {
-                            image.sum[i] += radiance * samples as f32;
-                            let luminance = f64::from(luminance_of(radiance));
-                            image.sum_squares[i] += f64::from(samples) * luminance * luminance;
-                            image.panicked[i] |= partial.panicked[i];
-                        }
-                        // The failures of the pixels computed in this pass; the ones
-                        // marked before are named by the earlier passes' lines.
-                        if pass == 0 || !partial.failures.is_empty() {
-                            image.failures = failure_lines(&partial.failures, image.sum.len());
-                        }
-                    }
+                    Ok(partial) => image.add_pass(&partial, samples),
                     Err(e) => {
                         image.panicked.fill(true);
                         image.failures = vec![format!("error: {e}")];
+                        image.samples += samples;
+                        image.passes += 1;
                     }
                 }
-                image.samples += samples;
-                image.passes += 1;
                 state.updates += 1;
                 if state.first_pass_seconds.is_none() {
                     state.first_pass_seconds = Some(state.camera_set.elapsed().as_secs_f64());
@@ -464,6 +473,7 @@ mod tests {
             panicked: vec![false],
             samples: 0,
             passes: 0,
+            failed: PixelFailures::default(),
             failures: Vec::new(),
         };
         for p in 0..passes {
@@ -475,6 +485,50 @@ mod tests {
             image.passes += 1;
         }
         image
+    }
+
+    /// A pass of a 4×1 image in which the pixels `failing` panicked on Exercise 2.2's stub.
+    fn pass(failing: &[usize]) -> PartialRender {
+        let mut film = raylab_core::film::Film::new(4, 1);
+        let mut panicked = vec![false; 4];
+        let mut failures = PixelFailures::default();
+        for &i in failing {
+            film.pixels[i] = Vec3::NAN;
+            panicked[i] = true;
+            let panic = raylab_core::CaughtPanic {
+                message: "not yet implemented: Exercise 2.2: intersect_triangle".into(),
+                location: None,
+            };
+            failures.add(&panic, 1);
+        }
+        PartialRender {
+            film,
+            panicked,
+            failures,
+        }
+    }
+
+    #[test]
+    fn the_failure_lines_count_the_pixels_of_every_pass() {
+        let mut image = image(&[0.5], 0);
+        image.sum = vec![Vec3::ZERO; 4];
+        image.sum_squares = vec![0.0; 4];
+        image.panicked = vec![false; 4];
+        // Pixels 0 and 1 fail on the first pass; pixel 3 only on the third (a sample that
+        // reached the stub late); later passes skip the marked pixels.
+        for failing in [&[0, 1][..], &[], &[3], &[]] {
+            image.add_pass(&pass(failing), PASS_SAMPLES);
+        }
+        assert_eq!(
+            image.failures,
+            [
+                "warning: 3 of 4 pixels are magenta: their computation panicked",
+                "  Exercise 2.2 is unfinished: 3 pixels (75.0%)"
+            ],
+            "not the last pass's alone"
+        );
+        assert_eq!(image.panicked, [true, true, false, true]);
+        assert_eq!((image.passes, image.samples), (4, 4 * PASS_SAMPLES));
     }
 
     #[test]
