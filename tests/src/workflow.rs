@@ -226,6 +226,35 @@ pub fn workflow_target_dir() -> PathBuf {
     dir
 }
 
+/// git in `dir` as a student with an identity of their own (no signing, no hooks), committing
+/// at `date` (RFC 3339) when given; its standard output. A failure fails the test.
+pub fn student_git(dir: &Path, args: &[&str], date: Option<&str>) -> String {
+    let mut command = std::process::Command::new("git");
+    command
+        .args([
+            "-c",
+            "user.name=Student",
+            "-c",
+            "user.email=student@example.org",
+        ])
+        .args([
+            "-c",
+            "commit.gpgsign=false",
+            "-c",
+            "core.hooksPath=/dev/null",
+        ])
+        .args(args)
+        .current_dir(dir);
+    if let Some(date) = date {
+        command
+            .env("GIT_AUTHOR_DATE", date)
+            .env("GIT_COMMITTER_DATE", date);
+    }
+    let out = command.output().expect("git runs");
+    assert!(out.status.success(), "git {args:?}:\n{}", output_text(&out));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// Copies the file or directory `from` to `to`, keeping every file's modification time (a link
 /// is copied as what it points to).
 fn copy_with_dates(from: &Path, to: &Path) {

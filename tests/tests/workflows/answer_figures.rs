@@ -9,12 +9,11 @@
 
 use std::fs;
 use std::path::Path;
-use std::process::Command;
 
 use base64::Engine as _;
 use grading::prerequisite;
 use raylab_tests::workflow::{
-    cargo_in as cargo, check_in_browser, output_text, read, root, target_dir, workflow_target_dir,
+    cargo_in as cargo, check_in_browser, read, root, student_git, target_dir, workflow_target_dir,
 };
 
 /// The figure of lab 1's report that the answer shows.
@@ -31,24 +30,7 @@ fn raylab(args: &[&str]) -> String {
 
 /// git in `dir`, as a student with an identity of their own.
 fn git(dir: &Path, args: &[&str]) {
-    let out = Command::new("git")
-        .args([
-            "-c",
-            "user.name=Student",
-            "-c",
-            "user.email=student@example.org",
-        ])
-        .args([
-            "-c",
-            "commit.gpgsign=false",
-            "-c",
-            "core.hooksPath=/dev/null",
-        ])
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("git runs");
-    assert!(out.status.success(), "git {args:?}:\n{}", output_text(&out));
+    student_git(dir, args, None);
 }
 
 #[test]

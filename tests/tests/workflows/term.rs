@@ -12,13 +12,12 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 use grading::prerequisite;
 use raylab_tests::workflow::{
-    cargo_in as cargo, check_in_browser, output_text, read, root, seed_target_dir, target_dir,
-    workflow_target_dir,
+    cargo_in as cargo, check_in_browser, read, root, seed_target_dir, student_git as git,
+    target_dir, workflow_target_dir,
 };
 
 #[path = "../../../labs/raylab/tests/fixtures/lab02_class.rs"]
@@ -31,35 +30,6 @@ fn raylab(args: &[&str]) -> String {
     let (ok, out) = cargo(&root(), &target_dir(), &all);
     assert!(ok, "raylab {args:?}:\n{out}");
     out
-}
-
-/// git in `dir` as a student with an identity of their own, committing at `date` (RFC 3339)
-/// when given; its standard output.
-fn git(dir: &Path, args: &[&str], date: Option<&str>) -> String {
-    let mut command = Command::new("git");
-    command
-        .args([
-            "-c",
-            "user.name=Student",
-            "-c",
-            "user.email=student@example.org",
-        ])
-        .args([
-            "-c",
-            "commit.gpgsign=false",
-            "-c",
-            "core.hooksPath=/dev/null",
-        ])
-        .args(args)
-        .current_dir(dir);
-    if let Some(date) = date {
-        command
-            .env("GIT_AUTHOR_DATE", date)
-            .env("GIT_COMMITTER_DATE", date);
-    }
-    let out = command.output().expect("git runs");
-    assert!(out.status.success(), "git {args:?}:\n{}", output_text(&out));
-    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// The row of `student` in the CSV `csv`, as (header, value) pairs.
