@@ -226,6 +226,16 @@ pub fn workflow_target_dir() -> PathBuf {
     dir
 }
 
+/// `raylab ARGS` run with `cargo run` in the tree `dir` (the repository, a handout or a clone)
+/// with the target directory `target`; its output. A failure fails the test.
+pub fn raylab_in(dir: &Path, target: &Path, args: &[&str]) -> String {
+    let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
+    all.extend_from_slice(args);
+    let (ok, out) = cargo_in(dir, target, &all);
+    assert!(ok, "raylab {args:?} in {}:\n{out}", dir.display());
+    out
+}
+
 /// git in `dir` as a student with an identity of their own (no signing, no hooks), committing
 /// at `date` (RFC 3339) when given; its standard output. A failure fails the test.
 pub fn student_git(dir: &Path, args: &[&str], date: Option<&str>) -> String {

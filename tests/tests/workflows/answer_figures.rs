@@ -13,7 +13,7 @@ use std::path::Path;
 use base64::Engine as _;
 use grading::prerequisite;
 use raylab_tests::workflow::{
-    cargo_in as cargo, check_in_browser, read, root, student_git, target_dir, workflow_target_dir,
+    check_in_browser, raylab_in, read, root, student_git, target_dir, workflow_target_dir,
 };
 
 /// The figure of lab 1's report that the answer shows.
@@ -21,11 +21,7 @@ const FIGURE: &str = "default-base-colour.png";
 
 /// `raylab ARGS`, built as the workspace's test build builds it; its output.
 fn raylab(args: &[&str]) -> String {
-    let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
-    all.extend_from_slice(args);
-    let (ok, out) = cargo(&root(), &target_dir(), &all);
-    assert!(ok, "raylab {args:?}:\n{out}");
-    out
+    raylab_in(&root(), &target_dir(), args)
 }
 
 /// git in `dir`, as a student with an identity of their own.

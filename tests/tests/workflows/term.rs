@@ -16,8 +16,8 @@ use std::time::Instant;
 
 use grading::prerequisite;
 use raylab_tests::workflow::{
-    cargo_in as cargo, check_in_browser, read, root, seed_target_dir, student_git as git,
-    target_dir, workflow_target_dir,
+    cargo_in as cargo, check_in_browser, raylab_in, read, root, seed_target_dir,
+    student_git as git, target_dir, workflow_target_dir,
 };
 
 #[path = "../../../labs/raylab/tests/fixtures/lab02_class.rs"]
@@ -25,11 +25,7 @@ mod class;
 
 /// `raylab ARGS`, built as the workspace's test build builds it.
 fn raylab(args: &[&str]) -> String {
-    let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
-    all.extend_from_slice(args);
-    let (ok, out) = cargo(&root(), &target_dir(), &all);
-    assert!(ok, "raylab {args:?}:\n{out}");
-    out
+    raylab_in(&root(), &target_dir(), args)
 }
 
 /// The row of `student` in the CSV `csv`, as (header, value) pairs.
@@ -160,13 +156,7 @@ fn a_term_from_handout_to_gradebook() {
     seed_target_dir(&student_target);
     let (ok, out) = cargo(&dave, &student_target, &["test", "-p", "lab01"]);
     assert!(!ok && out.contains("is not implemented yet"), "{out}");
-    let student = |args: &[&str]| {
-        let mut all = vec!["run", "--quiet", "-p", "raylab", "--"];
-        all.extend_from_slice(args);
-        let (ok, out) = cargo(&dave, &student_target, &all);
-        assert!(ok, "raylab {args:?} in a clone:\n{out}");
-        out
-    };
+    let student = |args: &[&str]| raylab_in(&dave, &student_target, args);
     let status = student(&["status", "--lab", "1"]);
     assert!(status.contains("lab01  0/"), "{status}");
     student(&["report", "--lab", "1", "--quick"]);
