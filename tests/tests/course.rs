@@ -295,6 +295,57 @@ fn the_workspace_s_tests_reuse_the_golden_data_s_build() {
     }
 }
 
+/// One build for the grader: a graded program (`raylab grade`'s `labNN-graded`, whose
+/// dependencies are the lab's checks, `contracts`, `grading`, `wasm-host` and `reference`,
+/// `grading::graded`) builds no unit with other features than the workspace's test build, so
+/// that a grading whose target directory holds that build (as the workflow tests' does) compiles
+/// only the tree's own crates, not wasmtime and Cranelift again.
+#[test]
+fn the_graded_programs_reuse_the_workspace_s_build() {
+    let tested = build_units(&[
+        "--workspace",
+        "--features",
+        "reference",
+        "-e",
+        "normal,build,dev",
+    ]);
+    let tested_run_time = run_time_units("normal,dev", &["--workspace", "--features", "reference"]);
+    let proc_macros = workspace_proc_macros();
+    for lab in course::labs() {
+        let checks = format!("{lab}-checks");
+        let args = [
+            "-p",
+            checks.as_str(),
+            "-p",
+            "contracts",
+            "-p",
+            "grading",
+            "-p",
+            "wasm-host",
+            "-p",
+            "reference",
+        ];
+        let mut all = vec!["-e", "normal,build"];
+        all.extend(args);
+        let built = build_units(&all);
+        let missing: Vec<_> = built.difference(&tested).collect();
+        assert!(
+            missing.is_empty(),
+            "{lab}'s graded program would build these again, with other features than `cargo test --workspace --features reference` did: {missing:?}; ask for the features in wasm-host's manifest"
+        );
+        let built: BTreeSet<_> = built
+            .into_iter()
+            .filter(|(package, _)| !proc_macros.contains(package))
+            .collect();
+        let twice =
+            run_time_disagreements(&built, &run_time_units("normal", &args), &tested_run_time);
+        assert!(
+            twice.is_empty(),
+            "{lab}'s graded program would build these again: they are linked into it and needed only by proc macros or build scripts in the workspace's tests, or the other way round: {twice:?}"
+        );
+    }
+}
+
 /// Each exercise is stated once, in its lab's table (`labs/labNN/exercises.toml`: number,
 /// function, title, points, visibility, hint — `raylab hint` reads it); the stub, the docs
 /// page's table of exercises and its section agree with it: the stub names the exercise and its

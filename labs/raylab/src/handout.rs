@@ -521,6 +521,20 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Resul
         let file = format!("src/{lab}.rs");
         copy_file(&root.join("reference").join(&file), &dir.join(&file))?;
     }
+    // With no solution released, `src/` holds `lib.rs` alone in every handout, and is dated as
+    // that file: a handout built again is up to date (its build script watches the directory).
+    // A released solution dates the directory now, so that a target directory in which
+    // another handout's `reference` was built compiles this one's files.
+    if released.is_empty() {
+        let lib = root.join("reference/src/lib.rs");
+        let modified = fs::metadata(&lib)
+            .and_then(|m| m.modified())
+            .map_err(io(&lib))?;
+        let src = dir.join("src");
+        fs::File::open(&src)
+            .and_then(|d| d.set_modified(modified))
+            .map_err(io(&src))?;
+    }
     Ok(())
 }
 
@@ -599,7 +613,10 @@ limits. Some exercises have tests that run only at grading.
 }
 
 /// Copies the directory `from` to `to`, leaving out build output (`target/`, `out/`) and
-/// version control.
+/// version control. Like [`copy_file`], it keeps the dates, the directories' too: a build script
+/// that watches a directory (`cargo::rerun-if-changed=src`, to see a file come or go) is judged
+/// by the directory's date, and a copy dated now would have cargo build its crate, and all
+/// above it, again in every new tree.
 pub fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
     fs::create_dir_all(to).map_err(io(to))?;
     for entry in fs::read_dir(from).map_err(io(from))? {
@@ -614,6 +631,11 @@ pub fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
         } else {
             copy_file(&path, &to.join(&name))?;
         }
+    }
+    if let Ok(modified) = fs::metadata(from).and_then(|m| m.modified()) {
+        fs::File::open(to)
+            .and_then(|dir| dir.set_modified(modified))
+            .map_err(io(to))?;
     }
     Ok(())
 }
