@@ -81,9 +81,9 @@ pub struct TreeOptions {
     pub framework_tag: Option<String>,
 }
 
-/// The repository the command line was built from.
+/// The repository the command line was built from ([`crate::checkout::instructor_tree`]).
 pub fn repository_root() -> PathBuf {
-    crate::lab_program::workspace_root()
+    crate::checkout::built_tree()
 }
 
 /// Runs `raylab handout`.

@@ -10,15 +10,7 @@ use course::LabId;
 use grading::task::Task;
 use raylab_core::Error;
 
-/// The workspace's root (where `cargo` builds the labs): two levels above this crate's
-/// directory, without `..` in it, so that the paths messages show are the ones to type.
-pub fn workspace_root() -> PathBuf {
-    let manifest_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    manifest_dir
-        .ancestors()
-        .nth(2)
-        .map_or_else(|| manifest_dir.join("../.."), Path::to_path_buf)
-}
+pub use crate::checkout::workspace_root;
 
 /// The cargo that runs this command (`cargo run` says which), else the one on the `PATH`.
 fn cargo() -> Command {

@@ -3,6 +3,7 @@
 
 mod arguments;
 mod bench;
+mod checkout;
 mod git;
 #[cfg(feature = "instructor")]
 mod golden;
@@ -149,17 +150,26 @@ fn main() -> ExitCode {
         Some(Command::Reset(args)) => reset::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::Golden(args)) => golden::run(&args),
+        Some(Command::Golden(args)) => checkout::instructor_tree().and_then(|_| golden::run(&args)),
         #[cfg(feature = "instructor")]
-        Some(Command::Handout(args)) => handout::run(&args),
+        Some(Command::Handout(args)) => {
+            checkout::instructor_tree().and_then(|_| handout::run(&args))
+        }
         #[cfg(feature = "instructor")]
-        Some(Command::Grade(args)) => grade::run(&args),
+        Some(Command::Grade(args)) => checkout::instructor_tree().and_then(|_| grade::run(&args)),
         #[cfg(feature = "instructor")]
-        Some(Command::Gradescope(args)) => gradescope::run(&args),
+        Some(Command::Gradescope(args)) => {
+            checkout::instructor_tree().and_then(|_| gradescope::run(&args))
+        }
         #[cfg(feature = "instructor")]
-        Some(Command::NewLab(args)) => new_lab::run(&args),
+        Some(Command::NewLab(args)) => match args.root {
+            Some(_) => new_lab::run(&args),
+            None => checkout::instructor_tree().and_then(|_| new_lab::run(&args)),
+        },
         #[cfg(feature = "instructor")]
-        Some(Command::Similarity(args)) => similarity::run(&args),
+        Some(Command::Similarity(args)) => {
+            checkout::instructor_tree().and_then(|_| similarity::run(&args))
+        }
     };
     exit(result)
 }

@@ -2,7 +2,7 @@
 //! exercise to work on, as rustlings does.
 
 use course::LabId;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, SystemTime};
 
@@ -19,12 +19,6 @@ pub struct WatchArgs {
     /// Run the checks once and stop, instead of waiting for the next change.
     #[arg(long)]
     pub once: bool,
-}
-
-/// The workspace's root (where `cargo test -p labNN` runs), without `..` in it.
-fn workspace_root() -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    std::fs::canonicalize(&root).unwrap_or(root)
 }
 
 /// The first lab whose sources still hold a stub (`todo!("Exercise …`), else the last lab.
@@ -201,7 +195,7 @@ fn check_once(root: &Path, lab: LabId) -> Result<bool, Error> {
 
 /// Runs `raylab watch`.
 pub fn run(args: &WatchArgs) -> Result<(), Error> {
-    let root = workspace_root();
+    let root = crate::checkout::workspace_root();
     let lab = match args.lab {
         Some(lab) => {
             crate::labs::check_lab(lab)?;

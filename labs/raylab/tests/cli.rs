@@ -905,3 +905,32 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// An instructor's command carries the course it was built from (registry, answer key): run in
+/// another course tree (a clone, a handout) it refuses, naming both, and writes nothing there.
+/// (`new-lab` is refused by the same check, `checkout::instructor_tree`; it is not run here,
+/// where a regression would write a lab into this repository.)
+#[test]
+fn instructor_commands_refuse_another_checkout() {
+    let other = scratch("other-checkout");
+    std::fs::create_dir_all(other.join("labs")).unwrap();
+    std::fs::write(other.join("Cargo.toml"), "[workspace]\n").unwrap();
+    std::fs::write(other.join("labs/course.toml"), "[labs]\n").unwrap();
+    let inside = other.join("labs");
+    for args in [
+        &["handout", "--out", "handout-here"][..],
+        &["golden", "--lab", "1"][..],
+    ] {
+        let (ok, _, err) = raylab(args, &inside);
+        assert!(!ok, "raylab {args:?} ran in another checkout");
+        assert!(
+            err.contains("this raylab was built from") && err.contains(&*other.to_string_lossy()),
+            "raylab {args:?}: {err}"
+        );
+    }
+    assert!(!other.join("labs/handout-here").exists());
+    assert_eq!(
+        std::fs::read_to_string(other.join("labs/course.toml")).unwrap(),
+        "[labs]\n"
+    );
+}
