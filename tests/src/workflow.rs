@@ -184,7 +184,18 @@ pub fn seed_target_dir(target: &Path) {
             seeded.push(name);
         }
     }
-    seeded.push("framework".to_string());
+    // The framework's crates, by their manifests' names (`raylab-core`, `pipeline`, …).
+    for entry in fs::read_dir(root().join("framework")).unwrap() {
+        let manifest = entry.unwrap().path().join("Cargo.toml");
+        if let Ok(text) = fs::read_to_string(&manifest)
+            && let Some(name) = text.lines().find_map(|l| {
+                l.strip_prefix("name = ")
+                    .map(|v| v.trim().trim_matches('"').to_string())
+            })
+        {
+            seeded.push(name);
+        }
+    }
     // A unit is `<package>-<16 hex digits>` (`libtest-mimic-…` is one), a library in `deps/`
     // `lib<crate>-<hash>.<ext>` with the crate name's dashes as underscores.
     let is_seeded = |file: &str| {
