@@ -1,13 +1,13 @@
-//! Which course tree a command acts on. A student's command (`status`, `report`, `render`,
-//! `watch`, `view`, `reset`) acts on the tree the current directory is in — the handout or clone
-//! the student works in — even when this program was built in another one (a target directory
-//! shared between clones). An instructor's command (`golden`, `handout`, `grade`, `new-lab`,
-//! `gradescope`, `similarity`) carries the course it was built from (its registry, its answer
-//! key), so it acts on that tree, and refuses to run in another one rather than surprise.
+//! Which course tree a command acts on: the one that holds the current directory — the
+//! repository, a handout or a clone — found from there upwards as cargo and git find their
+//! roots (a directory with `Cargo.toml` and the registry `labs/course.toml`), whichever tree
+//! this program was built in (one target directory may serve several clones). Outside every
+//! course tree, the one it was built from. A tree whose registry lists other labs than the one
+//! compiled into this program is refused, naming both: the command would not know its labs.
 
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
-#[cfg(feature = "instructor")]
 use raylab_core::Error;
 
 /// The tree this program was built from: two levels above this crate's directory, without `..`
@@ -28,42 +28,65 @@ pub fn tree_holding(dir: &Path) -> Option<PathBuf> {
         .map(Path::to_path_buf)
 }
 
-/// The tree a student's command acts on: the one the current directory is in, else the one this
-/// program was built from.
-pub fn workspace_root() -> PathBuf {
-    std::env::current_dir()
+/// The tree commands act on, once [`resolve`] has found it.
+static ROOT: OnceLock<PathBuf> = OnceLock::new();
+
+/// Finds the tree this run acts on (see the module's documentation), once, before a command
+/// runs; an error when the current directory is in a course tree of another registry.
+pub fn resolve() -> Result<&'static Path, Error> {
+    if let Some(root) = ROOT.get() {
+        return Ok(root);
+    }
+    let here = std::env::current_dir()
         .ok()
-        .and_then(|dir| tree_holding(&dir))
-        .unwrap_or_else(built_tree)
+        .and_then(|dir| tree_holding(&dir));
+    let root = match here {
+        Some(tree) => {
+            check_registry(&tree)?;
+            tree
+        }
+        None => built_tree(),
+    };
+    Ok(ROOT.get_or_init(|| root))
 }
 
-#[cfg(feature = "instructor")]
-/// The repository an instructor's command acts on: the one this program was built from; an
-/// error naming both when the current directory is in another course tree.
-pub fn instructor_tree() -> Result<PathBuf, Error> {
-    let built = built_tree();
-    let Some(here) = std::env::current_dir()
+/// The tree commands act on: [`resolve`]'s, or the one this program was built from when a
+/// test calls a command's code directly.
+pub fn workspace_root() -> PathBuf {
+    resolve().map_or_else(|_| built_tree(), Path::to_path_buf)
+}
+
+/// An error when `tree`'s registry lists other labs (numbers or titles) than the one this
+/// program was compiled with.
+fn check_registry(tree: &Path) -> Result<(), Error> {
+    let file = tree.join("labs/course.toml");
+    let text = std::fs::read_to_string(&file).map_err(|source| Error::Io {
+        path: file.clone(),
+        source,
+    })?;
+    let theirs: Option<Vec<(u8, String)>> = course::parse_registry(&text)
         .ok()
-        .and_then(|dir| tree_holding(&dir))
-    else {
-        return Ok(built);
-    };
-    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    };
-    if same(&here, &built) {
-        Ok(built)
-    } else {
-        Err(Error::Invalid {
-            what: format!("the course tree {}", here.display()),
-            reason: format!(
-                "this raylab was built from {} and acts on that repository: run `cargo run -p raylab -- …` in {} to act on it",
-                built.display(),
-                here.display()
-            ),
+        .map(|entries| entries.into_iter().map(|e| (e.number, e.title)).collect());
+    let ours: Vec<(u8, String)> = course::labs()
+        .into_iter()
+        .map(|lab| {
+            (
+                lab.number() as u8,
+                course::title(lab).unwrap_or("").to_string(),
+            )
         })
+        .collect();
+    if theirs.as_ref() == Some(&ours) {
+        return Ok(());
     }
+    Err(Error::Invalid {
+        what: format!("the course tree {}", tree.display()),
+        reason: format!(
+            "its labs/course.toml lists other labs than this raylab knows, which was built from {}: run `cargo run -p raylab -- …` in {} to build it there",
+            built_tree().display(),
+            tree.display()
+        ),
+    })
 }
 
 #[cfg(test)]
@@ -87,8 +110,34 @@ mod tests {
     }
 
     #[test]
-    fn this_repository_is_the_tree_it_was_built_from() {
+    fn this_repository_is_the_tree_it_was_built_from_and_its_registry_is_known() {
         let built = built_tree();
-        assert_eq!(tree_holding(&built.join("labs/raylab/src")), Some(built));
+        assert_eq!(
+            tree_holding(&built.join("labs/raylab/src")),
+            Some(built.clone())
+        );
+        check_registry(&built).unwrap();
+    }
+
+    #[test]
+    fn a_tree_of_another_registry_is_refused_naming_it() {
+        let tree = std::env::temp_dir().join(format!("raylab-registry-{}", std::process::id()));
+        std::fs::create_dir_all(tree.join("labs")).unwrap();
+        let ours = std::fs::read_to_string(built_tree().join("labs/course.toml")).unwrap();
+        for (what, text) in [
+            ("a lab more", format!("{ours}lab99 = \"Elsewhere\"\n")),
+            (
+                "a title changed",
+                ours.replacen("lab01 = \"", "lab01 = \"Not ", 1),
+            ),
+            ("none", "[labs]\n".to_string()),
+        ] {
+            std::fs::write(tree.join("labs/course.toml"), text).unwrap();
+            let error = check_registry(&tree).expect_err(what).to_string();
+            assert!(error.contains(&*tree.to_string_lossy()), "{what}: {error}");
+        }
+        std::fs::write(tree.join("labs/course.toml"), ours).unwrap();
+        check_registry(&tree).unwrap();
+        std::fs::remove_dir_all(&tree).unwrap();
     }
 }

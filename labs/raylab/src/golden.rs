@@ -17,24 +17,9 @@ pub struct GoldenArgs {
     /// Only this lab (default: all).
     #[arg(long)]
     pub lab: Option<LabId>,
-    /// The raylab workspace (default: found from the current directory upwards).
+    /// Where to write the golden data (default: the course tree of the current directory).
     #[arg(long)]
     pub root: Option<PathBuf>,
-}
-
-/// The workspace root: the nearest ancestor of the current directory with `labs/` and
-/// `Cargo.toml`.
-fn find_root() -> Result<PathBuf, Error> {
-    let cwd = std::env::current_dir().map_err(|e| Error::io(".", e))?;
-    cwd.ancestors()
-        .find(|d| d.join("Cargo.toml").is_file() && d.join("labs").is_dir())
-        .map(Path::to_path_buf)
-        .ok_or_else(|| Error::Failed {
-            what: format!("the working directory {}", cwd.display()),
-            reason:
-                "not inside a raylab workspace (no Cargo.toml with labs/ beside it); pass --root"
-                    .into(),
-        })
 }
 
 /// Runs `raylab golden`: each lab's program, built with the lab's answer key, records the lab's
@@ -42,7 +27,7 @@ fn find_root() -> Result<PathBuf, Error> {
 pub fn run(args: &GoldenArgs) -> Result<(), Error> {
     let root = match &args.root {
         Some(r) => r.clone(),
-        None => find_root()?,
+        None => crate::checkout::workspace_root(),
     };
     let labs: Vec<LabId> = match args.lab {
         Some(l) => {

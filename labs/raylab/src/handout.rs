@@ -81,9 +81,10 @@ pub struct TreeOptions {
     pub framework_tag: Option<String>,
 }
 
-/// The repository the command line was built from ([`crate::checkout::instructor_tree`]).
+/// The repository the command acts on: the course tree of the current directory
+/// ([`crate::checkout`]).
 pub fn repository_root() -> PathBuf {
-    crate::checkout::built_tree()
+    crate::checkout::workspace_root()
 }
 
 /// Runs `raylab handout`.

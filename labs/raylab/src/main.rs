@@ -139,6 +139,10 @@ fn main() -> ExitCode {
     if std::env::var_os(CHECK_ARGUMENTS_VAR).is_some() {
         return exit(check_arguments(&cli.command).map(|()| println!("arguments accepted")));
     }
+    // The course tree every command acts on: the one the current directory is in.
+    if let Err(e) = checkout::resolve() {
+        return exit(Err(e));
+    }
     let result = match cli.command {
         None => render::run(&render::RenderArgs::default()),
         Some(Command::Render(args)) => render::run(&args),
@@ -150,26 +154,17 @@ fn main() -> ExitCode {
         Some(Command::Reset(args)) => reset::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::Golden(args)) => checkout::instructor_tree().and_then(|_| golden::run(&args)),
+        Some(Command::Golden(args)) => golden::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::Handout(args)) => {
-            checkout::instructor_tree().and_then(|_| handout::run(&args))
-        }
+        Some(Command::Handout(args)) => handout::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::Grade(args)) => checkout::instructor_tree().and_then(|_| grade::run(&args)),
+        Some(Command::Grade(args)) => grade::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::Gradescope(args)) => {
-            checkout::instructor_tree().and_then(|_| gradescope::run(&args))
-        }
+        Some(Command::Gradescope(args)) => gradescope::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::NewLab(args)) => match args.root {
-            Some(_) => new_lab::run(&args),
-            None => checkout::instructor_tree().and_then(|_| new_lab::run(&args)),
-        },
+        Some(Command::NewLab(args)) => new_lab::run(&args),
         #[cfg(feature = "instructor")]
-        Some(Command::Similarity(args)) => {
-            checkout::instructor_tree().and_then(|_| similarity::run(&args))
-        }
+        Some(Command::Similarity(args)) => similarity::run(&args),
     };
     exit(result)
 }

@@ -28,7 +28,7 @@ pub struct NewLabArgs {
     /// The name of its contract trait (default: made from the title, `PathTracing`).
     #[arg(long)]
     pub contract: Option<String>,
-    /// The repository to add it to (default: the one this command was built from).
+    /// The repository to add it to (default: the one the current directory is in).
     #[arg(long)]
     pub root: Option<PathBuf>,
 }

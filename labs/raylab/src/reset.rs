@@ -40,7 +40,7 @@ pub struct ResetArgs {
     /// Show the function as you have it and as the handout had it, and change nothing.
     #[arg(long)]
     pub dry_run: bool,
-    /// The handout to work in (default: the one this raylab was built in).
+    /// The handout to work in (default: the one the current directory is in).
     #[arg(long, value_name = "DIR")]
     pub handout: Option<PathBuf>,
 }

@@ -906,31 +906,37 @@ fn a_release_is_a_commit_that_students_pull_without_conflicts() {
     std::fs::remove_dir_all(dir).ok();
 }
 
-/// An instructor's command carries the course it was built from (registry, answer key): run in
-/// another course tree (a clone, a handout) it refuses, naming both, and writes nothing there.
-/// (`new-lab` is refused by the same check, `checkout::instructor_tree`; it is not run here,
-/// where a regression would write a lab into this repository.)
+/// Every command acts on the course tree the current directory is in (a handout run by the
+/// raylab of another clone is the common case, `tests/tests/workflows/printed_commands.rs`);
+/// in a tree whose registry lists other labs than this raylab knows, a command is refused,
+/// naming the tree, and writes nothing there.
 #[test]
-fn instructor_commands_refuse_another_checkout() {
-    let other = scratch("other-checkout");
+fn a_tree_of_another_course_is_refused() {
+    let other = scratch("other-course");
     std::fs::create_dir_all(other.join("labs")).unwrap();
     std::fs::write(other.join("Cargo.toml"), "[workspace]\n").unwrap();
-    std::fs::write(other.join("labs/course.toml"), "[labs]\n").unwrap();
+    std::fs::write(
+        other.join("labs/course.toml"),
+        "[labs]\nlab01 = \"Elsewhere\"\n",
+    )
+    .unwrap();
     let inside = other.join("labs");
     for args in [
+        &["status"][..],
         &["handout", "--out", "handout-here"][..],
         &["golden", "--lab", "1"][..],
     ] {
         let (ok, _, err) = raylab(args, &inside);
-        assert!(!ok, "raylab {args:?} ran in another checkout");
+        assert!(!ok, "raylab {args:?} ran in another course");
         assert!(
-            err.contains("this raylab was built from") && err.contains(&*other.to_string_lossy()),
+            err.contains("lists other labs than this raylab knows")
+                && err.contains(&*other.to_string_lossy()),
             "raylab {args:?}: {err}"
         );
     }
     assert!(!other.join("labs/handout-here").exists());
     assert_eq!(
         std::fs::read_to_string(other.join("labs/course.toml")).unwrap(),
-        "[labs]\n"
+        "[labs]\nlab01 = \"Elsewhere\"\n"
     );
 }
