@@ -130,8 +130,36 @@ const EXERCISES: [(&str, u32); 6] = [
     ("2.6", 3),
 ];
 
-/// `--timeout` of the run, in seconds.
-const TIMEOUT: u64 = 20;
+/// `--timeout` of a run that grades lab `lab`, in seconds: ten times what the answer key's checks
+/// of the lab take on this machine now (`cargo test -p labNN --features reference --test
+/// checks`, built first), and at least 20 s. A loaded machine slows the checks and the graded
+/// exercises alike, so the limit follows the load rather than a guess of it; the grader runs an
+/// exercise it stopped once more with twice the time, and an attack cannot use the time (the
+/// student's code runs within an instruction budget of its own).
+fn exercise_timeout(lab: u32) -> u64 {
+    let name = format!("lab{lab:02}");
+    let checks = [
+        "test",
+        "-q",
+        "-p",
+        name.as_str(),
+        "--features",
+        "reference",
+        "--test",
+        "checks",
+    ];
+    let mut build = checks.to_vec();
+    build.push("--no-run");
+    let (ok, out) = raylab_tests::workflow::cargo_in(&root(), &target_dir(), &build);
+    assert!(ok, "cargo {build:?}: {out}");
+    let started = Instant::now();
+    let (ok, out) = raylab_tests::workflow::cargo_in(&root(), &target_dir(), &checks);
+    assert!(ok, "cargo {checks:?}: {out}");
+    let measured = started.elapsed().as_secs_f64();
+    let timeout = (10.0 * measured).ceil().max(20.0) as u64;
+    println!("{name}'s checks on the key took {measured:.1} s: --timeout {timeout}");
+    timeout
+}
 
 /// How long `raylab grade` may go without a sign of progress (a report, a file in the grades
 /// directory, a line of output) before it counts as hung.
@@ -569,7 +597,7 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
         "--release-solutions".into(),
         "1,3,4,7".into(),
         "--timeout".into(),
-        TIMEOUT.to_string(),
+        exercise_timeout(2).to_string(),
         // Half the default: the hog meets the same limit in half the time.
         "--memory-limit".into(),
         "2048".into(),
@@ -1094,7 +1122,7 @@ fn grade_composite_submissions(run_as: Option<&str>) {
             "--lab",
             "1",
             "--timeout",
-            &TIMEOUT.to_string(),
+            &exercise_timeout(1).to_string(),
             "--target-dir",
             &workflow_target_dir().to_string_lossy(),
         ]
