@@ -109,8 +109,11 @@ fn cargo_tree(format: &str, args: &[&str]) -> Vec<String> {
         .collect()
 }
 
+/// Units as `cargo tree` names them: a package ("name v1.2.3") and its features.
+type Units = BTreeSet<(String, Vec<String>)>;
+
 /// The units (package and features) `cargo tree` lists for `args`: what cargo would build.
-fn build_units(args: &[&str]) -> BTreeSet<(String, Vec<String>)> {
+fn build_units(args: &[&str]) -> Units {
     cargo_tree("{p}|{f}", args)
         .iter()
         .filter_map(|line| {
@@ -243,54 +246,59 @@ fn a_lab_s_tests_reuse_the_command_line_s_build() {
     }
 }
 
+/// Fails when `command` (what `cargo tree` selects with `args`, through `edges`) would build a
+/// unit that the whole workspace's test build (`cargo test --workspace --features reference`)
+/// builds with other features or another `-C lto`; `fix` says where to ask for features.
+fn assert_reuses_the_test_build(command: &str, args: &[&str], edges: &str, fix: &str) {
+    static TESTED: std::sync::OnceLock<(Units, Units, BTreeSet<String>)> =
+        std::sync::OnceLock::new();
+    let (tested, tested_run_time, proc_macros) = TESTED.get_or_init(|| {
+        let workspace = ["--workspace", "--features", "reference"];
+        let mut all = vec!["-e", "normal,build,dev"];
+        all.extend(workspace);
+        (
+            build_units(&all),
+            run_time_units("normal,dev", &workspace),
+            // A proc-macro member is a root of `--workspace` and so listed on its run-time
+            // side, but a proc macro is compiled for the host alone, once, whichever command
+            // selects it.
+            workspace_proc_macros(),
+        )
+    });
+    let build_edges = format!("{edges},build");
+    let mut all = vec!["-e", build_edges.as_str()];
+    all.extend(args);
+    let built = build_units(&all);
+    let missing: Vec<_> = built.difference(tested).collect();
+    assert!(
+        missing.is_empty(),
+        "`cargo test --workspace --features reference` would build these again, with other features than {command} did: {missing:?}{fix}"
+    );
+    let built: Units = built
+        .into_iter()
+        .filter(|(package, _)| !proc_macros.contains(package))
+        .collect();
+    let twice = run_time_disagreements(&built, &run_time_units(edges, args), tested_run_time);
+    assert!(
+        twice.is_empty(),
+        "`cargo test --workspace --features reference` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in {command}'s: {twice:?}; make them a dependency of the framework"
+    );
+}
+
 /// One build in CI: `cargo run -p raylab -- golden` (the golden data: the command line, then
 /// each lab's program with its key, `cargo test -p labNN --features reference --no-run`) builds
 /// no unit that the whole workspace's test build (`cargo test --workspace --features
 /// reference`) then builds again with other features or another `-C lto`.
 #[test]
 fn the_workspace_s_tests_reuse_the_golden_data_s_build() {
-    let tested = build_units(&[
-        "--workspace",
-        "--features",
-        "reference",
-        "-e",
-        "normal,build,dev",
-    ]);
-    let tested_run_time = run_time_units("normal,dev", &["--workspace", "--features", "reference"]);
-    // A proc-macro member is a root of `--workspace` and so listed on its run-time side, but a
-    // proc macro is compiled for the host alone, once, whichever command selects it.
-    let proc_macros = workspace_proc_macros();
-    let mut commands = vec![(
-        "cargo run -p raylab".to_string(),
-        vec!["-p", "raylab"],
-        "normal",
-    )];
-    let names: Vec<String> = course::labs().iter().map(|l| l.to_string()).collect();
-    for name in &names {
-        commands.push((
-            format!("cargo test -p {name} --features reference"),
-            vec!["-p", name.as_str(), "--features", "reference"],
+    assert_reuses_the_test_build("`cargo run -p raylab`", &["-p", "raylab"], "normal", "");
+    for lab in course::labs() {
+        let name = lab.to_string();
+        assert_reuses_the_test_build(
+            &format!("`cargo test -p {name} --features reference`"),
+            &["-p", &name, "--features", "reference"],
             "normal,dev",
-        ));
-    }
-    for (command, args, edges) in commands {
-        let build_edges = format!("{edges},build");
-        let mut all = vec!["-e", build_edges.as_str()];
-        all.extend(&args);
-        let built = build_units(&all);
-        let missing: Vec<_> = built.difference(&tested).collect();
-        assert!(
-            missing.is_empty(),
-            "`cargo test --workspace --features reference` would build these again, with other features than `{command}` did: {missing:?}"
-        );
-        let built: BTreeSet<_> = built
-            .into_iter()
-            .filter(|(package, _)| !proc_macros.contains(package))
-            .collect();
-        let twice = run_time_disagreements(&built, &run_time_units(edges, &args), &tested_run_time);
-        assert!(
-            twice.is_empty(),
-            "`cargo test --workspace --features reference` would build these again, and what is compiled above them: they are linked into one command's programs and needed only by proc macros or build scripts in `{command}`'s: {twice:?}; make them a dependency of the framework"
+            "",
         );
     }
 }
@@ -302,46 +310,18 @@ fn the_workspace_s_tests_reuse_the_golden_data_s_build() {
 /// only the tree's own crates, not wasmtime and Cranelift again.
 #[test]
 fn the_graded_programs_reuse_the_workspace_s_build() {
-    let tested = build_units(&[
-        "--workspace",
-        "--features",
-        "reference",
-        "-e",
-        "normal,build,dev",
-    ]);
-    let tested_run_time = run_time_units("normal,dev", &["--workspace", "--features", "reference"]);
-    let proc_macros = workspace_proc_macros();
     for lab in course::labs() {
         let checks = format!("{lab}-checks");
-        let args = [
-            "-p",
-            checks.as_str(),
-            "-p",
-            "contracts",
-            "-p",
-            "grading",
-            "-p",
-            "wasm-host",
-            "-p",
-            "reference",
-        ];
-        let mut all = vec!["-e", "normal,build"];
-        all.extend(args);
-        let built = build_units(&all);
-        let missing: Vec<_> = built.difference(&tested).collect();
-        assert!(
-            missing.is_empty(),
-            "{lab}'s graded program would build these again, with other features than `cargo test --workspace --features reference` did: {missing:?}; ask for the features in wasm-host's manifest"
-        );
-        let built: BTreeSet<_> = built
-            .into_iter()
-            .filter(|(package, _)| !proc_macros.contains(package))
-            .collect();
-        let twice =
-            run_time_disagreements(&built, &run_time_units("normal", &args), &tested_run_time);
-        assert!(
-            twice.is_empty(),
-            "{lab}'s graded program would build these again: they are linked into it and needed only by proc macros or build scripts in the workspace's tests, or the other way round: {twice:?}"
+        let packages = ["contracts", "grading", "wasm-host", "reference"];
+        let mut args = vec!["-p", checks.as_str()];
+        for package in packages {
+            args.extend(["-p", package]);
+        }
+        assert_reuses_the_test_build(
+            &format!("{lab}'s graded program"),
+            &args,
+            "normal",
+            "; ask for the features in wasm-host's manifest",
         );
     }
 }
