@@ -60,10 +60,7 @@ pub fn workspace_root() -> PathBuf {
 /// program was compiled with.
 fn check_registry(tree: &Path) -> Result<(), Error> {
     let file = tree.join("labs/course.toml");
-    let text = std::fs::read_to_string(&file).map_err(|source| Error::Io {
-        path: file.clone(),
-        source,
-    })?;
+    let text = std::fs::read_to_string(&file).map_err(|e| Error::io(&file, e))?;
     let theirs: Option<Vec<(u8, String)>> = course::parse_registry(&text)
         .ok()
         .map(|entries| entries.into_iter().map(|e| (e.number, e.title)).collect());

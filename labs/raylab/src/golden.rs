@@ -37,7 +37,7 @@ pub fn run(args: &GoldenArgs) -> Result<(), Error> {
         None => crate::labs::labs(),
     };
     for lab in labs {
-        for path in generate(&crate::lab_program::workspace_root(), &root, lab)? {
+        for path in generate(&crate::checkout::workspace_root(), &root, lab)? {
             println!("{}", path.display());
         }
     }

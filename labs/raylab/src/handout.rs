@@ -531,10 +531,7 @@ fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Resul
         let modified = fs::metadata(&lib)
             .and_then(|m| m.modified())
             .map_err(io(&lib))?;
-        let src = dir.join("src");
-        fs::File::open(&src)
-            .and_then(|d| d.set_modified(modified))
-            .map_err(io(&src))?;
+        set_modified(&dir.join("src"), modified)?;
     }
     Ok(())
 }
@@ -634,9 +631,7 @@ pub fn copy_dir(from: &Path, to: &Path) -> Result<(), Error> {
         }
     }
     if let Ok(modified) = fs::metadata(from).and_then(|m| m.modified()) {
-        fs::File::open(to)
-            .and_then(|dir| dir.set_modified(modified))
-            .map_err(io(to))?;
+        set_modified(to, modified)?;
     }
     Ok(())
 }
@@ -650,13 +645,17 @@ pub fn copy_file(from: &Path, to: &Path) -> Result<(), Error> {
     }
     fs::copy(from, to).map_err(io(from))?;
     if let Ok(modified) = fs::metadata(from).and_then(|m| m.modified()) {
-        fs::File::options()
-            .write(true)
-            .open(to)
-            .and_then(|f| f.set_modified(modified))
-            .map_err(io(to))?;
+        set_modified(to, modified)?;
     }
     Ok(())
+}
+
+/// Dates the file or directory at `path` as `modified` (a handle opened for reading is enough:
+/// the date is the owner's to set).
+fn set_modified(path: &Path, modified: std::time::SystemTime) -> Result<(), Error> {
+    fs::File::open(path)
+        .and_then(|f| f.set_modified(modified))
+        .map_err(io(path))
 }
 
 fn read(path: &Path) -> Result<String, Error> {

@@ -10,7 +10,7 @@ use course::LabId;
 use grading::task::Task;
 use raylab_core::Error;
 
-pub use crate::checkout::workspace_root;
+use crate::checkout::workspace_root;
 
 /// The cargo that runs this command (`cargo run` says which), else the one on the `PATH`.
 fn cargo() -> Command {

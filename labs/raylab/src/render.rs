@@ -263,7 +263,7 @@ pub fn labs_without_solution(lab: LabId) -> Vec<LabId> {
 /// Whether this tree holds lab `lab`'s solution (`reference/src/labNN.rs`; a handout holds the
 /// released ones).
 pub fn has_solution(lab: LabId) -> bool {
-    crate::lab_program::workspace_root()
+    crate::checkout::workspace_root()
         .join("reference/src")
         .join(format!("{lab}.rs"))
         .is_file()

@@ -43,7 +43,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
     let answers = args
         .answers
         .clone()
-        .unwrap_or_else(|| crate::lab_program::workspace_root().join(args.lab.answers()));
+        .unwrap_or_else(|| crate::checkout::workspace_root().join(args.lab.answers()));
     let job = ReportJob {
         dir: cwd.join(&args.out).join(args.lab.to_string()),
         quick: args.quick,

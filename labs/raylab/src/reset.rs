@@ -69,7 +69,7 @@ pub fn run(args: &ResetArgs) -> Result<(), Error> {
     let root = args
         .handout
         .clone()
-        .unwrap_or_else(crate::lab_program::workspace_root);
+        .unwrap_or_else(crate::checkout::workspace_root);
     let exercise = check(args)?;
     let function = exercise.function.as_str();
     let file = exercise.lab.source();

@@ -44,7 +44,7 @@ fn judge(lab: LabId) -> Result<Vec<Row>, String> {
     let program = LabProgram::build(lab, features).map_err(|e| e.to_string())?;
     let output = program
         .command(&Task::Status)
-        .current_dir(crate::lab_program::workspace_root().join(lab.folder()))
+        .current_dir(crate::checkout::workspace_root().join(lab.folder()))
         .stdin(Stdio::null())
         .stderr(Stdio::null())
         .output()
