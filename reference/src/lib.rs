@@ -12,11 +12,19 @@ use pipeline::Pipeline;
 
 contracts::answer_keys!();
 
-/// The reference pipeline with every lab enabled up to `lab`: the answer key in the slot of
-/// each lab whose solution this crate holds ([`KEYS`]), a waiting slot in the others. The
-/// framework's kernels intersect: they equal the key's up to rounding, and are faster.
+/// The reference pipeline of the course's labs up to `lab`: the answer key of each lab whose
+/// solution this crate holds ([`KEYS`]), a waiting slot for the others, and no later lab's
+/// code, so that what it draws is what the course has taught by then. The framework's kernels
+/// intersect: they equal the key's up to rounding, and are faster.
 pub fn pipeline(lab: u32) -> Pipeline {
-    let mut pipeline = install_keys(Pipeline::waiting(lab));
-    pipeline.intersection = None;
-    pipeline
+    Pipeline::default()
+        .with_parts(|parts| {
+            for l in contracts::labs_through(lab) {
+                match KEYS.iter().position(|&key| key == l.lab) {
+                    Some(at) => INSTALL_KEYS[at](parts),
+                    None => (l.waiting)(parts),
+                }
+            }
+        })
+        .with_framework_intersection()
 }

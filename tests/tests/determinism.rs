@@ -2,7 +2,8 @@
 
 use std::sync::Arc;
 
-use contracts::lab01::CameraBasis;
+use contracts::lab01::{CameraBasis, CameraRays};
+use contracts::lab02::Lab02;
 use pipeline::Pipeline;
 use pipeline::render::{render, render_partial};
 use raylab_core::film::{Film, ToneMap};
@@ -140,10 +141,7 @@ fn bits(film: &Film) -> Vec<[u32; 3]> {
 
 #[test]
 fn a_partial_render_marks_and_counts_what_panicked_the_same_on_one_and_two_threads() {
-    let pipeline = Pipeline {
-        camera: Arc::new(HalfDoneCamera),
-        ..reference::pipeline(2)
-    };
+    let pipeline = { reference::pipeline(2).with_part::<dyn CameraRays>(Arc::new(HalfDoneCamera)) };
     let one = partial_on(1, &pipeline);
     let two = partial_on(2, &pipeline);
     assert!(bits(&one.film) == bits(&two.film), "1 and 2 threads differ");
@@ -205,21 +203,14 @@ fn a_partial_render_of_the_stubs_names_their_exercises_and_the_strict_render_sto
         ..RenderSettings::default()
     };
     // Exercise 1.2 prepares the camera: every pixel fails.
-    let lab1 = Pipeline {
-        camera: Arc::new(lab01::Student),
-        ..reference::pipeline(1)
-    };
+    let lab1 = reference::pipeline(1).with_part::<dyn CameraRays>(Arc::new(lab01::Student));
     let rendered = render_partial(&scene, &lab1, &settings).unwrap();
     let sorted = rendered.failures.sorted();
     assert_eq!(sorted.len(), 1);
     assert_eq!(sorted[0].exercise(), Some("1.2"));
     assert_eq!(sorted[0].pixels, 32 * 24);
     // Lab 02's stubs: the first intersection test every ray meets.
-    let lab2 = Pipeline {
-        intersection: Some(Arc::new(lab02::Student)),
-        shading: Arc::new(lab02::Student),
-        ..reference::pipeline(2)
-    };
+    let lab2 = reference::pipeline(2).with_part::<dyn Lab02>(Arc::new(lab02::Student));
     let rendered = render_partial(&scene, &lab2, &settings).unwrap();
     assert_eq!(rendered.failures.pixels(), 32 * 24);
     assert!(rendered.failures.0.iter().all(|f| f.exercise().is_some()));

@@ -36,11 +36,7 @@ mod wire;
 /// See the crate's documentation.
 #[proc_macro_attribute]
 pub fn contract(attr: TokenStream, item: TokenStream) -> TokenStream {
-    let expanded = if attr.is_empty() {
-        expand(item.clone())
-    } else {
-        Err(("#[contract] takes no arguments".into(), Span::call_site()))
-    };
+    let expanded = register_path(attr).and_then(|register| expand(item.clone(), &register));
     match expanded {
         Ok(extra) => item.into_iter().chain(extra).collect(),
         Err((message, span)) => compile_error(&message, span),
@@ -49,8 +45,26 @@ pub fn contract(attr: TokenStream, item: TokenStream) -> TokenStream {
 
 type Expansion = Result<TokenStream, (String, Span)>;
 
-/// The two impls for the trait `item`.
-fn expand(item: TokenStream) -> Expansion {
+/// The function `#[contract(register = path)]` names, which puts a contract's code under the
+/// renderer's extension points besides its own type; empty for `#[contract]`.
+fn register_path(attr: TokenStream) -> Result<String, (String, Span)> {
+    let tokens: Vec<TokenTree> = attr.into_iter().collect();
+    if tokens.is_empty() {
+        return Ok(String::new());
+    }
+    let usage = "#[contract] takes nothing or `register = path::to::function`";
+    match tokens.as_slice() {
+        [TokenTree::Ident(key), TokenTree::Punct(eq), path @ ..]
+            if key.to_string() == "register" && eq.as_char() == '=' && !path.is_empty() =>
+        {
+            Ok(path.iter().map(ToString::to_string).collect())
+        }
+        _ => Err((usage.into(), Span::call_site())),
+    }
+}
+
+/// The impls for the trait `item`; `register` is [`register_path`]'s.
+fn expand(item: TokenStream, register: &str) -> Expansion {
     let tokens: Vec<TokenTree> = item.into_iter().collect();
     let trait_at = tokens
         .iter()
@@ -151,7 +165,19 @@ fn expand(item: TokenStream) -> Expansion {
         "impl crate::Mix for dyn {name} {{ \
            fn mix(student: &::std::sync::Arc<Self>, key: &::std::sync::Arc<Self>, \
                   key_for: ::std::vec::Vec<&'static str>, calls: &::std::sync::Arc<crate::CallLog>) \
-                  -> ::std::sync::Arc<Self> {{ crate::PartSlot::mixed(student, key, key_for, calls) }} }}"
+                  -> ::std::sync::Arc<Self> {{ crate::PartSlot::mixed(student, key, key_for, calls) }} \
+           fn only(function: &'static str, student: &::std::sync::Arc<Self>, base: &::std::sync::Arc<Self>) \
+                  -> ::std::sync::Arc<Self> {{ crate::PartSlot::shared(function, student, base) }} }}"
+    )));
+    let also = if register.is_empty() {
+        String::new()
+    } else {
+        format!("{register}(code, parts);")
+    };
+    out.extend(parse(&format!(
+        "impl crate::Part for dyn {name} {{ \
+           fn register(code: ::std::sync::Arc<Self>, parts: &mut crate::Parts) {{ \
+             parts.put::<Self>(code.clone()); {also} }} }}"
     )));
     out.extend(wire::expand(&name.to_string(), &wire_methods)?);
     Ok(out)
@@ -339,25 +365,41 @@ fn lab_files(input: TokenStream) -> Result<Vec<String>, String> {
 
 /// `lab_modules!()` in the contracts crate's `lib.rs`: `pub mod labNN;` for every lab contract
 /// `src/labNN.rs` (one per lab of the registry `labs/course.toml`: `tests/tests/course.rs`
-/// checks it), so that a new lab's contract needs no line there. The crate's build script has
+/// checks it), and `LABS`, each lab with its waiting slot, so that a new lab's contract needs
+/// no line there. The crate's build script has
 /// cargo rebuild it when a file comes or goes.
 #[proc_macro]
 pub fn lab_modules(input: TokenStream) -> TokenStream {
     match lab_files(input) {
-        Ok(labs) => parse(
-            &labs
+        Ok(labs) => {
+            let modules: String = labs.iter().map(|lab| format!("pub mod {lab};")).collect();
+            let entries: Vec<String> = labs
                 .iter()
-                .map(|lab| format!("pub mod {lab};"))
-                .collect::<String>(),
-        ),
+                .map(|lab| {
+                    let number = lab[3..].trim_start_matches('0');
+                    format!(
+                        "crate::LabParts {{ lab: {number}, waiting: |parts: &mut crate::Parts| \
+                         parts.insert::<{lab}::Contract>(::std::sync::Arc::new(\
+                         crate::Waiting::<{lab}::Contract>::new({number}))), \
+                         remove: |parts: &mut crate::Parts| parts.remove_part::<{lab}::Contract>() }}"
+                    )
+                })
+                .collect();
+            parse(&format!(
+                "{modules} /// The course's labs in order, each with the slot that waits for its \
+                 solution: one per contract file, generated.\n\
+                 pub const LABS: &[crate::LabParts] = &[{}];",
+                entries.join(", ")
+            ))
+        }
         Err(message) => compile_error(&format!("lab_modules!: {message}"), Span::call_site()),
     }
 }
 
 /// `answer_keys!()` in the answer key's `lib.rs`: `pub mod labNN;` for every solution
 /// `src/labNN.rs` in the tree (every lab's in the course's repository, the released ones in a
-/// handout), `KEYS` listing them, and `install_keys`, which puts each key `labNN::LabNN` into a
-/// pipeline as its lab's `contracts::labNN::Contract`.
+/// handout), `KEYS` listing them, and `INSTALL_KEYS`, which puts each key `labNN::LabNN` into a
+/// store as its lab's `contracts::labNN::Contract`.
 #[proc_macro]
 pub fn answer_keys(input: TokenStream) -> TokenStream {
     let labs = match lab_files(input) {
@@ -374,19 +416,16 @@ pub fn answer_keys(input: TokenStream) -> TokenStream {
         let number = &lab[3..];
         numbers.push(number.trim_start_matches('0').to_string());
         installs.push(format!(
-            "|p: Pipeline| p.with_part::<::contracts::{lab}::Contract>(::std::sync::Arc::new({lab}::Lab{number}))"
+            "|parts: &mut ::contracts::Parts| parts.insert::<::contracts::{lab}::Contract>(::std::sync::Arc::new({lab}::Lab{number}))"
         ));
     }
     out.push_str(&format!(
-        "/// The labs whose solution this crate holds: the slots of [`pipeline`] that are the \
+        "/// The labs whose solution this crate holds: the code of [`pipeline`] that is the \
          answer key. Checks compare a student's function with the key's where it is present \
          (`LabContext::with_key_labs`), and judge by golden cases and properties elsewhere.\n\
          pub const KEYS: &[u32] = &[{}];\
-         /// `pipeline` with the code of every lab whose solution this crate holds.\n\
-         fn install_keys(pipeline: Pipeline) -> Pipeline {{\
-             let keys: [fn(Pipeline) -> Pipeline; {}] = [{}];\
-             keys.into_iter().fold(pipeline, |pipeline, install| install(pipeline))\
-         }}",
+         /// For each lab of [`KEYS`], in order: puts its key into a store.\n\
+         const INSTALL_KEYS: [fn(&mut ::contracts::Parts); {}] = [{}];",
         numbers.join(", "),
         installs.len(),
         installs.join(", ")

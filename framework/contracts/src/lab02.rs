@@ -88,6 +88,48 @@ impl crate::Mix for dyn Lab02 {
     ) -> std::sync::Arc<Self> {
         crate::PartSlot::mixed(student, key, key_for, calls)
     }
+
+    fn only(
+        function: &'static str,
+        student: &std::sync::Arc<Self>,
+        base: &std::sync::Arc<Self>,
+    ) -> std::sync::Arc<Self> {
+        crate::PartSlot::shared(function, student, base)
+    }
+}
+
+/// Lab 02's code goes under both halves as well: the integrator calls them one by one.
+impl crate::Part for dyn Lab02 {
+    fn register(code: std::sync::Arc<Self>, parts: &mut crate::Parts) {
+        parts.put::<dyn Intersection>(code.clone());
+        parts.put::<dyn Shading>(code.clone());
+        parts.put::<Self>(code);
+    }
+}
+
+/// The waiting slot of lab 02 as a whole.
+impl Intersection for crate::Waiting<dyn Lab02> {
+    fn intersect_plane(&self, _: &Ray, _: &Plane) -> Option<SurfaceHit> {
+        self.unavailable("intersect_plane")
+    }
+    fn intersect_triangle(&self, _: &Ray, _: Vec3, _: Vec3, _: Vec3) -> Option<TriangleHit> {
+        self.unavailable("intersect_triangle")
+    }
+    fn intersect_sphere(&self, _: &Ray, _: &Sphere) -> Option<SurfaceHit> {
+        self.unavailable("intersect_sphere")
+    }
+}
+
+impl Shading for crate::Waiting<dyn Lab02> {
+    fn sample_point_light(&self, _: &PointLight, _: Vec3) -> LightSample {
+        self.unavailable("sample_point_light")
+    }
+    fn sample_directional_light(&self, _: &DirectionalLight, _: Vec3) -> LightSample {
+        self.unavailable("sample_directional_light")
+    }
+    fn shade_lambertian(&self, _: Vec3, _: Vec3, _: &[LightSample]) -> Vec3 {
+        self.unavailable("shade_lambertian")
+    }
 }
 
 impl crate::Trace for dyn Lab02 {

@@ -136,6 +136,10 @@ pub trait Mix: Send + Sync {
         key_for: Vec<&'static str>,
         calls: &Arc<CallLog>,
     ) -> Arc<Self>;
+
+    /// `student` for the method `function`, `base` for the rest: [`PartSlot::shared`] as the
+    /// contract's code.
+    fn only(function: &'static str, student: &Arc<Self>, base: &Arc<Self>) -> Arc<Self>;
 }
 
 /// The methods of a contract, as [`#[contract]`](crate::contract) lists them for `dyn Trait`.

@@ -80,6 +80,16 @@ pub fn labs() -> Vec<LabId> {
     registry().iter().map(|(id, _)| *id).collect()
 }
 
+/// The labs of the course from the first up to `lab`, in order; none when the course has no
+/// lab `lab`.
+pub fn labs_through(lab: LabId) -> Vec<LabId> {
+    let labs = labs();
+    match labs.iter().position(|&l| l == lab) {
+        Some(at) => labs[..=at].to_vec(),
+        None => Vec::new(),
+    }
+}
+
 /// The last lab of the course.
 pub fn last() -> LabId {
     registry().last().expect("the registry lists a lab").0

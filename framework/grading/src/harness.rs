@@ -50,7 +50,7 @@ pub type GenerateGolden<S> =
 /// Runs the tests the command line asks for, one per exercise, and exits with libtest's
 /// status; or, run by `raylab` with a task ([`crate::task`]), does the task. Under `raylab grade` a test ends its process with the check's verdict record
 /// ([`verdict`]) instead.
-pub fn run<S: ?Sized + contracts::Mix + 'static>(checks: LabChecks<S>) -> ! {
+pub fn run<S: ?Sized + contracts::Mix + contracts::Part>(checks: LabChecks<S>) -> ! {
     let task = Task::from_env();
     let LabChecks {
         lab,
@@ -206,7 +206,7 @@ fn finish(outcome: Result<(), raylab_core::Error>) -> ! {
 /// One exercise's test, judged by the lab's [`Judge`] (a mistake charged to its own
 /// exercise): the secret of the verdict record is taken before any student code runs; the
 /// record, when asked for, ends the process.
-fn check<S: ?Sized + contracts::Mix + 'static>(
+fn check<S: ?Sized + contracts::Mix + contracts::Part>(
     exercise: &Exercise<S>,
     judge: &Judge<S>,
 ) -> Result<(), String> {

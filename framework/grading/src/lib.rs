@@ -154,7 +154,7 @@ impl LabContext {
     /// are not the answer key (a handout before the lab's solution is released): the base of
     /// the lab's other exercises is then the student's own code. Call after
     /// [`Self::with_key_labs`].
-    pub fn with_own_code<S: ?Sized + Send + Sync + 'static>(mut self, student: &Arc<S>) -> Self {
+    pub fn with_own_code<S: ?Sized + contracts::Part>(mut self, student: &Arc<S>) -> Self {
         if !self.has_key(self.lab) {
             self.base = self.base.with_part(student.clone());
         }

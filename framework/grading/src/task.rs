@@ -52,8 +52,6 @@ pub struct ViewJob {
     pub height: u32,
     /// The seed of the first pass.
     pub seed: u64,
-    /// The lab whose features the pipeline uses.
-    pub lab: u32,
     /// The port on 127.0.0.1; 0 lets the system choose.
     pub port: u16,
     /// Whose code the program renders with, in words ("Student", "Reference").

@@ -2,9 +2,8 @@
 //! `raylab render` prepares its one, and the page served (the `view` crate).
 
 use pipeline::Pipeline;
-use pipeline::job::{empty_scene_warning, load_scene};
-use pipeline::path::with_sky;
-use pipeline::photon::{PhotonSettings, with_caustics};
+use pipeline::job::{empty_scene_warning, load_scene, prepare};
+use pipeline::photon::PhotonSettings;
 use raylab_core::Error;
 use raylab_core::scene::Scene;
 
@@ -13,12 +12,6 @@ use crate::task::ViewJob;
 /// Serves `job`'s page: `own` (the code the program was built with) and, when given, the
 /// answer key's pipeline beside it.
 pub fn serve(job: &ViewJob, own: Pipeline, key: Option<Pipeline>) -> Result<(), Error> {
-    if job.lab == 0 {
-        return Err(Error::Invalid {
-            what: "lab 0".into(),
-            reason: "expected a lab of the course".into(),
-        });
-    }
     if job.end_with_stdin {
         std::thread::spawn(|| {
             let _ = std::io::copy(&mut std::io::stdin().lock(), &mut std::io::sink());
@@ -51,26 +44,13 @@ pub fn serve(job: &ViewJob, own: Pipeline, key: Option<Pipeline>) -> Result<(), 
     view::serve(scene, shown, &settings)
 }
 
-/// `pipeline` set to `job`'s lab, with the caustic photon map (labs 8 to 11) and the sky's
-/// distribution (lab 12 on) of `scene`, as `RenderJob::run` prepares its pipeline.
+/// `pipeline` with `job`'s photons, prepared for `scene` as a render's is
+/// ([`pipeline::job::prepare`]).
 fn prepared(mut pipeline: Pipeline, scene: &Scene, job: &ViewJob) -> Pipeline {
-    pipeline.lab = job.lab;
     pipeline.photons = PhotonSettings {
         seed: job.seed,
         max_radius: PhotonSettings::radius_for(scene),
         ..PhotonSettings::DEFAULT
     };
-    if (8..12).contains(&job.lab) {
-        match with_caustics(&pipeline, scene) {
-            Ok(traced) => pipeline = traced,
-            Err(e) => eprintln!("warning: no caustics: {e}"),
-        }
-    }
-    if job.lab >= 12 {
-        match with_sky(&pipeline, scene) {
-            Ok(prepared) => pipeline = prepared,
-            Err(e) => eprintln!("warning: the sky is found by BSDF samples only: {e}"),
-        }
-    }
-    pipeline
+    prepare(pipeline, scene, |line| eprintln!("{line}"))
 }

@@ -29,8 +29,8 @@ pub struct Inspection {
     pub y: u32,
     /// Which of the pixel's samples.
     pub sample: u32,
-    /// The lab whose features the pipeline uses.
-    pub lab: u32,
+    /// The integrator that rendered the sample.
+    pub integrator: crate::Integrator,
     /// The sample's radiance (NaN where it panicked; NaN and infinities are `null` in JSON).
     pub radiance: Vec3,
     /// Whether the radiance holds a NaN or an infinity (the pixel is cyan).
@@ -190,7 +190,7 @@ pub fn inspect_pixel(
         x,
         y,
         sample,
-        lab: pipeline.lab,
+        integrator: pipeline.integrator(),
         radiance,
         non_finite,
         panic,

@@ -22,7 +22,7 @@ use crate::render::{PASS_SAMPLES, render_partial, render_progressive};
 
 /// A progressive render writes the image so far after every this many passes.
 pub const PREVIEW_EVERY: u32 = 8;
-use crate::{Pipeline, View};
+use crate::{Integrator, Pipeline, View};
 
 /// One render: the scene, the image, and the pipeline's settings.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -43,7 +43,8 @@ pub struct RenderJob {
     pub output: PathBuf,
     /// The tone map of a PNG (`clamp[:EXPOSURE]`, `reinhard[:KEY[:WHITE]]`).
     pub tonemap: String,
-    /// The lab whose features the pipeline uses.
+    /// The lab the render is of, for its closing line: the pipeline it runs on holds that
+    /// lab's code and the course's before it.
     pub lab: u32,
     /// What the image shows.
     pub view: View,
@@ -94,9 +95,7 @@ impl RenderJob {
                 reason: "expected a whole number from 1 to 64".into(),
             });
         }
-        if self.lab >= 8 {
-            self.photons.validate()?;
-        }
+        self.photons.validate()?;
         if let Some(e) = self.target_error
             && !(e > 0.0 && e.is_finite())
         {
@@ -108,10 +107,12 @@ impl RenderJob {
         Ok(())
     }
 
-    /// Whether the render is progressive: a path-traced image (lab 12 on) of at least two
-    /// passes of [`PASS_SAMPLES`] samples per pixel.
-    pub fn progressive(&self) -> bool {
-        self.lab >= 12 && self.view == View::Shaded && self.spp >= 2 * PASS_SAMPLES
+    /// Whether the render through `pipeline` is progressive: a path-traced image of at least
+    /// two passes of [`PASS_SAMPLES`] samples per pixel.
+    pub fn progressive(&self, pipeline: &Pipeline) -> bool {
+        pipeline.integrator() == Integrator::Path
+            && self.view == View::Shaded
+            && self.spp >= 2 * PASS_SAMPLES
     }
 
     /// Where a progressive render writes the variance of each pixel's mean: beside the
@@ -143,7 +144,6 @@ impl RenderJob {
         if let Some(warning) = empty_scene_warning(&scene, &self.scene) {
             eprintln!("{warning}");
         }
-        pipeline.lab = self.lab;
         pipeline.area_light_samples = self.light_samples;
         pipeline.view = self.view;
         pipeline.photons = PhotonSettings {
@@ -156,29 +156,9 @@ impl RenderJob {
             ..self.photons
         };
         let start = Instant::now();
-        if (8..12).contains(&self.lab) {
-            match with_caustics(&pipeline, &scene) {
-                Ok(traced) => {
-                    let stored = traced.caustics.as_ref().map_or(0, |m| m.len());
-                    eprintln!(
-                        "traced {} photons ({stored} stored in the caustic map, gathered within {:.3}) in {:.2} s",
-                        self.photons.emitted,
-                        traced.photons.max_radius,
-                        start.elapsed().as_secs_f64()
-                    );
-                    pipeline = traced;
-                }
-                Err(e) => eprintln!("warning: no caustics: {e}"),
-            }
-        }
-        if self.lab >= 12 {
-            match with_sky(&pipeline, &scene) {
-                Ok(prepared) => pipeline = prepared,
-                Err(e) => eprintln!("warning: the sky is found by BSDF samples only: {e}"),
-            }
-        }
+        let pipeline = prepare(pipeline, &scene, |line| eprintln!("{line}"));
         let exr = self.exr();
-        let (rendered, passes) = if self.progressive() {
+        let (rendered, passes) = if self.progressive(&pipeline) {
             // The image so far every few passes, to look at while it converges.
             let progressive = render_progressive(
                 &scene,
@@ -235,6 +215,72 @@ impl RenderJob {
         println!("{}", self.output.display());
         Ok(())
     }
+}
+
+/// `pipeline` prepared for rendering `scene`, whoever renders (a render, a report, the view, a
+/// check): the caustic photon map traced for the photon-mapped integrator, the sky's
+/// distribution built for the path tracer. What goes wrong is said through `say` and leaves
+/// the pipeline without it (no caustics; the sky found by BSDF samples only); so are the
+/// photons traced.
+pub fn prepare(pipeline: Pipeline, scene: &Scene, mut say: impl FnMut(String)) -> Pipeline {
+    let mut pipeline = pipeline;
+    if pipeline.integrator() == Integrator::PhotonMapped {
+        let start = Instant::now();
+        match with_caustics(&pipeline, scene) {
+            Ok(traced) => {
+                let stored = traced.caustics.as_ref().map_or(0, |m| m.len());
+                say(format!(
+                    "traced {} photons ({stored} stored in the caustic map, gathered within {:.3}) in {:.2} s",
+                    traced.photons.emitted,
+                    traced.photons.max_radius,
+                    start.elapsed().as_secs_f64()
+                ));
+                pipeline = traced;
+            }
+            Err(e) => say(format!("warning: no caustics: {e}")),
+        }
+    }
+    for line in unmodelled_materials(&pipeline, scene) {
+        say(line);
+    }
+    if pipeline.integrator() == Integrator::Path {
+        match with_sky(&pipeline, scene) {
+            Ok(prepared) => pipeline = prepared,
+            Err(e) => say(format!(
+                "warning: the sky is found by BSDF samples only: {e}"
+            )),
+        }
+    }
+    pipeline
+}
+
+/// A warning for each material of `scene` whose surface model (`model`) the render through
+/// `pipeline` does not draw: no lab of the pipeline registers it, or the integrator is not the
+/// path tracer, which alone draws surface models.
+fn unmodelled_materials(pipeline: &Pipeline, scene: &Scene) -> Vec<String> {
+    let path = pipeline.integrator() == Integrator::Path;
+    let registered: Vec<&str> = pipeline.parts().surface_names().collect();
+    let mut lines = Vec::new();
+    for material in &scene.materials {
+        let Some(name) = material.model.as_deref() else {
+            continue;
+        };
+        let why = if !path {
+            "only the path tracer draws surface models".to_string()
+        } else if !registered.contains(&name) {
+            match registered.as_slice() {
+                [] => "no lab of this pipeline registers a surface model".to_string(),
+                names => format!("this pipeline's surface models are {}", names.join(", ")),
+            }
+        } else {
+            continue;
+        };
+        lines.push(format!(
+            "warning: material '{}' names the surface model '{name}', which this render does not draw ({why}): it is drawn by its `illum`",
+            material.name
+        ));
+    }
+    lines
 }
 
 /// Loads a scene by built-in name or path.

@@ -1,10 +1,12 @@
 //! # The pipeline
 //!
-//! The components a render calls, one slot per lab contract, and the integrator that calls
-//! them (the DTU `RayTracer` and shaders). Every slot holds the reference implementation by
-//! default (see the `reference` crate's `pipeline()`); a lab's checks and `raylab render
-//! --pipeline student` replace the slots of one lab with the student's code, so a mistake in
-//! one lab does not spread into the others.
+//! The components a render calls — each lab's code by contract in one store, put there by the
+//! lab's contract ([`contracts::Part`]) — and the integrators that call them (the DTU
+//! `RayTracer` and shaders, the photon-mapped and the path tracer), chosen by what the store
+//! holds ([`Integrator`]). The reference crate's `pipeline()` fills the store with the answer
+//! key of the course's labs up to one; a lab's checks and `raylab render --pipeline student`
+//! replace one lab's code with the student's, so a mistake in one lab does not spread into the
+//! others.
 //!
 //! Beside it stand the frameworks of the labs whose code the integrator drives through their
 //! contracts: lab 08's photon tracing ([`photon`]) and lab 06's radiosity ([`radiosity`]), and
@@ -20,17 +22,13 @@ pub mod render;
 
 pub use contracts::PartSlot;
 
-use std::any::{Any, TypeId};
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use glam::{UVec2, Vec2, Vec3};
 
 use contracts::lab09::{self, Addressing, TextureFilter};
 use contracts::trace::{self, RayAnswer, RayHit, RayKind};
-use contracts::{
-    Trace, Waiting, lab01, lab02, lab03, lab04, lab05, lab06, lab07, lab08, lab10, lab11, lab12,
-};
+use contracts::{lab01, lab02, lab03, lab04, lab07, lab08, lab10, lab11, lab12};
 use raylab_core::math::Ray;
 
 use crate::photon::{PhotonMap, PhotonSettings};
@@ -43,7 +41,7 @@ use raylab_core::scene::{EnvironmentMap, Hit, HitSurface, Material, ProbeMapping
 /// What a render shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum View {
-    /// Full shading with every lab up to the pipeline's `lab` enabled.
+    /// Full shading by the pipeline's [`Integrator`].
     #[default]
     Shaded,
     /// The diffuse reflectance of the surface hit (lab 01's flat image).
@@ -55,59 +53,25 @@ pub enum View {
     Caustics,
 }
 
-/// The components of a render, one slot per lab contract, and the integrator that calls them
-/// (the DTU `RayTracer` and shaders).
+/// The components of a render: each lab's code by contract in one store ([`Parts`]), put
+/// there by the lab's contract, and the settings of the integrators that call it. What the
+/// store holds decides what is drawn ([`Integrator`]): no lab's code, no lab's feature.
 #[derive(Clone)]
 pub struct Pipeline {
-    /// Lab 01: pixel to camera ray.
-    pub camera: Arc<dyn lab01::CameraRays>,
-    /// Lab 02, intersections; `None` uses the framework's built-in kernels (fast, and equal to
-    /// the reference's results up to floating-point rounding).
-    pub intersection: Option<Arc<dyn lab02::Intersection>>,
-    /// Lab 02, lights and Lambertian shading.
-    pub shading: Arc<dyn lab02::Shading>,
-    /// Lab 03, shadow rays and area-light sampling.
-    pub shadows: Arc<dyn lab03::Shadows>,
-    /// Lab 04, reflection, refraction and Phong shading.
-    pub reflection: Arc<dyn lab04::Reflection>,
-    /// Lab 05, radiometry: the integrator does not call it; it is the answer key of lab 05's
-    /// checks (`LabContext::key`) and the code of its report.
-    pub radiometry: Arc<dyn lab05::Radiometry>,
-    /// Lab 06, radiosity: not called by the ray tracer; the radiosity solver
-    /// ([`pipeline::radiosity::solver`]) and lab 06's checks take it from here.
-    pub radiosity: Arc<dyn lab06::Radiosity>,
-    /// Lab 07, pixel subdivision.
-    pub antialiasing: Arc<dyn lab07::Antialiasing>,
-    /// Lab 08, photon-mapped caustics: the emission of photons, the roulette at glass and the
-    /// radiance estimate.
-    pub photon_mapping: Arc<dyn lab08::PhotonMapping>,
-    /// Lab 08: the caustic photon map diffuse surfaces gather from (from lab 8 on); `None`
-    /// (no caustics) until [`pipeline::photon::with_caustics`] traces one for a scene.
+    /// Each lab's code by contract, as [`Pipeline::with_part`] put it in.
+    parts: Parts,
+    /// The code the integrators call, looked up in `parts` once.
+    pub(crate) calls: Calls,
+    /// Lab 08: the caustic photon map diffuse surfaces gather from; `None` (no caustics)
+    /// until [`prepare`] traces one for a scene's photon-mapped render.
     pub caustics: Option<Arc<PhotonMap>>,
     /// Lab 08: how many photons to trace, and the radiance estimate's `k` and maximum radius.
     pub photons: PhotonSettings,
-    /// Lab 09, texture coordinates, addressing and lookups.
-    pub texturing: Arc<dyn lab09::Texturing>,
-    /// Lab 10, Fresnel reflectance and absorption.
-    pub fresnel: Arc<dyn lab10::Fresnel>,
-    /// Lab 11, ambient occlusion and light probes.
-    pub ambient_occlusion: Arc<dyn lab11::AmbientOcclusion>,
-    /// Lab 12, the path tracer: its BSDF, light sampling, weights and path loop.
-    pub path_tracing: Arc<dyn lab12::PathTracing>,
     /// Lab 12: the distribution of the scene's sky that next-event estimation draws from;
-    /// `None` (the sky found by BSDF samples only) until [`pipeline::path::with_sky`] builds
-    /// it for a scene.
+    /// `None` (the sky found by BSDF samples only) until [`prepare`] builds it for a scene.
     pub sky: Option<Arc<lab12::SkyDistribution>>,
     /// Lab 12: which strategies find the light (both, weighted, unless a figure compares them).
     pub path_sampling: path::PathSampling,
-    /// The highest lab whose features the integrator uses: 1 flat colour; 2 Lambertian
-    /// shading from point and directional lights; 3 adds shadows and area lights; 4 adds
-    /// mirrors, glass, Phong and glossy surfaces; 7 adds pixel subdivision; 8 adds caustics
-    /// from the photon map; 9 adds diffuse textures; 10 weights reflection and refraction by
-    /// the Fresnel reflectance and absorbs light in volumes; 11 adds the light probe of a scene
-    /// that has one (the radiance of rays that leave the scene, ambient occlusion on Lambertian
-    /// surfaces); 12 is a path tracer ([`path`]).
-    pub lab: u32,
     /// What to show.
     pub view: View,
     /// Area lights are sampled with `n × n` stratified samples per shading point (lab 03).
@@ -120,91 +84,83 @@ pub struct Pipeline {
     pub texture_filter: TextureFilter,
     /// What textures do outside `[0, 1]` (lab 09).
     pub texture_addressing: Addressing,
-    /// Each lab's code by contract, as [`Pipeline::with_part`] put it in.
-    pub parts: Parts,
 }
 
-/// The code of each lab in a pipeline, by contract: what [`Pipeline::with_part`] put in, so
-/// that code generic over the labs (a lab's program, `raylab render --pipeline student`) and the
-/// checks of a lab the integrator does not call reach a lab's code without a list of slots.
+pub use contracts::Parts;
+
+/// The integrators: which one renders is chosen by what a pipeline holds, in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Integrator {
+    /// The path tracer (lab 12's path loop), with the surface models labs register.
+    Path,
+    /// The Whitted ray tracer with caustics from a photon map (lab 08's photon mapping).
+    PhotonMapped,
+    /// The Whitted ray tracer: the surfaces shaded by the lights (lab 02) with what the labs
+    /// held add: shadows and area lights, mirrors and glass, textures, Fresnel, probes.
+    Whitted,
+    /// The surfaces' diffuse colour alone: no lab shades them.
+    Flat,
+}
+
+/// The code the integrators call, by contract: what a pipeline's store holds of each, looked
+/// up once; `None` where the store holds none, and the integrator goes without.
 #[derive(Clone, Default)]
-pub struct Parts(BTreeMap<TypeId, Arc<dyn Any + Send + Sync>>);
-
-/// Sets the integrator's slot `$slot` when `$code` (an `&dyn Any` holding an `Arc<S>`) is the
-/// code of the contract `$contract`.
-macro_rules! fill_slots {
-    ($pipeline:ident, $code:ident; $($contract:ty => $($slot:ident)|+),* $(,)?) => {$(
-        if let Some(code) = $code.downcast_ref::<Arc<$contract>>() {
-            $(fill_slots!(@set $pipeline.$slot, code);)+
-        }
-    )*};
-    (@set $pipeline:ident.intersection, $code:ident) => {
-        $pipeline.intersection = Some($code.clone())
-    };
-    (@set $pipeline:ident.$slot:ident, $code:ident) => {
-        $pipeline.$slot = $code.clone()
-    };
+pub(crate) struct Calls {
+    pub(crate) camera: Option<Arc<dyn lab01::CameraRays>>,
+    /// `None` uses the framework's intersection kernels.
+    pub(crate) intersection: Option<Arc<dyn lab02::Intersection>>,
+    pub(crate) shading: Option<Arc<dyn lab02::Shading>>,
+    pub(crate) shadows: Option<Arc<dyn lab03::Shadows>>,
+    pub(crate) reflection: Option<Arc<dyn lab04::Reflection>>,
+    pub(crate) antialiasing: Option<Arc<dyn lab07::Antialiasing>>,
+    pub(crate) photon_mapping: Option<Arc<dyn lab08::PhotonMapping>>,
+    pub(crate) texturing: Option<Arc<dyn lab09::Texturing>>,
+    pub(crate) fresnel: Option<Arc<dyn lab10::Fresnel>>,
+    pub(crate) ambient_occlusion: Option<Arc<dyn lab11::AmbientOcclusion>>,
+    pub(crate) path_tracing: Option<Arc<dyn lab12::PathTracing>>,
 }
 
-impl Pipeline {
-    /// This pipeline with `code` as the code of the contract `S` (`dyn contracts::lab03::Shadows`,
-    /// say): the integrator's slots of that contract hold it, and [`Self::part`] gives it back.
-    /// A contract the integrator does not call is held for [`Self::part`] alone.
-    pub fn with_part<S: ?Sized + Send + Sync + 'static>(mut self, code: Arc<S>) -> Self {
-        let any: &dyn Any = &code;
-        fill_slots!(self, any;
-            dyn lab01::CameraRays => camera,
-            dyn lab02::Lab02 => intersection | shading,
-            dyn lab02::Shading => shading,
-            dyn lab03::Shadows => shadows,
-            dyn lab04::Reflection => reflection,
-            dyn lab05::Radiometry => radiometry,
-            dyn lab06::Radiosity => radiosity,
-            dyn lab07::Antialiasing => antialiasing,
-            dyn lab08::PhotonMapping => photon_mapping,
-            dyn lab09::Texturing => texturing,
-            dyn lab10::Fresnel => fresnel,
-            dyn lab11::AmbientOcclusion => ambient_occlusion,
-            dyn lab12::PathTracing => path_tracing,
-        );
-        self.parts.0.insert(TypeId::of::<S>(), Arc::new(code));
-        self
+impl Calls {
+    /// What `parts` holds of each contract an integrator calls.
+    fn of(parts: &Parts) -> Self {
+        Calls {
+            camera: parts.get(),
+            intersection: parts.get(),
+            shading: parts.get(),
+            shadows: parts.get(),
+            reflection: parts.get(),
+            antialiasing: parts.get(),
+            photon_mapping: parts.get(),
+            texturing: parts.get(),
+            fresnel: parts.get(),
+            ambient_occlusion: parts.get(),
+            path_tracing: parts.get(),
+        }
     }
+}
 
-    /// The code of the contract `S` that [`Self::with_part`] put in; `None` when there is none
-    /// (the slot of a lab whose answer key the tree does not hold).
-    pub fn part<S: ?Sized + Send + Sync + 'static>(&self) -> Option<Arc<S>> {
-        self.parts
-            .0
-            .get(&TypeId::of::<S>())
-            .and_then(|code| code.downcast_ref::<Arc<S>>())
-            .cloned()
+/// The code of contract `C` a pipeline must hold for what it was asked, or a panic naming it.
+#[track_caller]
+pub(crate) fn required<C: ?Sized>(code: &Option<Arc<C>>) -> &C {
+    match code {
+        Some(code) => code,
+        None => panic!(
+            "the pipeline holds no code of `{}`, which this render needs",
+            std::any::type_name::<C>()
+        ),
     }
+}
 
-    /// The pipeline of every lab up to `lab` with no lab's code in it: each slot a
-    /// [`contracts::Waiting`] one that names its lab, the framework's intersection kernels, and
-    /// the defaults of the integrator's settings. The answer key fills it (`reference::pipeline`).
-    pub fn waiting(lab: u32) -> Self {
+impl Default for Pipeline {
+    /// The pipeline with no lab's code in it and the integrators' default settings.
+    fn default() -> Self {
         Pipeline {
-            camera: Arc::new(Waiting::<dyn lab01::CameraRays>::new(1)),
-            intersection: None,
-            shading: Arc::new(Waiting::<dyn lab02::Shading>::new(2)),
-            shadows: Arc::new(Waiting::<dyn lab03::Shadows>::new(3)),
-            reflection: Arc::new(Waiting::<dyn lab04::Reflection>::new(4)),
-            radiometry: Arc::new(Waiting::<dyn lab05::Radiometry>::new(5)),
-            radiosity: Arc::new(Waiting::<dyn lab06::Radiosity>::new(6)),
-            antialiasing: Arc::new(Waiting::<dyn lab07::Antialiasing>::new(7)),
-            photon_mapping: Arc::new(Waiting::<dyn lab08::PhotonMapping>::new(8)),
+            parts: Parts::default(),
+            calls: Calls::default(),
             caustics: None,
             photons: PhotonSettings::DEFAULT,
-            texturing: Arc::new(Waiting::<dyn lab09::Texturing>::new(9)),
-            fresnel: Arc::new(Waiting::<dyn lab10::Fresnel>::new(10)),
-            ambient_occlusion: Arc::new(Waiting::<dyn lab11::AmbientOcclusion>::new(11)),
-            path_tracing: Arc::new(Waiting::<dyn lab12::PathTracing>::new(12)),
             sky: None,
             path_sampling: path::PathSampling::Mis,
-            parts: Parts::default(),
-            lab,
             view: View::Shaded,
             area_light_samples: 4,
             max_depth: 10,
@@ -216,27 +172,143 @@ impl Pipeline {
 }
 
 impl Pipeline {
-    /// This pipeline with the code of every lab slot [traced](contracts::Traced): while
+    /// This pipeline with `code` as the code of the contract `S` (`dyn contracts::lab03::Shadows`,
+    /// say), and of every extension point the contract serves ([`contracts::Part`]); [`Self::part`]
+    /// gives it back.
+    pub fn with_part<S: contracts::Part + ?Sized>(mut self, code: Arc<S>) -> Self {
+        self.parts.insert(code);
+        self.calls = Calls::of(&self.parts);
+        self
+    }
+
+    /// This pipeline with `student`'s method `function` of the contract `S` in place of the
+    /// one it holds, which answers for the contract's other methods (a check of one exercise).
+    pub fn with_student_function<S: contracts::Part + contracts::Mix + ?Sized>(
+        &self,
+        function: &'static str,
+        student: &Arc<S>,
+    ) -> Self {
+        let base = self.code::<S>();
+        self.clone().with_part(S::only(function, student, &base))
+    }
+
+    /// This pipeline without code under the type `S`: the integrators go without what it
+    /// adds (without `dyn lab03::Shadows`, say, nothing casts shadows).
+    pub fn without<S: ?Sized + 'static>(mut self) -> Self {
+        self.parts.remove::<S>();
+        self.calls = Calls::of(&self.parts);
+        self
+    }
+
+    /// This pipeline with the store's code changed by `change` (the waiting slots of
+    /// [`contracts::LABS`], say).
+    pub fn with_parts(mut self, change: impl FnOnce(&mut Parts)) -> Self {
+        change(&mut self.parts);
+        self.calls = Calls::of(&self.parts);
+        self
+    }
+
+    /// This pipeline without the code of the course's labs after lab `lab`: what it draws is
+    /// what the course has taught by then (a report's figure of an earlier lab's image).
+    pub fn through(self, lab: u32) -> Self {
+        self.with_parts(|parts| {
+            for later in contracts::labs_after(lab) {
+                (later.remove)(parts);
+            }
+        })
+    }
+
+    /// The code of the contract `S` that [`Self::with_part`] put in; `None` when there is none.
+    pub fn part<S: ?Sized + Send + Sync + 'static>(&self) -> Option<Arc<S>> {
+        self.parts.get::<S>()
+    }
+
+    /// The code of the contract `S`, which the pipeline must hold (a lab's own contract in
+    /// its checks' pipeline); a panic naming the contract when it does not.
+    #[track_caller]
+    pub fn code<S: ?Sized + Send + Sync + 'static>(&self) -> Arc<S> {
+        self.part::<S>().unwrap_or_else(|| {
+            panic!(
+                "the pipeline holds no code of `{}`",
+                std::any::type_name::<S>()
+            )
+        })
+    }
+
+    /// The store of the pipeline's code.
+    pub fn parts(&self) -> &Parts {
+        &self.parts
+    }
+
+    /// The pipeline of the course's labs up to `lab` with no lab's code in it: each lab's
+    /// [`contracts::Waiting`] slot, the framework's intersection kernels, and the defaults of
+    /// the integrators' settings. The answer key fills it (`reference::pipeline`).
+    pub fn waiting(lab: u32) -> Self {
+        Pipeline::default()
+            .with_parts(|parts| {
+                for l in contracts::labs_through(lab) {
+                    (l.waiting)(parts);
+                }
+            })
+            .with_framework_intersection()
+    }
+
+    /// This pipeline intersecting with the framework's kernels (fast, and equal to lab 02's
+    /// answer key up to floating-point rounding) rather than lab 02's code.
+    pub fn with_framework_intersection(self) -> Self {
+        self.without::<dyn lab02::Intersection>()
+    }
+
+    /// The integrator that renders with this pipeline's code.
+    pub fn integrator(&self) -> Integrator {
+        let c = &self.calls;
+        if c.path_tracing.is_some() {
+            Integrator::Path
+        } else if c.shading.is_none() {
+            Integrator::Flat
+        } else if c.photon_mapping.is_some() {
+            Integrator::PhotonMapped
+        } else {
+            Integrator::Whitted
+        }
+    }
+
+    /// This pipeline with the code of every contract [traced](contracts::Traced): while
     /// [`contracts::trace::record`] runs on a thread, each call that thread makes is noted
     /// (the pixel inspector, [`inspect`]); otherwise it renders as this one does, a call
-    /// costing one relaxed atomic load more. [`Self::part`] still gives the untraced code.
+    /// costing one relaxed atomic load more. [`Self::part`] gives the traced code too.
     pub fn traced(&self) -> Pipeline {
+        let parts = self.parts.traced();
         Pipeline {
-            camera: Trace::trace(&self.camera),
-            intersection: self.intersection.as_ref().map(Trace::trace),
-            shading: Trace::trace(&self.shading),
-            shadows: Trace::trace(&self.shadows),
-            reflection: Trace::trace(&self.reflection),
-            radiometry: Trace::trace(&self.radiometry),
-            radiosity: Trace::trace(&self.radiosity),
-            antialiasing: Trace::trace(&self.antialiasing),
-            photon_mapping: Trace::trace(&self.photon_mapping),
-            texturing: Trace::trace(&self.texturing),
-            fresnel: Trace::trace(&self.fresnel),
-            ambient_occlusion: Trace::trace(&self.ambient_occlusion),
-            path_tracing: Trace::trace(&self.path_tracing),
+            calls: Calls::of(&parts),
+            parts,
             ..self.clone()
         }
+    }
+
+    /// Lab 01's camera.
+    fn camera(&self) -> &dyn lab01::CameraRays {
+        required(&self.calls.camera)
+    }
+
+    /// Lab 02's shading.
+    fn shading(&self) -> &dyn lab02::Shading {
+        required(&self.calls.shading)
+    }
+
+    /// Lab 04's reflection and refraction.
+    pub(crate) fn reflection(&self) -> &dyn lab04::Reflection {
+        required(&self.calls.reflection)
+    }
+
+    /// Lab 03's shadows.
+    pub(crate) fn shadows(&self) -> &dyn lab03::Shadows {
+        required(&self.calls.shadows)
+    }
+
+    /// Lab 11's probe mappings and ambient occlusion.
+    fn ambient_occlusion(&self) -> &dyn lab11::AmbientOcclusion {
+        required(&self.calls.ambient_occlusion)
     }
 }
 
@@ -259,7 +331,7 @@ impl Pipeline {
         let c = &scene.camera;
         PreparedCamera {
             eye: c.eye,
-            basis: self.camera.camera_basis(c.eye, c.look_at, c.up),
+            basis: self.camera().camera_basis(c.eye, c.look_at, c.up),
             focal_distance: c.focal_distance,
             resolution,
         }
@@ -267,11 +339,11 @@ impl Pipeline {
 
     /// The camera ray through raster position `raster` (Exercises 1.1, 1.4, 1.5).
     pub fn camera_ray(&self, camera: &PreparedCamera, raster: Vec2) -> Ray {
-        let ip = self.camera.image_plane_coords(raster, camera.resolution);
+        let ip = self.camera().image_plane_coords(raster, camera.resolution);
         let dir = self
-            .camera
+            .camera()
             .ray_direction(&camera.basis, camera.focal_distance, ip);
-        self.camera.camera_ray(camera.eye, dir)
+        self.camera().camera_ray(camera.eye, dir)
     }
 
     /// The closest hit along `ray`, through the lab 02 slot; none along a ray that is not
@@ -284,7 +356,7 @@ impl Pipeline {
     /// with its hit while it records.
     #[inline]
     fn closest_hit(&self, scene: &Scene, ray: &Ray, kind: RayKind) -> Option<Hit> {
-        let hit = match &self.intersection {
+        let hit = match &self.calls.intersection {
             Some(isect) => scene.trace_to_closest_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_closest(ray),
         };
@@ -304,7 +376,7 @@ impl Pipeline {
     /// it records.
     #[inline]
     fn blocked(&self, scene: &Scene, ray: &Ray, kind: RayKind) -> bool {
-        let blocked = match &self.intersection {
+        let blocked = match &self.calls.intersection {
             Some(isect) => scene.trace_to_any_with(ray, &Lab02Tests(isect.as_ref())),
             None => scene.trace_to_any(ray),
         };
@@ -316,7 +388,7 @@ impl Pipeline {
 
     /// Radiance arriving along a camera ray (the DTU `RayTracer::compute_pixel` body).
     pub fn radiance(&self, scene: &Scene, ray: &Ray, rng: &mut Rng) -> Vec3 {
-        if self.lab >= 12 && self.view == View::Shaded {
+        if self.view == View::Shaded && self.calls.path_tracing.is_some() {
             return self.path_traced(scene, ray, rng);
         }
         self.radiance_at(scene, ray, RayKind::Camera, 0, 1.0, rng)
@@ -359,7 +431,9 @@ impl Pipeline {
         }
         let Some(mut hit) = self.closest_hit(scene, ray, kind) else {
             return match &scene.environment {
-                Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
+                Some(env) if self.calls.ambient_occlusion.is_some() => {
+                    self.environment_radiance(env, ray.direction)
+                }
                 _ => scene.background,
             };
         };
@@ -370,11 +444,11 @@ impl Pipeline {
         match self.view {
             View::Normals => return 0.5 * (hit.shading_normal + Vec3::ONE),
             View::BaseColour => return diffuse,
-            View::Shaded if self.lab < 2 => return diffuse,
+            View::Shaded | View::Caustics if self.calls.shading.is_none() => return diffuse,
             View::Shaded | View::Caustics => {}
         }
         let emitted = material.emission;
-        if self.lab < 4 {
+        if self.calls.reflection.is_none() {
             return emitted + self.shade_lambertian(scene, &hit, diffuse, rng);
         }
         match material.illum {
@@ -383,7 +457,7 @@ impl Pipeline {
             | IllumModel::AbsorbingVolume
             | IllumModel::Glossy
             | IllumModel::GlossyVolume
-                if self.lab >= 10 =>
+                if self.calls.fresnel.is_some() =>
             {
                 emitted + self.shade_dielectric(scene, ray, &hit, material, rng)
             }
@@ -405,7 +479,7 @@ impl Pipeline {
             }
             IllumModel::Lambertian => {
                 let ambient = match &scene.environment {
-                    Some(env) if self.lab >= 11 => {
+                    Some(env) if self.calls.ambient_occlusion.is_some() => {
                         self.direct(|| self.shade_ambient(scene, env, &hit, diffuse, rng))
                     }
                     _ => Vec3::ZERO,
@@ -423,8 +497,8 @@ impl Pipeline {
     pub fn environment_radiance(&self, env: &EnvironmentMap, direction: Vec3) -> Vec3 {
         let d = direction.normalize();
         let uv = match env.mapping {
-            ProbeMapping::Angular => self.ambient_occlusion.angular_map_uv(d),
-            ProbeMapping::Latlong => self.ambient_occlusion.latlong_uv(d),
+            ProbeMapping::Angular => self.ambient_occlusion().angular_map_uv(d),
+            ProbeMapping::Latlong => self.ambient_occlusion().latlong_uv(d),
         };
         env.texel(uv)
     }
@@ -440,7 +514,7 @@ impl Pipeline {
         diffuse: Vec3,
         rng: &mut Rng,
     ) -> Vec3 {
-        let ao = self.ambient_occlusion.as_ref();
+        let ao = self.ambient_occlusion();
         let n = hit.shading_normal;
         let (rays, sampler) = self.occlusion_rays;
         let draw = |rng: &mut Rng| match sampler {
@@ -466,13 +540,18 @@ impl Pipeline {
     /// nearest to it through the lab 08 slot's estimate (Exercise 8.4).
     fn caustic(&self, hit: &Hit, diffuse: Vec3) -> Vec3 {
         match &self.caustics {
-            Some(map) if self.lab >= 8 => {
+            Some(map) => {
                 let (k, r) = (self.photons.k as usize, self.photons.max_radius);
                 let nearby = map.nearest(hit.position, k, r);
-                self.photon_mapping
-                    .caustic_radiance(diffuse, hit.shading_normal, &nearby, k, r)
+                required(&self.calls.photon_mapping).caustic_radiance(
+                    diffuse,
+                    hit.shading_normal,
+                    &nearby,
+                    k,
+                    r,
+                )
             }
-            _ => Vec3::ZERO,
+            None => Vec3::ZERO,
         }
     }
 
@@ -481,10 +560,9 @@ impl Pipeline {
     /// approximation below lab 10 (1 under total internal reflection), lab 10's Fresnel
     /// reflectance from lab 10 on. The photon tracer's roulette at glass takes it (lab 08).
     pub(crate) fn dielectric_reflectance(&self, cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
-        if self.lab >= 10 {
-            self.fresnel.fresnel_reflectance(cos_i, eta_i, eta_t)
-        } else {
-            schlick_reflectance(cos_i, eta_i, eta_t)
+        match &self.calls.fresnel {
+            Some(fresnel) => fresnel.fresnel_reflectance(cos_i, eta_i, eta_t),
+            None => schlick_reflectance(cos_i, eta_i, eta_t),
         }
     }
 
@@ -493,7 +571,7 @@ impl Pipeline {
         if hit.trace_depth >= self.max_depth {
             return Vec3::ZERO;
         }
-        let reflected = self.reflection.reflected_ray(ray, hit);
+        let reflected = self.reflection().reflected_ray(ray, hit);
         let depth = hit.trace_depth + 1;
         self.radiance_at(scene, &reflected, RayKind::Reflected, depth, hit.ior, rng)
     }
@@ -511,7 +589,7 @@ impl Pipeline {
         if hit.trace_depth >= self.max_depth {
             return Vec3::ZERO;
         }
-        match self.reflection.refracted_ray(ray, hit, material_ior) {
+        match self.reflection().refracted_ray(ray, hit, material_ior) {
             Some((refracted, ior)) => {
                 let depth = hit.trace_depth + 1;
                 self.radiance_at(scene, &refracted, RayKind::Refracted, depth, ior, rng)
@@ -538,7 +616,7 @@ impl Pipeline {
             IllumModel::Glossy | IllumModel::GlossyVolume
         ) {
             let lights = self.light_samples(scene, hit, rng);
-            radiance += self.reflection.shade_phong(
+            radiance += self.reflection().shade_phong(
                 Vec3::ZERO,
                 material.specular,
                 material.shininess,
@@ -565,14 +643,18 @@ impl Pipeline {
         if hit.trace_depth >= self.max_depth {
             return Vec3::ZERO;
         }
-        let Some((refracted, ior)) = self.reflection.refracted_ray(ray, hit, material_ior) else {
+        let Some((refracted, ior)) = self.reflection().refracted_ray(ray, hit, material_ior) else {
             return self.trace_reflected(scene, ray, hit, rng);
         };
-        let side = self.reflection.interface(ray.direction, hit, material_ior);
+        let side = self
+            .reflection()
+            .interface(ray.direction, hit, material_ior);
         let cos_i = (-ray.direction.dot(side.normal)).clamp(0.0, 1.0);
-        let r = self
-            .fresnel
-            .fresnel_reflectance(cos_i, side.eta_incident, side.eta_transmitted);
+        let r = required(&self.calls.fresnel).fresnel_reflectance(
+            cos_i,
+            side.eta_incident,
+            side.eta_transmitted,
+        );
         // A NaN reflectance reaches the pixel (`!=` is true for NaN).
         let mut radiance = Vec3::ZERO;
         if r != 0.0 {
@@ -596,10 +678,11 @@ impl Pipeline {
             material.illum,
             IllumModel::AbsorbingVolume | IllumModel::GlossyVolume
         );
-        if self.lab >= 10 && volume && direction.dot(hit.shading_normal) > 0.0 {
-            self.fresnel.transmittance(hit.distance, material)
-        } else {
-            Vec3::ONE
+        match &self.calls.fresnel {
+            Some(fresnel) if volume && direction.dot(hit.shading_normal) > 0.0 => {
+                fresnel.transmittance(hit.distance, material)
+            }
+            _ => Vec3::ONE,
         }
     }
 
@@ -610,10 +693,9 @@ impl Pipeline {
         let Some(texture) = material.diffuse_texture.as_deref() else {
             return material.diffuse;
         };
-        if self.lab < 9 {
+        let Some(t) = self.calls.texturing.as_deref() else {
             return material.diffuse;
-        }
-        let t = self.texturing.as_ref();
+        };
         hit.texcoord = match hit.surface {
             HitSurface::Unknown => hit.texcoord,
             HitSurface::Plane(i) => t.plane_texcoord(&scene.planes[i as usize], hit.position),
@@ -644,7 +726,7 @@ impl Pipeline {
     /// `diffuse`.
     fn shade_lambertian(&self, scene: &Scene, hit: &Hit, diffuse: Vec3, rng: &mut Rng) -> Vec3 {
         let lights = self.light_samples(scene, hit, rng);
-        self.shading
+        self.shading()
             .shade_lambertian(diffuse, hit.shading_normal, &lights)
     }
 
@@ -659,7 +741,7 @@ impl Pipeline {
     ) -> Vec3 {
         let lights = self.light_samples(scene, hit, rng);
         let m = scene.material(hit.material);
-        self.reflection.shade_phong(
+        self.reflection().shade_phong(
             diffuse,
             m.specular,
             m.shininess,
@@ -678,23 +760,23 @@ impl Pipeline {
         hit: &Hit,
         rng: &mut Rng,
     ) -> Vec<lab02::LightSample> {
-        let shadows = self.lab >= 3;
+        let shadows = self.calls.shadows.as_deref();
         let mut samples = Vec::new();
         for light in &scene.lights {
             match light {
-                Light::Point(p) => samples.push(self.shading.sample_point_light(p, hit.position)),
+                Light::Point(p) => samples.push(self.shading().sample_point_light(p, hit.position)),
                 Light::Directional(d) => {
-                    samples.push(self.shading.sample_directional_light(d, hit.position))
+                    samples.push(self.shading().sample_directional_light(d, hit.position))
                 }
-                Light::Area(area) if shadows => {
+                Light::Area(area) if shadows.is_some() => {
                     self.sample_area_light(scene, area, hit, rng, &mut samples)
                 }
                 Light::Area(_) => {}
             }
         }
-        if shadows {
+        if let Some(shadows) = shadows {
             samples.retain(|s| {
-                let shadow_ray = self.shadows.shadow_ray(hit.position, s);
+                let shadow_ray = shadows.shadow_ray(hit.position, s);
                 !self.blocked(scene, &shadow_ray, RayKind::Shadow)
             });
         }
@@ -714,16 +796,16 @@ impl Pipeline {
         let n = self.area_light_samples.max(1);
         let weight = 1.0 / (n * n) as f32;
         let pdf_area = 1.0 / area.area;
-        for u in self.shadows.stratified_samples(n, rng) {
+        let shadows = required(&self.calls.shadows);
+        for u in shadows.stratified_samples(n, rng) {
             let (i, ux) = area.pick_face(u.x);
             let face = area.faces[i] as usize;
             let triangle = scene.mesh.triangle(face);
-            let point = self.shadows.sample_triangle(triangle, Vec2::new(ux, u.y));
+            let point = shadows.sample_triangle(triangle, Vec2::new(ux, u.y));
             let normal = scene.mesh.face_normal(face);
             let emission = scene.material(scene.mesh.face_materials[face]).emission;
             let mut sample =
-                self.shadows
-                    .area_light_sample(hit.position, point, normal, emission, pdf_area);
+                shadows.area_light_sample(hit.position, point, normal, emission, pdf_area);
             sample.radiance *= weight;
             out.push(sample);
         }

@@ -18,6 +18,7 @@ use glam::Vec3;
 use contracts::lab12::{
     BsdfValue, EmitterSample, PathHit, PathMaterial, PathVertex, SkyDistribution,
 };
+use contracts::surface::SurfaceModel;
 use contracts::trace::RayKind;
 use raylab_core::Error;
 use raylab_core::math::Ray;
@@ -26,7 +27,7 @@ use raylab_core::scene::{
     AreaLight, EnvironmentMap, HitSurface, IllumModel, Light, Material, ProbeMapping, Scene,
 };
 
-use crate::Pipeline;
+use crate::{Pipeline, required};
 
 /// Which strategies of the path tracer find the light of the scene's sampled lights (its
 /// emitting triangles and sky; delta lights are found by next-event estimation whatever this
@@ -120,17 +121,16 @@ fn face_probability(area: &AreaLight, i: usize) -> f32 {
 /// later and the scene has a latitude–longitude probe; without one otherwise (an angular probe
 /// is found by BSDF samples only). An error names what is wrong with the distribution.
 pub fn with_sky(pipeline: &Pipeline, scene: &Scene) -> Result<Pipeline, Error> {
-    let probe = scene
-        .environment
-        .as_ref()
-        .filter(|env| env.mapping == ProbeMapping::Latlong && pipeline.lab >= 12);
+    let probe = scene.environment.as_ref().filter(|env| {
+        env.mapping == ProbeMapping::Latlong && pipeline.calls.path_tracing.is_some()
+    });
     let Some(env) = probe else {
         return Ok(Pipeline {
             sky: None,
             ..pipeline.clone()
         });
     };
-    let code = pipeline.path_tracing.as_ref();
+    let code = required(&pipeline.calls.path_tracing);
     let (width, height) = (env.texture.width, env.texture.height);
     let sky = raylab_core::catch_quietly("building the sky's distribution", || {
         let luminance: Vec<f32> = env
@@ -173,7 +173,7 @@ fn sky<'a>(
     scene: &'a Scene,
 ) -> Option<(&'a EnvironmentMap, &'a SkyDistribution)> {
     match (&scene.environment, &pipeline.sky) {
-        (Some(env), Some(sky)) if pipeline.lab >= 11 => Some((env, sky)),
+        (Some(env), Some(sky)) if pipeline.calls.ambient_occlusion.is_some() => Some((env, sky)),
         _ => None,
     }
 }
@@ -189,7 +189,7 @@ impl Pipeline {
             direction: ray.direction.normalize(),
             ..*ray
         };
-        let code = self.path_tracing.as_ref();
+        let code = required(&self.calls.path_tracing);
         let strategy = self.path_sampling;
         let sky = sky(self, scene);
         let count = lights(scene).count() + usize::from(sky.is_some());
@@ -197,13 +197,17 @@ impl Pipeline {
         let emitters = emitters(scene);
         // The path loop's first ray is the camera ray, the others its bounces.
         let first = std::cell::Cell::new(true);
+        let modelled = ModelledVertices::default();
         let trace = |r: &Ray| {
             let kind = if first.replace(false) {
                 RayKind::Camera
             } else {
                 RayKind::Bounce
             };
-            let mut hit = self.path_hit(scene, emitters, sky, choice, r, kind);
+            let (mut hit, model) = self.path_hit(scene, emitters, sky, choice, r, kind);
+            if let (PathHit::Surface(vertex), Some(model)) = (&hit, model) {
+                modelled.note(vertex, model);
+            }
             let light_pdf = match &mut hit {
                 PathHit::Surface(v) => &mut v.light_pdf,
                 PathHit::Escaped { light_pdf, .. } => light_pdf,
@@ -266,11 +270,17 @@ impl Pipeline {
                 }),
             }
         };
-        let sample_bsdf = |v: &PathVertex, wo: Vec3, rng: &mut Rng| {
-            code.sample_bsdf(&v.material, v.normal, wo, rng)
+        let sample_bsdf = |v: &PathVertex, wo: Vec3, rng: &mut Rng| match modelled.of(v) {
+            Some(at) => at
+                .model
+                .sample_bsdf(at.material, at.diffuse, v.normal, wo, rng),
+            None => code.sample_bsdf(&v.material, v.normal, wo, rng),
         };
         let bsdf = |v: &PathVertex, wo: Vec3, wi: Vec3| {
-            let value = code.bsdf(&v.material, v.normal, wo, wi);
+            let value = match modelled.of(v) {
+                Some(at) => at.model.bsdf(at.material, at.diffuse, v.normal, wo, wi),
+                None => code.bsdf(&v.material, v.normal, wo, wi),
+            };
             match strategy {
                 PathSampling::Light => BsdfValue { pdf: 0.0, ..value },
                 _ => value,
@@ -296,28 +306,32 @@ impl Pipeline {
     /// emitted radiance and the light sampler's density of it from the ray's origin; or the
     /// background.
     /// `choice` is the probability with which the light sampler chooses the emitting
-    /// triangles, or the sky; `kind` is the ray's, for the pixel inspector.
-    fn path_hit(
-        &self,
-        scene: &Scene,
+    /// triangles, or the sky; `kind` is the ray's, for the pixel inspector. With the surface,
+    /// the surface model a lab registered that draws it, when its material names one.
+    fn path_hit<'a>(
+        &'a self,
+        scene: &'a Scene,
         lights: Option<&AreaLight>,
         sky: Option<(&EnvironmentMap, &SkyDistribution)>,
         choice: f32,
         ray: &Ray,
         kind: RayKind,
-    ) -> PathHit {
+    ) -> (PathHit, Option<ModelAt<'a>>) {
         let Some(mut hit) = self.closest_hit(scene, ray, kind) else {
             let radiance = match &scene.environment {
-                Some(env) if self.lab >= 11 => self.environment_radiance(env, ray.direction),
+                Some(env) if self.calls.ambient_occlusion.is_some() => {
+                    self.environment_radiance(env, ray.direction)
+                }
                 _ => scene.background,
             };
             let light_pdf = sky.map_or(0.0, |(_, sky)| {
-                choice * self.path_tracing.sky_pdf(sky, ray.direction)
+                choice * required(&self.calls.path_tracing).sky_pdf(sky, ray.direction)
             });
-            return PathHit::Escaped {
+            let escaped = PathHit::Escaped {
                 radiance,
                 light_pdf,
             };
+            return (escaped, None);
         };
         let material = scene.material(hit.material);
         let diffuse = self.diffuse_colour(scene, &mut hit, material);
@@ -345,7 +359,7 @@ impl Pipeline {
                 let to = hit.position - ray.origin;
                 light_pdf = choice
                     * face_probability(area, i)
-                    * self.path_tracing.emitter_pdf(
+                    * required(&self.calls.path_tracing).emitter_pdf(
                         scene.mesh.triangle(face as usize),
                         ray.origin,
                         to.normalize(),
@@ -353,13 +367,69 @@ impl Pipeline {
                     );
             }
         }
-        PathHit::Surface(PathVertex {
+        let model = material
+            .model
+            .as_deref()
+            .and_then(|name| self.parts().surface(name))
+            .map(|model| ModelAt {
+                model: model.as_ref(),
+                material,
+                diffuse,
+            });
+        let vertex = PathHit::Surface(PathVertex {
             position: hit.position,
             normal,
             material: path_material(material, diffuse),
             emitted,
             light_pdf,
-        })
+        });
+        (vertex, model)
+    }
+}
+
+/// A surface a lab's surface model draws: the model, the scene's material and its diffuse
+/// colour at the hit.
+#[derive(Clone, Copy)]
+struct ModelAt<'a> {
+    model: &'a dyn SurfaceModel,
+    material: &'a Material,
+    diffuse: Vec3,
+}
+
+/// The vertices of one path that a lab's surface model draws, by their position and normal: the
+/// path loop hands a vertex back to the BSDF's closures as it got it, and they find its model
+/// here (the rest take lab 12's lobes). The most recent [`Self::LIMIT`] are kept.
+#[derive(Default)]
+struct ModelledVertices<'a>(std::cell::RefCell<Vec<([u32; 6], ModelAt<'a>)>>);
+
+impl<'a> ModelledVertices<'a> {
+    const LIMIT: usize = 256;
+
+    /// The bits a vertex is known by.
+    fn key(v: &PathVertex) -> [u32; 6] {
+        let [a, b, c] = v.position.to_array().map(f32::to_bits);
+        let [d, e, f] = v.normal.to_array().map(f32::to_bits);
+        [a, b, c, d, e, f]
+    }
+
+    fn note(&self, v: &PathVertex, model: ModelAt<'a>) {
+        let mut seen = self.0.borrow_mut();
+        if seen.len() == Self::LIMIT {
+            seen.remove(0);
+        }
+        seen.push((Self::key(v), model));
+    }
+
+    fn of(&self, v: &PathVertex) -> Option<ModelAt<'a>> {
+        let seen = self.0.borrow();
+        if seen.is_empty() {
+            return None;
+        }
+        let key = Self::key(v);
+        seen.iter()
+            .rev()
+            .find(|(k, _)| *k == key)
+            .map(|(_, at)| *at)
     }
 }
 

@@ -74,16 +74,14 @@ pub fn render_sample(
     sample: u32,
 ) -> Vec3 {
     let mut rng = Rng::for_sample(settings.seed, x, y, sample);
-    if pipeline.lab >= 7 && settings.pixel_subdivisions > 1 {
-        let jitters = pipeline
-            .antialiasing
-            .compute_jitters(settings.pixel_subdivisions, &mut rng);
-        pipeline
-            .antialiasing
-            .compute_pixel(UVec2::new(x, y), &jitters, &mut |raster| {
-                let ray = pipeline.camera_ray(camera, raster);
-                pipeline.radiance(scene, &ray, &mut rng)
-            })
+    if let Some(antialiasing) = pipeline.calls.antialiasing.as_deref()
+        && settings.pixel_subdivisions > 1
+    {
+        let jitters = antialiasing.compute_jitters(settings.pixel_subdivisions, &mut rng);
+        antialiasing.compute_pixel(UVec2::new(x, y), &jitters, &mut |raster| {
+            let ray = pipeline.camera_ray(camera, raster);
+            pipeline.radiance(scene, &ray, &mut rng)
+        })
     } else {
         let offset = if settings.samples_per_pixel == 1 {
             Vec2::splat(0.5)
@@ -136,7 +134,7 @@ pub fn render_progressive(
     mut after_pass: impl FnMut(u32, &Film) -> Result<(), Error>,
 ) -> Result<ProgressiveRender, Error> {
     use contracts::lab12::PixelStatistics;
-    let code = pipeline.path_tracing.as_ref();
+    let code = crate::required(&pipeline.calls.path_tracing);
     let passes = settings.samples_per_pixel.div_ceil(PASS_SAMPLES).max(1);
     let mut stats = vec![PixelStatistics::default(); (settings.width * settings.height) as usize];
     let mut last = None;

@@ -96,13 +96,14 @@ fn the_caustic_is_a_bright_spot_under_the_glass_sphere() {
     );
     // In the render, the caustic-only view is brightest there.
     let scene = builtin_scene("cornell-spheres").unwrap();
-    let pipeline = Pipeline {
-        view: View::Caustics,
-        photons: PhotonSettings {
+    let pipeline = {
+        let mut pipeline = lab8();
+        pipeline.view = View::Caustics;
+        pipeline.photons = PhotonSettings {
             emitted: 200_000,
             ..PhotonSettings::DEFAULT
-        },
-        ..lab8()
+        };
+        pipeline
     };
     let pipeline = with_caustics(&pipeline, &scene).unwrap();
     let settings = RenderSettings {

@@ -2,8 +2,9 @@
 //! repository, a handout or a clone — found from there upwards as cargo and git find their
 //! roots (a directory with `Cargo.toml` and the registry `labs/course.toml`), whichever tree
 //! this program was built in (one target directory may serve several clones). Outside every
-//! course tree, the one it was built from. A tree whose registry lists other labs than the one
-//! compiled into this program is refused, naming both: the command would not know its labs.
+//! course tree, the one it was built from, and the command says so when it first reads it. A tree whose registry
+//! lists other labs than the one compiled into this program is refused, naming both: the
+//! command would not know its labs.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -28,32 +29,55 @@ pub fn tree_holding(dir: &Path) -> Option<PathBuf> {
         .map(Path::to_path_buf)
 }
 
-/// The tree commands act on, once [`resolve`] has found it.
-static ROOT: OnceLock<PathBuf> = OnceLock::new();
+/// The tree commands act on, once [`resolve`] has found it, and whether the current directory
+/// is in it (`false`: in no course tree, so it is the tree this program was built from).
+static ROOT: OnceLock<(PathBuf, bool)> = OnceLock::new();
 
 /// Finds the tree this run acts on (see the module's documentation), once, before a command
 /// runs; an error when the current directory is in a course tree of another registry.
 pub fn resolve() -> Result<&'static Path, Error> {
-    if let Some(root) = ROOT.get() {
+    if let Some((root, _)) = ROOT.get() {
         return Ok(root);
     }
-    let here = std::env::current_dir()
-        .ok()
-        .and_then(|dir| tree_holding(&dir));
-    let root = match here {
+    let root = match current_tree() {
         Some(tree) => {
             check_registry(&tree)?;
-            tree
+            (tree, true)
         }
-        None => built_tree(),
+        None => (built_tree(), false),
     };
-    Ok(ROOT.get_or_init(|| root))
+    Ok(&ROOT.get_or_init(|| root).0)
+}
+
+/// The course tree holding the current directory, if any.
+fn current_tree() -> Option<PathBuf> {
+    tree_holding(&std::env::current_dir().ok()?)
+}
+
+/// What a command says when it runs outside every course tree (from `cwd`) and acts on `built`.
+fn outside_note(cwd: Option<&Path>, built: &Path) -> String {
+    let here = cwd.map_or_else(
+        || "the current directory".to_string(),
+        |d| d.display().to_string(),
+    );
+    format!(
+        "note: {here} is in no course tree (no Cargo.toml with labs/course.toml there or above): acting on {}, the tree this raylab was built from",
+        built.display()
+    )
 }
 
 /// The tree commands act on: [`resolve`]'s, or the one this program was built from when a
 /// test calls a command's code directly.
 pub fn workspace_root() -> PathBuf {
-    resolve().map_or_else(|_| built_tree(), Path::to_path_buf)
+    let root = resolve().map_or_else(|_| built_tree(), Path::to_path_buf);
+    if ROOT.get().is_some_and(|(_, found)| !found) {
+        static SAID: std::sync::Once = std::sync::Once::new();
+        SAID.call_once(|| {
+            let cwd = std::env::current_dir().ok();
+            eprintln!("{}", outside_note(cwd.as_deref(), &root));
+        });
+    }
+    root
 }
 
 /// An error when `tree`'s registry lists other labs (numbers or titles) than the one this

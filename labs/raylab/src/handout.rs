@@ -510,8 +510,8 @@ fn check_releasable(root: &Path, released: &BTreeSet<LabId>) -> Result<(), Error
 }
 
 /// Writes `reference/`: its manifest and `lib.rs`, and the released solutions only, so that
-/// `pipeline()` has the student's code in the slots of the labs not released (it lists the
-/// solutions present; see `reference/src/lib.rs`).
+/// `pipeline()` holds a waiting slot for each lab not released (it lists the solutions
+/// present; see `reference/src/lib.rs`).
 fn write_reference(root: &Path, out: &Path, released: &BTreeSet<LabId>) -> Result<(), Error> {
     let dir = out.join("reference");
     fs::create_dir_all(dir.join("src")).map_err(io(&dir))?;
@@ -581,19 +581,21 @@ other functions as they are; your file as it was is kept in `out/reset/` (the co
 the copy; git ignores `out/`, and grading never reads it). `--dry-run` shows both versions
 and changes nothing.
 
-Each exercise is checked in the pipeline of `reference::pipeline`: the solutions released so
-far, and your own code for the labs whose solutions are not released — so lab 3's checks use
-your camera from lab 1 until its solution is out. A failing test names the exercise and the
-function to fix; for images it writes your render, the expected image and a difference heat map
-to `target/raylab-failures/labNN/`.
+Each exercise is checked with your code for its lab and, for the labs before it, the pipeline of
+`reference::pipeline`: the solutions released so far. A check that needs a lab whose solution is
+not released yet waits for it — it says "waiting for lab N's solution", which is not a mistake
+of yours — until the release that brings it. A failing test names the exercise and the function
+to fix; for images it writes your render, the expected image and a difference heat map to
+`target/raylab-failures/labNN/`.
 
 The reference images are in the labs from the start: `labs/labNN/snapshots/NAME.png` is what
 the image check `NAME` expects (the `.exr` beside it holds the exact radiance it compares
 with). `render` and `report` show what your code does so far: a pixel that reaches an
 unfinished stub (`todo!()`) or panics is magenta, one whose radiance is NaN or infinite is
 cyan, and the command names each unfinished exercise and the pixels it cost. `--pipeline
-reference` (the default) is `reference::pipeline` too, so here it runs your own code for every
-lab not released yet (the command says so): compare with the snapshot PNGs instead.
+reference` (the default) is `reference::pipeline` too: the pixels that need a lab whose
+solution is not released yet are magenta, waiting for it (the command says so); compare with
+the snapshot PNGs instead.
 
 Answer each lab's questions in `labs/labNN/answers.md`. To show a figure of your report there,
 write `![caption](figures/NAME.png)` with NAME a figure in `out/report/labNN/`: `report` copies

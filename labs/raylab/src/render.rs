@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use course::LabId;
 use grading::task::Task;
-use pipeline::View;
 use pipeline::job::RenderJob;
 use pipeline::photon::PhotonSettings;
+use pipeline::{Integrator, View};
 use raylab_core::Error;
 
 use crate::arguments::{count, pixels};
@@ -16,11 +16,12 @@ use crate::lab_program::LabProgram;
 /// Whose code renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum PipelineChoice {
-    /// `reference::pipeline`: the reference solution of every lab — in a handout the released
-    /// solutions, and your own code for the labs whose solutions are not released.
+    /// `reference::pipeline`: the reference solution of each lab up to --lab — in a handout
+    /// the released ones; the pixels that need a lab whose solution is not released yet are
+    /// marked, waiting for it.
     #[default]
     Reference,
-    /// Your code for the lab given by --lab, `reference::pipeline` for the others.
+    /// Your code for the lab given by --lab, `reference::pipeline` for the labs before it.
     Student,
 }
 
@@ -153,7 +154,7 @@ pub fn prepare_output(output: &Path) -> Result<PathBuf, Error> {
     Ok(absolute)
 }
 
-/// Samples per pixel of a render from lab 12 on when `--spp` is not given.
+/// Samples per pixel of a path-traced render when `--spp` is not given.
 pub const PATH_TRACED_SPP: u32 = 32;
 
 /// The render `args` ask for, its arguments checked (before any scene is loaded or program
@@ -176,11 +177,13 @@ pub fn job(args: &RenderArgs) -> Result<(LabId, RenderJob), Error> {
         scene: args.scene.clone(),
         width: args.width,
         height: args.height,
-        spp: args.spp.unwrap_or(if lab.number() >= 12 {
-            PATH_TRACED_SPP
-        } else {
-            1
-        }),
+        spp: args.spp.unwrap_or(
+            if reference::pipeline(lab.number()).integrator() == Integrator::Path {
+                PATH_TRACED_SPP
+            } else {
+                1
+            },
+        ),
         subdivisions: args.subdivisions,
         seed: args.seed,
         output: args.output.clone(),
@@ -213,7 +216,13 @@ pub fn job(args: &RenderArgs) -> Result<(LabId, RenderJob), Error> {
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let (lab, mut job) = job(args)?;
     job.output = prepare_output(&args.output)?;
-    if let Some(note) = student_code_note(args.pipeline, lab) {
+    // The reference pipeline renders here, with this raylab's key; a student's in the lab's
+    // program, built in the tree with its key.
+    let solved = match args.pipeline {
+        PipelineChoice::Reference => key_has_solution,
+        PipelineChoice::Student => has_solution,
+    };
+    if let Some(note) = student_code_note(args.pipeline, lab, solved) {
         eprintln!("note: {note}");
     }
     if args.pipeline == PipelineChoice::Reference {
@@ -250,18 +259,17 @@ pub fn run_in_lab_program(lab: LabId, features: &[&str], task: &Task) -> Result<
     })
 }
 
-/// The labs up to `lab` whose slots `reference::pipeline` fills with the student's own code:
-/// those whose solution is not in this tree's `reference/src/` (a handout holds only the
-/// released ones).
-pub fn labs_without_solution(lab: LabId) -> Vec<LabId> {
-    crate::labs::labs()
+/// The labs up to `lab` whose code `reference::pipeline` waits for: those `solved` says have
+/// no solution ([`has_solution`] in a lab's program, [`key_has_solution`] in this process).
+pub fn labs_without_solution(lab: LabId, solved: fn(LabId) -> bool) -> Vec<LabId> {
+    course::labs_through(lab)
         .into_iter()
-        .filter(|&l| l <= lab && !has_solution(l))
+        .filter(|&l| !solved(l))
         .collect()
 }
 
 /// Whether this tree holds lab `lab`'s solution (`reference/src/labNN.rs`; a handout holds the
-/// released ones).
+/// released ones): what a lab's program built there with the key renders with.
 pub fn has_solution(lab: LabId) -> bool {
     crate::checkout::workspace_root()
         .join("reference/src")
@@ -269,10 +277,20 @@ pub fn has_solution(lab: LabId) -> bool {
         .is_file()
 }
 
-/// What to say on stderr about the student's code in a `choice` pipeline at `lab`, before
-/// rendering: which slots of `reference::pipeline` hold it.
-pub fn student_code_note(choice: PipelineChoice, lab: LabId) -> Option<String> {
-    let own: Vec<String> = labs_without_solution(lab)
+/// Whether the answer key compiled into this raylab holds lab `lab`'s solution: what
+/// `reference::pipeline` renders with here, in this process.
+pub fn key_has_solution(lab: LabId) -> bool {
+    reference::KEYS.contains(&lab.number())
+}
+
+/// What to say on stderr, before rendering, about the labs up to `lab` whose solution a
+/// `choice` pipeline waits for: the pixels that need them are marked.
+pub fn student_code_note(
+    choice: PipelineChoice,
+    lab: LabId,
+    solved: fn(LabId) -> bool,
+) -> Option<String> {
+    let own: Vec<String> = labs_without_solution(lab, solved)
         .into_iter()
         .filter(|&l| choice == PipelineChoice::Reference || l != lab)
         .map(|l| l.number().to_string())
@@ -284,11 +302,7 @@ pub fn student_code_note(choice: PipelineChoice, lab: LabId) -> Option<String> {
         1 => format!("the solution of lab {} is", own[0]),
         _ => format!("the solutions of labs {} are", own.join(", ")),
     };
-    let whose = match choice {
-        PipelineChoice::Reference => "--pipeline reference",
-        PipelineChoice::Student => "the rest of the pipeline",
-    };
     Some(format!(
-        "{what} not released, so {whose} runs your own code there; the reference images are labs/labNN/snapshots/*.png"
+        "{what} not released yet: the pixels that need it are magenta, waiting for it; the reference images are labs/labNN/snapshots/*.png"
     ))
 }

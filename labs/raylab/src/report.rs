@@ -50,7 +50,9 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         whose: format!("{:?}", args.pipeline),
         answers: Some(answers).filter(|path| path.is_file()),
     };
-    if let Some(note) = crate::render::student_code_note(args.pipeline, args.lab) {
+    if let Some(note) =
+        crate::render::student_code_note(args.pipeline, args.lab, crate::render::has_solution)
+    {
         eprintln!("note: {note}");
     }
     let features: &[&str] = match args.pipeline {

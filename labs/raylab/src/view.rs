@@ -88,14 +88,15 @@ pub fn run(args: &ViewArgs) -> Result<(), Error> {
         width: args.width,
         height: args.height,
         seed: args.seed,
-        lab: lab.number(),
         port: args.port,
         whose: format!("{:?}", args.pipeline),
         compare: args.pipeline == PipelineChoice::Student && has_solution,
         end_with_stdin: true,
         inspect: args.pixel,
     };
-    if let Some(note) = crate::render::student_code_note(args.pipeline, lab) {
+    if let Some(note) =
+        crate::render::student_code_note(args.pipeline, lab, crate::render::has_solution)
+    {
         eprintln!("note: {note}");
     }
     let features: &[&str] = match args.pipeline {

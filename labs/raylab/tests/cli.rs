@@ -1,6 +1,6 @@
 //! The command line, end to end.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn raylab(args: &[&str], dir: &std::path::Path) -> (bool, String, String) {
@@ -939,4 +939,25 @@ fn a_tree_of_another_course_is_refused() {
         std::fs::read_to_string(other.join("labs/course.toml")).unwrap(),
         "[labs]\nlab01 = \"Elsewhere\"\n"
     );
+}
+
+/// Outside every course tree a command acts on the tree this raylab was built from and says
+/// so, naming both; a reference render, which reads no tree, says nothing of one.
+#[test]
+fn outside_a_course_a_command_says_which_tree_it_acts_on() {
+    let dir = scratch("outside");
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let built = built.canonicalize().unwrap();
+    let (_, _, err) = raylab(&["reset", "1.1", "--dry-run"], &dir);
+    assert!(
+        err.contains("is in no course tree")
+            && err.contains(&*dir.to_string_lossy())
+            && err.contains(&*built.to_string_lossy()),
+        "{err}"
+    );
+    let (ok, _, err) = raylab(
+        &["render", "--lab", "1", "--width", "4", "--height", "4"],
+        &dir,
+    );
+    assert!(ok && !err.contains("course tree"), "{err}");
 }

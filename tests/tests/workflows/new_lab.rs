@@ -1,6 +1,7 @@
 //! The course author's workflow: `raylab new-lab` in a copy of the repository writes the new
 //! lab's places and its registry line and nothing else, and right after it the lab's checks fail
-//! its one exercise cleanly on the stubs and pass on the answer key.
+//! its one exercise cleanly on the stubs and pass on the answer key. Its contract file alone
+//! then makes its exercise a material the path tracer draws.
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -190,4 +191,158 @@ fn new_lab_writes_only_the_lab_s_places_and_its_registry_line() {
     let (ok, out) = cargo(&root(), &target_dir(), &args);
     assert!(!ok && out.contains("a new lab comes after it"), "{out}");
     assert!(files(&tree) == built, "a refused new-lab changed the tree");
+
+    // A lab whose exercise the path tracer calls: the lab's own contract file registers its
+    // code as a surface model, "grey" (a Lambertian surface whose reflectance is the luminance
+    // of its diffuse colour, Exercise N.1); a scene's material names it, and `raylab render`
+    // in the copy draws it so — with no framework file edited.
+    let contract = tree.join(format!("framework/contracts/src/{lab}.rs"));
+    let text = fs::read_to_string(&contract).unwrap();
+    let registered = text.replacen(
+        "#[crate::contract]",
+        "#[crate::contract(register = grey_surface)]",
+        1,
+    );
+    assert_ne!(text, registered, "the new contract is a #[crate::contract]");
+    fs::write(&contract, registered + GREY_SURFACE).unwrap();
+    fs::write(tree.join("grey.toml"), GREY_SCENE).unwrap();
+    fs::write(
+        tree.join("red.toml"),
+        GREY_SCENE.replace("model = \"grey\"\n", ""),
+    )
+    .unwrap();
+    let centre = |scene: &str| {
+        let output = work.join(format!("{scene}.exr"));
+        let output_arg = output.to_string_lossy().into_owned();
+        let (ok, out) = cargo(
+            &tree,
+            &target,
+            &[
+                "run",
+                "--quiet",
+                "-p",
+                "raylab",
+                "--",
+                "render",
+                "--lab",
+                &next.to_string(),
+                "--scene",
+                scene,
+                "--width",
+                "9",
+                "--height",
+                "9",
+                "--spp",
+                "8",
+                "-o",
+                &output_arg,
+            ],
+        );
+        assert!(ok, "raylab render {scene} failed:\n{out}");
+        let film = raylab_core::film::read_exr(&output).unwrap();
+        film.pixels[(4 * film.width + 4) as usize]
+    };
+    let grey = centre("grey.toml");
+    let red = centre("red.toml");
+    // Lit head-on by a point light at the eye: the surface model's reflectance, grey, where the
+    // path tracer's own Lambertian lobe reflects the material's red.
+    assert!(
+        grey.x > 0.0
+            && (grey.x - grey.y).abs() <= 1e-4 * grey.x
+            && (grey.y - grey.z).abs() <= 1e-4 * grey.x,
+        "the grey surface model is not drawn: {grey}"
+    );
+    assert!(red.x > 5.0 * red.y && red.y > 0.0, "{red}");
+    let luminance = 0.2126 * 0.9 + 0.7152 * 0.1 + 0.0722 * 0.1;
+    assert!(
+        (grey.x / red.x - luminance / 0.9).abs() < 1e-3,
+        "grey {grey} against red {red}: expected the ratio of the luminance to the red"
+    );
+    let changed: Vec<String> = files(&tree)
+        .into_iter()
+        .filter(|(path, bytes)| built.get(path) != Some(bytes))
+        .map(|(path, _)| path)
+        .collect();
+    assert_eq!(
+        changed,
+        [
+            format!("framework/contracts/src/{lab}.rs"),
+            "grey.toml".into(),
+            "red.toml".into()
+        ],
+        "only the new lab's contract file is edited"
+    );
 }
+
+/// The surface model "grey" of the new lab's contract file: Lambertian, of the luminance of the
+/// diffuse colour, drawn by the cosine.
+const GREY_SURFACE: &str = r#"
+/// The path tracer's surface model "grey": this lab's code as a material.
+fn grey_surface(code: std::sync::Arc<Contract>, parts: &mut crate::Parts) {
+    parts.add_surface("grey", code, |code| std::sync::Arc::new(Grey(code)));
+}
+
+/// A Lambertian surface whose reflectance is the luminance of its diffuse colour.
+struct Grey(std::sync::Arc<Contract>);
+
+impl crate::surface::SurfaceModel for Grey {
+    fn bsdf(
+        &self,
+        _: &crate::scene::Material,
+        diffuse: Vec3,
+        normal: Vec3,
+        _: Vec3,
+        wi: Vec3,
+    ) -> crate::lab12::BsdfValue {
+        let pi = std::f32::consts::PI;
+        crate::lab12::BsdfValue {
+            value: Vec3::splat(self.0.luminance(diffuse) / pi),
+            pdf: normal.dot(wi).max(0.0) / pi,
+        }
+    }
+
+    fn sample_bsdf(
+        &self,
+        material: &crate::scene::Material,
+        diffuse: Vec3,
+        normal: Vec3,
+        wo: Vec3,
+        rng: &mut crate::sampling::Rng,
+    ) -> Option<crate::lab12::BsdfSample> {
+        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        let (r, phi) = (u1.sqrt(), std::f32::consts::TAU * u2);
+        let local = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt());
+        let wi = crate::math::Onb::from_w(normal).to_world(local).normalize();
+        let value = self.bsdf(material, diffuse, normal, wo, wi);
+        Some(crate::lab12::BsdfSample {
+            direction: wi,
+            value: value.value,
+            pdf: value.pdf,
+        })
+    }
+}
+"#;
+
+/// A red sphere of the surface model "grey", lit head-on by a point light at the eye, over a
+/// black background.
+const GREY_SCENE: &str = r#"
+[camera]
+eye = [0, 0, 4]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+focal_distance = 1.0
+
+[materials.red]
+diffuse = [0.9, 0.1, 0.1]
+model = "grey"
+
+[[lights]]
+type = "point"
+position = [0, 0, 4]
+intensity = [20, 20, 20]
+
+[[spheres]]
+center = [0, 0, 0]
+radius = 1
+material = "red"
+"#;

@@ -133,6 +133,7 @@ struct MaterialToml {
     ior: Option<f32>,
     transmission: Option<[f32; 3]>,
     texture: Option<PathBuf>,
+    model: Option<String>,
 }
 
 fn default_illum() -> i64 {
@@ -513,6 +514,20 @@ impl Builder<'_> {
             }
             material.roughness = Some(r);
         }
+        if let Some(model) = &m.model {
+            let name_like = !model.is_empty()
+                && model.len() <= 64
+                && model
+                    .bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
+            if !name_like {
+                return Err(self.fail(format!(
+                    "{what}: model is {:?}; expected the name of a surface model (letters, digits, '-' and '_', at most 64)",
+                    model.escape_debug().to_string()
+                )));
+            }
+            material.model = Some(model.clone());
+        }
         if let Some(ior) = m.ior {
             if !(ior.is_finite() && ior > 0.0) {
                 return Err(self.fail(format!("{what}: ior is {ior}; expected a positive number")));
@@ -801,6 +816,16 @@ material = "glass"
                 "{message}"
             );
         }
+        for bad in ["", "a b", "gr\\u00e9y", &"x".repeat(65)] {
+            let message = scene_file_error(&format!("{CAMERA}[materials.m]\nmodel = \"{bad}\"\n"));
+            assert!(
+                message.contains("materials.m: model") && message.contains("surface model"),
+                "{message}"
+            );
+        }
+        let named = format!("{CAMERA}[materials.m]\nmodel = \"grey-2_b\"\n");
+        let scene = parse_scene_str("ok.toml", &named, Path::new(".")).unwrap();
+        assert_eq!(scene.materials[0].model.as_deref(), Some("grey-2_b"));
         let message = scene_file_error(&format!("{CAMERA}[materials.m]\ndiffuse = [1, 0]\n"));
         assert!(message.contains("line 8"), "{message}");
         let message = scene_file_error(&format!(

@@ -795,6 +795,7 @@ fn convert_material(
         ior: m.optical_density.unwrap_or(1.0),
         transmission: unknown_rgb(m, "Tf").unwrap_or(Vec3::ONE),
         diffuse_texture,
+        model: None,
     })
 }
 

@@ -80,8 +80,7 @@ fn shares(pipeline: &Pipeline, scene: &Scene, emitted: u32) -> Vec<Share> {
         let power = match light {
             Light::Point(p) => {
                 let mut rng = Rng::new(0, u64::MAX);
-                pipeline
-                    .photon_mapping
+                crate::required(&pipeline.calls.photon_mapping)
                     .emit_point_light(p, 1, &mut rng)
                     .power
             }
@@ -91,8 +90,7 @@ fn shares(pipeline: &Pipeline, scene: &Scene, emitted: u32) -> Vec<Share> {
                 let emission = scene.material(scene.mesh.face_materials[face]).emission;
                 let normal = scene.mesh.face_normal(face);
                 let position = scene.mesh.triangle(face)[0];
-                pipeline
-                    .photon_mapping
+                crate::required(&pipeline.calls.photon_mapping)
                     .emit_area_light(position, normal, emission, area.area, 1, &mut rng)
                     .power
             }
@@ -136,7 +134,7 @@ fn emit(
     count: u32,
     rng: &mut Rng,
 ) -> Option<EmittedPhoton> {
-    let lab08 = &pipeline.photon_mapping;
+    let lab08 = crate::required(&pipeline.calls.photon_mapping);
     match light {
         Light::Point(p) => Some(lab08.emit_point_light(p, count, rng)),
         Light::Area(area) => {
@@ -144,7 +142,7 @@ fn emit(
             let (i, ux) = area.pick_face(u.x);
             let face = area.faces[i] as usize;
             let position = pipeline
-                .shadows
+                .shadows()
                 .sample_triangle(scene.mesh.triangle(face), Vec2::new(ux, u.y));
             let normal = scene.mesh.face_normal(face);
             let emission = scene.material(scene.mesh.face_materials[face]).emission;
@@ -179,32 +177,36 @@ pub fn trace_photon(
         hit.ior = ior;
         let material = scene.material(hit.material);
         match material.illum {
-            IllumModel::Mirror => ray = pipeline.reflection.reflected_ray(&ray, &hit),
+            IllumModel::Mirror => ray = pipeline.reflection().reflected_ray(&ray, &hit),
             IllumModel::Transparent
             | IllumModel::AbsorbingVolume
             | IllumModel::Glossy
             | IllumModel::GlossyVolume => {
                 // Leaving an absorbing volume, the photon has crossed it (lab 10 on).
                 power *= pipeline.medium_transmittance(ray.direction, &hit, material);
-                match pipeline.reflection.refracted_ray(&ray, &hit, material.ior) {
-                    None => ray = pipeline.reflection.reflected_ray(&ray, &hit),
+                match pipeline
+                    .reflection()
+                    .refracted_ray(&ray, &hit, material.ior)
+                {
+                    None => ray = pipeline.reflection().reflected_ray(&ray, &hit),
                     Some((refracted, ior_t)) => {
-                        let side = pipeline
-                            .reflection
-                            .interface(ray.direction, &hit, material.ior);
+                        let side =
+                            pipeline
+                                .reflection()
+                                .interface(ray.direction, &hit, material.ior);
                         let cos_i = ray.direction.dot(side.normal).abs();
                         let reflectance = pipeline.dielectric_reflectance(
                             cos_i,
                             side.eta_incident,
                             side.eta_transmitted,
                         );
-                        let (scatter, carried) =
-                            pipeline
-                                .photon_mapping
-                                .russian_roulette(reflectance, power, rng);
+                        let (scatter, carried) = crate::required(&pipeline.calls.photon_mapping)
+                            .russian_roulette(reflectance, power, rng);
                         power = carried;
                         match scatter {
-                            Scatter::Reflect => ray = pipeline.reflection.reflected_ray(&ray, &hit),
+                            Scatter::Reflect => {
+                                ray = pipeline.reflection().reflected_ray(&ray, &hit)
+                            }
                             Scatter::Refract => {
                                 ray = refracted;
                                 ior = ior_t;
@@ -288,10 +290,11 @@ pub fn trace_caustic_photons(
 }
 
 /// `pipeline` with the caustic photon map of `scene` traced with its own
-/// [`photons`](Pipeline::photons) settings, when it is at labs 8 to 11 (unchanged before, and
-/// from lab 12 on, whose path tracer finds caustics by its paths); an error names a bad setting.
+/// [`photons`](Pipeline::photons) settings, when its integrator is the photon-mapped one
+/// (unchanged otherwise: the path tracer finds caustics by its paths); an error names a bad
+/// setting.
 pub fn with_caustics(pipeline: &Pipeline, scene: &Scene) -> Result<Pipeline, raylab_core::Error> {
-    if !(8..12).contains(&pipeline.lab) {
+    if pipeline.integrator() != crate::Integrator::PhotonMapped {
         return Ok(pipeline.clone());
     }
     pipeline.photons.validate()?;

@@ -98,6 +98,10 @@ pub struct Material {
     pub transmission: Vec3,
     /// Diffuse texture (`map_Kd`), multiplied with `diffuse` when present.
     pub diffuse_texture: Option<Arc<Texture>>,
+    /// The path tracer's surface model that draws it, by the name a lab registers it under
+    /// (`model` in a scene file); `None`, or a name no lab of the pipeline registers, draws it
+    /// with lab 12's lobes.
+    pub model: Option<String>,
 }
 
 impl Material {
@@ -115,6 +119,7 @@ impl Material {
             ior: 1.0,
             transmission: Vec3::ONE,
             diffuse_texture: None,
+            model: None,
         }
     }
 

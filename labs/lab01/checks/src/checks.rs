@@ -375,12 +375,9 @@ fn exercise_1_5(s: &Arc<dyn CameraRays>, _ctx: &LabContext) -> Result<(), String
 /// The pipeline of Exercise 1.6 and its snapshot: the student's camera, everything else from
 /// `base`, flat colours.
 pub fn camera_pipeline(student: Arc<dyn CameraRays>, base: &Pipeline) -> Pipeline {
-    Pipeline {
-        camera: student,
-        lab: 1,
-        view: View::BaseColour,
-        ..base.clone()
-    }
+    let mut pipeline = base.clone().with_part(student);
+    pipeline.view = View::BaseColour;
+    pipeline
 }
 
 /// Renders the default scene as Exercise 1.6 does.

@@ -11,9 +11,10 @@ use figures::{Figure, ReportContext, settings, timed};
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let (w, h) = ctx.size(512, 384);
     let scene = builtin_scene("default")?;
-    let pipeline = pipeline::Pipeline {
-        view: View::BaseColour,
-        ..ctx.pipeline.clone()
+    let pipeline = {
+        let mut pipeline = ctx.pipeline.clone();
+        pipeline.view = View::BaseColour;
+        pipeline
     };
     let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, 1))?;
     ctx.save_labelled(

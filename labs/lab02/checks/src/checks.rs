@@ -299,18 +299,15 @@ pub fn part_pipeline(
     let isect: Arc<dyn Intersection> = student.clone();
     let shade: Arc<dyn Shading> = student.clone();
     let base_isect: Arc<dyn Intersection> = base
-        .intersection
-        .clone()
+        .part::<dyn Intersection>()
         .unwrap_or_else(|| Arc::new(BuiltinIntersection));
     let intersection: Arc<dyn Intersection> =
         PartSlot::shared(part.function(), &isect, &base_isect);
-    Pipeline {
-        intersection: Some(intersection),
-        shading: PartSlot::shared(part.function(), &shade, &base.shading),
-        lab: 2,
-        view,
-        ..base.clone()
-    }
+    let shading: Arc<dyn Shading> =
+        PartSlot::shared(part.function(), &shade, &base.code::<dyn Shading>());
+    let mut pipeline = base.clone().with_part(intersection).with_part(shading);
+    pipeline.view = view;
+    pipeline
 }
 
 /// Renders one part's snapshot scene through `pipeline`.
@@ -908,7 +905,7 @@ fn compare_light_sample(call: &str, got: LightSample, expected: LightSample) -> 
 
 /// The answer key's lab 02 shading, when the context holds it.
 fn key_shading(ctx: &LabContext) -> Option<Arc<dyn Shading>> {
-    ctx.key().map(|k| k.shading.clone())
+    ctx.key().map(|k| k.code::<dyn contracts::lab02::Shading>())
 }
 
 /// A light sample's direction is a unit vector, and `position + distance·direction` is the

@@ -1,7 +1,7 @@
 //! Lab 02's figures: the default scene and the Cornell box with Lambertian shading, and the
 //! normals of the default scene.
 
-use pipeline::{Pipeline, View};
+use pipeline::View;
 use raylab_core::Error;
 use raylab_core::film::ToneMap;
 use raylab_core::scene::builtin_scene;
@@ -33,9 +33,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         ),
     ] {
         let scene = builtin_scene(scene_name)?;
-        let pipeline = Pipeline {
-            view,
-            ..ctx.pipeline.clone()
+        let pipeline = {
+            let mut pipeline = ctx.pipeline.clone();
+            pipeline.view = view;
+            pipeline
         };
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, 1))?;
         ctx.save_labelled(

@@ -35,7 +35,7 @@ use grading::{
     compare_f32, compare_vec3, for_all,
 };
 use pipeline::render::render;
-use pipeline::{PartSlot, Pipeline, View};
+use pipeline::{Pipeline, View};
 use raylab_core::film::Film;
 use raylab_core::math::Ray;
 use raylab_core::render::RenderSettings;
@@ -85,7 +85,7 @@ pub enum Part {
 }
 
 impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`]).
+    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
     pub fn function(self) -> &'static str {
         match self {
             Part::ShadowRay => "shadow_ray",
@@ -116,13 +116,10 @@ pub fn exercises() -> Vec<Exercise<dyn Shadows>> {
 /// The lab-3 pipeline with `student` in `part`'s slot and `base` everywhere else, shading
 /// with `n × n` area-light samples.
 pub fn part_pipeline(part: Part, student: &Arc<dyn Shadows>, base: &Pipeline, n: u32) -> Pipeline {
-    Pipeline {
-        shadows: PartSlot::shared(part.function(), student, &base.shadows),
-        lab: 3,
-        view: View::Shaded,
-        area_light_samples: n,
-        ..base.clone()
-    }
+    let mut pipeline = base.with_student_function(part.function(), student);
+    pipeline.view = View::Shaded;
+    pipeline.area_light_samples = n;
+    pipeline
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -319,10 +316,7 @@ fn hit_towards(scene: &Scene, eye: Vec3, target: Vec3) -> Hit {
 /// one of its `n²` samples reaches an unoccluded point.
 fn check_small_scenes(s: &Arc<dyn Shadows>, base: &Pipeline) -> Result<(), String> {
     let pipeline = part_pipeline(Part::ShadowRay, s, base, 3);
-    let no_shadows = Pipeline {
-        lab: 2,
-        ..pipeline.clone()
-    };
+    let no_shadows = pipeline.clone().without::<dyn Shadows>();
     let floor = (Vec3::ZERO, Vec3::Y);
     let ceiling = (Vec3::new(0.0, 2.0, 0.0), -Vec3::Y);
     let occluder = (
@@ -418,9 +412,10 @@ fn check_small_scenes(s: &Arc<dyn Shadows>, base: &Pipeline) -> Result<(), Strin
             if close {
                 continue;
             }
+            let shading = base.code::<dyn contracts::lab02::Shading>();
             let light = match scene.lights[0] {
-                Light::Point(p) => base.shading.sample_point_light(&p, hit.position),
-                Light::Directional(d) => base.shading.sample_directional_light(&d, hit.position),
+                Light::Point(p) => shading.sample_point_light(&p, hit.position),
+                Light::Directional(d) => shading.sample_directional_light(&d, hit.position),
                 Light::Area(_) => unreachable!("the cases have no area light"),
             };
             let ray = s.shadow_ray(hit.position, &light);
@@ -950,7 +945,7 @@ fn check_area_relations(s: &dyn Shadows, input: &AreaSampleInput, unit: f32) -> 
 }
 
 fn exercise_3_4(s: &Arc<dyn Shadows>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.shadows.clone());
+    let key = ctx.key().map(|k| k.code::<dyn contracts::lab03::Shadows>());
     let judge = |input: AreaSampleInput, unit: f32| {
         check_area_relations(s.as_ref(), &input, unit)?;
         let Some(key) = &key else {

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::checks::snapshot_scene;
 use contracts::lab02::LightSample;
 use contracts::lab03::Shadows;
-use pipeline::Pipeline;
+
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::glam::{Vec2, Vec3};
@@ -55,9 +55,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     });
 
     let n = 10;
-    let pipeline = Pipeline {
-        area_light_samples: n,
-        ..ctx.pipeline.clone()
+    let pipeline = {
+        let mut pipeline = ctx.pipeline.clone();
+        pipeline.area_light_samples = n;
+        pipeline
     };
     let (film, seconds) = ctx.render_timed(&area_scene, &pipeline, &settings(w, h, 1))?;
     ctx.save_labelled(
@@ -80,9 +81,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut panels = Vec::new();
     let mut times = Vec::new();
     for n in LIGHT_SAMPLES {
-        let pipeline = Pipeline {
-            area_light_samples: n,
-            ..ctx.pipeline.clone()
+        let pipeline = {
+            let mut pipeline = ctx.pipeline.clone();
+            pipeline.area_light_samples = n;
+            pipeline
         };
         let (film, seconds) = ctx.render_timed(&area_scene, &pipeline, &settings(w, h, 1))?;
         panels.push(Panel::new(
@@ -118,14 +120,16 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut total = 0.0;
     for jitter in [false, true] {
         let shadows: Arc<dyn Shadows> = if jitter {
-            ctx.pipeline.shadows.clone()
+            ctx.pipeline.code::<dyn contracts::lab03::Shadows>()
         } else {
-            Arc::new(CellCentres(ctx.pipeline.shadows.clone()))
+            Arc::new(CellCentres(
+                ctx.pipeline.code::<dyn contracts::lab03::Shadows>(),
+            ))
         };
-        let pipeline = Pipeline {
-            area_light_samples: n,
-            shadows,
-            ..ctx.pipeline.clone()
+        let pipeline = {
+            let mut pipeline = ctx.pipeline.clone().with_part(shadows);
+            pipeline.area_light_samples = n;
+            pipeline
         };
         let (film, seconds) = ctx.render_timed(&area_scene, &pipeline, &settings(w, h, 1))?;
         let what = if jitter { "jittered" } else { "cell centres" };

@@ -26,7 +26,7 @@ use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
 use pipeline::render::render;
-use pipeline::{PartSlot, Pipeline, View};
+use pipeline::{Pipeline, View};
 use raylab_core::film::Film;
 use raylab_core::math::{RAY_EPSILON, Ray};
 use raylab_core::render::RenderSettings;
@@ -343,7 +343,8 @@ fn snell_has_solution(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
 
 /// The answer key's lab 04 slot, when the context holds it.
 fn key(ctx: &LabContext) -> Option<Arc<dyn Reflection>> {
-    ctx.key().map(|k| k.reflection.clone())
+    ctx.key()
+        .map(|k| k.code::<dyn contracts::lab04::Reflection>())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -540,7 +541,7 @@ pub enum Part {
 }
 
 impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`]).
+    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
     pub fn function(self) -> &'static str {
         match self {
             Part::Reflect => "reflect",
@@ -622,13 +623,10 @@ impl Part {
 /// The pipeline of one part's snapshots: `student` for that part only, `base` for the rest,
 /// at lab 4 with the depth limit [`SNAPSHOT_MAX_DEPTH`].
 pub fn part_pipeline(part: Part, student: &Arc<dyn Reflection>, base: &Pipeline) -> Pipeline {
-    Pipeline {
-        reflection: PartSlot::shared(part.function(), student, &base.reflection),
-        lab: 4,
-        view: View::Shaded,
-        max_depth: SNAPSHOT_MAX_DEPTH,
-        ..base.clone()
-    }
+    let mut pipeline = base.with_student_function(part.function(), student);
+    pipeline.view = View::Shaded;
+    pipeline.max_depth = SNAPSHOT_MAX_DEPTH;
+    pipeline
 }
 
 /// Renders one snapshot scene through `pipeline`.

@@ -5,7 +5,7 @@
 
 use crate::checks::Shot;
 use grading::scenes::glossy_default_scene;
-use pipeline::Pipeline;
+
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::scene::{IllumModel, Scene, builtin_scene};
@@ -40,61 +40,59 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let spp = if ctx.quick { 1 } else { 16 };
     let depth = ctx.pipeline.max_depth;
     let mut figures = Vec::new();
-    let at_lab = |lab: u32| Pipeline {
-        lab,
-        ..ctx.pipeline.clone()
-    };
+    let at_lab = |lab: u32| ctx.pipeline.clone().through(lab);
     // Start the worker threads before the first timed render.
     ctx.render_timed(&builtin_scene("default")?, &at_lab(4), &settings(32, 24, 1))?;
 
     // The worksheet's image set: each step adds one shader (and the rays it spawns).
     use IllumModel::{Mirror, Phong, Transparent};
-    let steps: [(&str, &str, &str, Scene, Pipeline); 6] = [
+    let steps: [(&str, &str, &str, Scene, u32); 6] = [
         (
             "default-lab2.png",
             "lab 2: Lambertian",
             "Lab 2: every surface Lambertian, no shadows",
             builtin_scene("default")?,
-            at_lab(2),
+            2,
         ),
         (
             "default-lab3.png",
             "lab 3: shadows",
             "Lab 3: every surface Lambertian, with shadow rays",
             builtin_scene("default")?,
-            at_lab(3),
+            3,
         ),
         (
             "default-mirror.png",
             "mirror",
             "Mirror sphere (illum 3): reflected rays",
             default_with(&[Mirror])?,
-            at_lab(4),
+            4,
         ),
         (
             "default-glass.png",
             "glass, η = 1.5",
             "Glass sphere (illum 4, η = 1.5): refracted rays, a ball lens",
             default_with(&[Mirror, Transparent])?,
-            at_lab(4),
+            4,
         ),
         (
             "default-phong.png",
             "Phong, s = 40",
             "Phong torus (illum 2, s = 40): the normalized Phong highlight",
             default_with(&[Mirror, Transparent, Phong])?,
-            at_lab(4),
+            4,
         ),
         (
             "default-glossy.png",
             "glossy glass",
             "Combining it all: the glass sphere glossy (illum 5), 0.1·Phong + 0.1·reflected + 0.9·refracted",
             glossy_default_scene()?,
-            at_lab(4),
+            4,
         ),
     ];
     let mut done = Vec::new();
-    for (file, caption, label, scene, pipeline) in steps {
+    for (file, caption, label, scene, lab) in steps {
+        let pipeline = at_lab(lab);
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(w, h, spp))?;
         ctx.save_labelled(
             film.clone(),
@@ -106,8 +104,7 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
             file: file.into(),
             caption: caption.into(),
             parameters: format!(
-                "the default scene, {w}×{h} pixels, {spp} rays per pixel, pipeline at lab {}, depth limit {depth}, clamp tone map",
-                pipeline.lab
+                "the default scene, {w}×{h} pixels, {spp} rays per pixel, pipeline at lab {lab}, depth limit {depth}, clamp tone map"
             ),
             seconds: Some(seconds),
         });
@@ -166,9 +163,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let mut panels = Vec::new();
     let mut times = Vec::new();
     for max_depth in [1, 2, 5, 10, 30] {
-        let pipeline = Pipeline {
-            max_depth,
-            ..at_lab(4)
+        let pipeline = {
+            let mut pipeline = at_lab(4);
+            pipeline.max_depth = max_depth;
+            pipeline
         };
         let (film, seconds) = ctx.render_timed(&scene, &pipeline, &settings(dw, dh, spp))?;
         panels.push(Panel::new(

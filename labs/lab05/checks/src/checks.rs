@@ -285,7 +285,7 @@ where
 {
     match ctx.key() {
         Some(key) => {
-            let key = key.radiometry.clone();
+            let key = key.code::<dyn contracts::lab05::Radiometry>();
             for_all(cases, strategy, |input| compare(key.as_ref(), input))
         }
         None => Ok(()),

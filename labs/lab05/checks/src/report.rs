@@ -61,7 +61,8 @@ fn errors(
 }
 
 fn convergence(ctx: &ReportContext, case: &LightCase, file: &str) -> Result<Figure, Error> {
-    let code = ctx.pipeline.radiometry.as_ref();
+    let code = ctx.pipeline.code::<dyn contracts::lab05::Radiometry>();
+    let code = code.as_ref();
     let exact = case.exact();
     let area = errors(code, Estimator::Area, case, exact, ctx.quick);
     let cosine = errors(code, Estimator::Cosine, case, exact, ctx.quick);

@@ -171,7 +171,7 @@ impl Part {
 
 /// The student's code for `part`, the base's for the rest.
 pub fn part_slot(part: Part, student: &Arc<dyn Radiosity>, base: &Pipeline) -> Arc<dyn Radiosity> {
-    PartSlot::shared(part.function(), student, &base.radiosity)
+    PartSlot::shared(part.function(), student, &base.code::<dyn Radiosity>())
 }
 
 /// A planar quad patch with corners `c` (counter-clockwise about `normal`), as a patch list
@@ -401,7 +401,9 @@ fn check_far_disc(r: &dyn Radiosity) -> Result<(), String> {
 }
 
 fn exercise_6_1(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     for_all(300, point_input(), |input| {
         check_point(p.as_ref(), key.as_deref(), input)
     })?;
@@ -603,7 +605,9 @@ fn exercise_delta(p: &Arc<dyn Radiosity>, ctx: &LabContext, part: Part) -> Resul
         ),
     };
     let r = part_slot(part, p, &ctx.base);
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     let student = |a: f32, b: f32, area: f32| match part {
         Part::Top => p.delta_form_factor_top(a, b, area),
         _ => p.delta_form_factor_side(a, b, area),
@@ -858,7 +862,9 @@ fn check_closed_box_sums(r: &dyn Radiosity) -> Result<(), String> {
 }
 
 fn exercise_6_4(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     for_all(200, accumulate_input(), |input| {
         check_accumulate(p.as_ref(), key.as_deref(), &input)
     })?;
@@ -975,7 +981,9 @@ fn check_shooter(
 }
 
 fn exercise_6_5(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     for_all(300, shooter_input(), |input| {
         check_shooter(p.as_ref(), key.as_deref(), &input)
     })?;
@@ -1321,7 +1329,9 @@ fn check_closed_box_energy(r: &dyn Radiosity) -> Result<(), String> {
 }
 
 fn exercise_6_6(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     let input = diagnosis_input();
     let call = format!(
         "shoot(patches with areas {:?} and reflectances {}, form factors {:?}, shooter = 0 with radiosity B_0 = {} and unshot ΔB_0 = {}, …)",
@@ -1377,7 +1387,9 @@ pub fn colours_input() -> impl Strategy<Value = Vec<Vec3>> {
 }
 
 fn exercise_6_7(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     for_all(200, colours_input(), |b| {
         let l = p.patch_colours(&b);
         if l.len() != b.len() {
@@ -1551,7 +1563,9 @@ fn check_vertices(
 }
 
 fn exercise_6_8(p: &Arc<dyn Radiosity>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.radiosity.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab06::Radiosity>());
     for_all(200, vertices_input(), |input| {
         check_vertices(p.as_ref(), key.as_deref(), &input)
     })?;

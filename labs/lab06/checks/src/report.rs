@@ -85,7 +85,7 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
 }
 
 fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
-    let r = ctx.pipeline.radiosity.clone();
+    let r = ctx.pipeline.code::<dyn contracts::lab06::Radiosity>();
     let r = r.as_ref();
     let scene = builtin_scene("cornell")?;
     let (w, h) = ctx.size(512, 512);
@@ -236,10 +236,10 @@ fn solved_figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     // radiosity solution is, by the ceiling light alone (`cornell-ceiling`: `cornell` without
     // the point light that the patches know nothing of).
     let spp = if ctx.quick { 1 } else { 4 };
-    let traced_pipeline = pipeline::Pipeline {
-        lab: 4,
-        area_light_samples: 4,
-        ..ctx.pipeline.clone()
+    let traced_pipeline = {
+        let mut pipeline = ctx.pipeline.clone();
+        pipeline.area_light_samples = 4;
+        pipeline
     };
     let ceiling_only = builtin_scene("cornell-ceiling")?;
     let (traced, t) = ctx.render_timed(&ceiling_only, &traced_pipeline, &settings(w, h, spp))?;

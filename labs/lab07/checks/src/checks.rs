@@ -45,7 +45,7 @@ use grading::{
     check_one_per_cell, compare_vec3, for_all,
 };
 use pipeline::render::render;
-use pipeline::{PartSlot, Pipeline, View};
+use pipeline::{Pipeline, View};
 use raylab_core::film::Film;
 use raylab_core::render::RenderSettings;
 use raylab_core::sampling::Rng;
@@ -109,7 +109,7 @@ pub enum Part {
 }
 
 impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`]).
+    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
     pub fn function(self) -> &'static str {
         match self {
             Part::Jitters => "compute_jitters",
@@ -121,12 +121,9 @@ impl Part {
 /// The pipeline of one part's renders: `student` for that part only, `base` for the rest,
 /// shaded, at lab 7.
 pub fn part_pipeline(part: Part, student: &Arc<dyn Antialiasing>, base: &Pipeline) -> Pipeline {
-    Pipeline {
-        antialiasing: PartSlot::shared(part.function(), student, &base.antialiasing),
-        lab: 7,
-        view: View::Shaded,
-        ..base.clone()
-    }
+    let mut pipeline = base.with_student_function(part.function(), student);
+    pipeline.view = View::Shaded;
+    pipeline
 }
 
 /// Renders the default scene at the snapshot size with `subdivisions` and `seed`.
@@ -690,12 +687,15 @@ pub fn check_edge(
 }
 
 fn exercise_7_2(p: &Arc<dyn Antialiasing>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.antialiasing.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab07::Antialiasing>());
     for_all(300, pixel_input(), |(pixel, jitters)| {
         check_average(p, key.as_deref(), pixel, &jitters)
     })?;
+    let base = ctx.base.code::<dyn Antialiasing>();
     for_all(100, edge_input(), |edge| {
-        check_edge(p.as_ref(), ctx.base.antialiasing.as_ref(), edge)
+        check_edge(p.as_ref(), base.as_ref(), edge)
     })?;
     let golden: GoldenFile<PixelInput, Vec3> = ctx.golden(GOLDEN_PIXEL)?;
     for case in &golden.cases {

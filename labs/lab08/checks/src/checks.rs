@@ -58,7 +58,7 @@ use grading::stats::{chi_square_uniform_z, family_z_limit};
 use grading::strategies::{point, scale, unit_vector};
 use grading::{Exercise, GoldenFile, LabContext, compare_vec3, for_all};
 use pipeline::photon::{PhotonSettings, PhotonTrace, StoreRule, trace_photons};
-use pipeline::{PartSlot, Pipeline, View};
+use pipeline::{Pipeline, View};
 use raylab_core::math::{Onb, RAY_EPSILON};
 use raylab_core::sampling::Rng;
 use raylab_core::scene::{Light, PointLight, Scene, builtin_scene, parse_scene_str};
@@ -136,7 +136,7 @@ pub enum Part {
 }
 
 impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`]).
+    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
     pub fn function(self) -> &'static str {
         match self {
             Part::PointLight => "emit_point_light",
@@ -150,12 +150,9 @@ impl Part {
 /// The pipeline of one part's traces: `student` for that part only, `base` for the rest, at
 /// lab 8.
 pub fn part_pipeline(part: Part, student: &Arc<dyn PhotonMapping>, base: &Pipeline) -> Pipeline {
-    Pipeline {
-        photon_mapping: PartSlot::shared(part.function(), student, &base.photon_mapping),
-        lab: 8,
-        view: View::Shaded,
-        ..base.clone()
-    }
+    let mut pipeline = base.with_student_function(part.function(), student);
+    pipeline.view = View::Shaded;
+    pipeline
 }
 
 /// The largest |z| of a statistic when an exercise makes `tests` statistical tests.
@@ -244,7 +241,9 @@ fn point_light(position: Vec3, intensity: Vec3) -> PointLight {
 }
 
 fn exercise_8_1(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.photon_mapping.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab08::PhotonMapping>());
     for_all(
         300,
         (point_input(), any::<u64>()),
@@ -381,7 +380,9 @@ pub fn area_input() -> impl Strategy<Value = AreaInput> + Clone {
 }
 
 fn exercise_8_2(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.photon_mapping.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab08::PhotonMapping>());
     for_all(
         300,
         (area_input(), any::<u64>()),
@@ -820,7 +821,9 @@ fn check_zero_radius(s: &dyn PhotonMapping) -> Result<(), String> {
 }
 
 fn exercise_8_4(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
-    let key = ctx.key().map(|k| k.photon_mapping.clone());
+    let key = ctx
+        .key()
+        .map(|k| k.code::<dyn contracts::lab08::PhotonMapping>());
     let radiance = |(diffuse, normal, photons, k, r): &RadianceInput| {
         s.caustic_radiance(*diffuse, *normal, photons, *k, *r)
     };
@@ -972,10 +975,11 @@ fn plane_errors(
         .map(|m| m.diffuse)
         .unwrap_or(Vec3::ONE);
     let mut out = Vec::new();
+    let shading = base.code::<dyn contracts::lab02::Shading>();
     for p in plane_points() {
         // What a diffuse surface reflects of the light it receives directly: lab 02's shader.
-        let sample = base.shading.sample_point_light(light, p);
-        let expected = base.shading.shade_lambertian(diffuse, Vec3::Y, &[sample]);
+        let sample = shading.sample_point_light(light, p);
+        let expected = shading.shade_lambertian(diffuse, Vec3::Y, &[sample]);
         let nearby = trace.map.nearest(p, k, max_radius);
         let got = s.caustic_radiance(diffuse, Vec3::Y, &nearby, k, max_radius);
         out.push((p, (got / expected).x, (got / expected).z));
@@ -986,10 +990,7 @@ fn plane_errors(
 /// The density estimate against the exact irradiance, and its consistency.
 fn check_density(s: &Arc<dyn PhotonMapping>, ctx: &LabContext) -> Result<(), String> {
     let scene = check_scene("lit-plane", LIT_PLANE)?;
-    let base = Pipeline {
-        lab: 8,
-        ..ctx.base.clone()
-    };
+    let base = ctx.base.clone();
     let ratios = plane_errors(s, &base, &scene, PLANE_PHOTONS, PLANE_K, PLANE_MAX_RADIUS)?;
     // k photons give a relative standard deviation of 1/√k = 5 %.
     let sigma = 1.0 / (PLANE_K as f32).sqrt();

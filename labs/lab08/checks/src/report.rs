@@ -52,10 +52,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     } else {
         ESTIMATE_PHOTONS
     };
-    let base = Pipeline {
-        lab: ctx.lab.number().max(8),
-        photons,
-        ..ctx.pipeline.clone()
+    let base = {
+        let mut pipeline = ctx.pipeline.clone();
+        pipeline.photons = photons;
+        pipeline
     };
     let trace_map = |settings: &PhotonSettings| {
         let start = Instant::now();
@@ -68,9 +68,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let (trace, trace_seconds) = trace_map(&photons)?;
     let stored = trace.map.len();
     let map = std::sync::Arc::new(trace.map);
-    let with_map = Pipeline {
-        caustics: Some(map.clone()),
-        ..base.clone()
+    let with_map = {
+        let mut pipeline = base.clone();
+        pipeline.caustics = Some(map.clone());
+        pipeline
     };
     let (w, h) = ctx.size(512, 512);
     let traced = |emitted: u32, stored: usize, seconds: f64| {
@@ -97,9 +98,10 @@ pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
         "photon-map.png",
         ToneMap::default(),
     )?;
-    let caustics_only = Pipeline {
-        view: View::Caustics,
-        ..with_map.clone()
+    let caustics_only = {
+        let mut pipeline = with_map.clone();
+        pipeline.view = View::Caustics;
+        pipeline
     };
     let (film, caustic_seconds) = ctx.render_timed(&scene, &caustics_only, &settings(w, h, spp))?;
     ctx.save_labelled(

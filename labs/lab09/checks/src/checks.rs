@@ -39,7 +39,7 @@ use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_vec2, compare_vec3, for_all,
 };
 use pipeline::render::render;
-use pipeline::{PartSlot, Pipeline, View};
+use pipeline::{Pipeline, View};
 use raylab_core::film::Film;
 use raylab_core::math::Onb;
 use raylab_core::render::RenderSettings;
@@ -108,7 +108,7 @@ pub enum Part {
 }
 
 impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`]).
+    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
     pub fn function(self) -> &'static str {
         match self {
             Part::Plane => "plane_texcoord",
@@ -129,13 +129,10 @@ pub fn part_pipeline(
     base: &Pipeline,
     filter: TextureFilter,
 ) -> Pipeline {
-    Pipeline {
-        texturing: PartSlot::shared(part.function(), student, &base.texturing),
-        lab: 9,
-        view: View::Shaded,
-        texture_filter: filter,
-        ..base.clone()
-    }
+    let mut pipeline = base.with_student_function(part.function(), student);
+    pipeline.view = View::Shaded;
+    pipeline.texture_filter = filter;
+    pipeline
 }
 
 /// The default scene with generated textures (no file needed): a checkerboard on the ground
@@ -340,7 +337,7 @@ fn exercise_9_1(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         .map_err(|e| format!("{e}: moving along the normal does not change a point's coordinates in the plane's frame"))
     })?;
     if let Some(key) = ctx.key() {
-        let key = key.texturing.clone();
+        let key = key.code::<dyn contracts::lab09::Texturing>();
         for_all(200, plane_input(), |input| {
             let (plane, position, _) = plane_case(input);
             compare_vec2(
@@ -483,7 +480,7 @@ fn exercise_9_2(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         }
     };
     if let Some(key) = ctx.key() {
-        let key = key.texturing.clone();
+        let key = key.code::<dyn contracts::lab09::Texturing>();
         for_all(200, sphere_input(), |input| {
             let (sphere, position) = sphere_case(input);
             compare(&sphere, position, key.sphere_texcoord(&sphere, position))
@@ -581,7 +578,7 @@ fn exercise_9_3(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         check_triangle(p.as_ref(), input)
     })?;
     if let Some(key) = ctx.key() {
-        let key = key.texturing.clone();
+        let key = key.code::<dyn contracts::lab09::Texturing>();
         for_all(200, triangle_input(), |(uvs, bary)| {
             compare_vec2(
                 &triangle_call(&uvs, bary),
@@ -730,7 +727,7 @@ fn exercise_9_4(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         }
     }
     if let Some(key) = ctx.key() {
-        let key = key.texturing.clone();
+        let key = key.code::<dyn contracts::lab09::Texturing>();
         for_all(500, (-1e3f32..1e3, addressing()), |(t, mode)| {
             let (got, expected) = (p.address(t, mode), key.address(t, mode));
             let off = (got - expected).abs();
@@ -952,7 +949,7 @@ fn check_nearest_edges(p: &dyn Texturing) -> Result<(), String> {
 }
 
 fn exercise_9_5(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> {
-    let base = ctx.base.texturing.clone();
+    let base = ctx.base.code::<dyn contracts::lab09::Texturing>();
     check_nearest_edges(p.as_ref())?;
     for_all(
         600,
@@ -973,7 +970,7 @@ fn exercise_9_5(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         .map_err(|e| format!("{e}: look the texture up where `address` sends u and v"))
     })?;
     if let Some(key) = ctx.key() {
-        let key = key.texturing.clone();
+        let key = key.code::<dyn contracts::lab09::Texturing>();
         for_all(
             300,
             (texture_case(), texcoords(), addressing()),
@@ -1292,7 +1289,7 @@ fn check_modes(
 }
 
 fn exercise_9_6(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> {
-    let base = ctx.base.texturing.clone();
+    let base = ctx.base.code::<dyn contracts::lab09::Texturing>();
     for_all(60, texture_case(), |case| {
         check_centres(p.as_ref(), base.as_ref(), case)
     })?;
@@ -1320,7 +1317,7 @@ fn exercise_9_6(p: &Arc<dyn Texturing>, ctx: &LabContext) -> Result<(), String> 
         |(case, s, k)| check_modes(p.as_ref(), base.as_ref(), case, s, k),
     )?;
     if let Some(key) = ctx.key() {
-        let key = key.texturing.clone();
+        let key = key.code::<dyn contracts::lab09::Texturing>();
         for_all(
             300,
             (texture_case(), texcoords(), addressing()),

@@ -54,10 +54,9 @@ fn crop_zoom(film: &Film) -> Film {
 }
 
 fn with_filter(ctx: &ReportContext, filter: TextureFilter) -> Pipeline {
-    Pipeline {
-        texture_filter: filter,
-        ..ctx.pipeline.clone()
-    }
+    let mut pipeline = ctx.pipeline.clone();
+    pipeline.texture_filter = filter;
+    pipeline
 }
 
 fn filter_panels(ctx: &ReportContext, filter: TextureFilter) -> Result<Figure, Error> {
@@ -222,9 +221,10 @@ fn addressing_panels(ctx: &ReportContext) -> Result<Figure, Error> {
     for filter in [TextureFilter::Nearest, TextureFilter::Bilinear] {
         let mut row = Vec::new();
         for mode in Addressing::ALL {
-            let pipeline = Pipeline {
-                texture_addressing: mode,
-                ..with_filter(ctx, filter)
+            let pipeline = {
+                let mut pipeline = with_filter(ctx, filter);
+                pipeline.texture_addressing = mode;
+                pipeline
             };
             let (mut film, t) = ctx.render_timed(&scene, &pipeline, &subdivided(w, h, 2))?;
             outline_unit_square(&mut film);

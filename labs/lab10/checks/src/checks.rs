@@ -29,7 +29,7 @@ use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
 use pipeline::render::render;
-use pipeline::{PartSlot, Pipeline, View};
+use pipeline::{Pipeline, View};
 use raylab_core::film::Film;
 use raylab_core::render::RenderSettings;
 use raylab_core::scene::{IllumModel, Material, Scene, builtin_scene};
@@ -177,7 +177,7 @@ pub fn volume_material(diffuse: Vec3) -> Material {
 
 /// The answer key's lab 10 slot, when the context holds it.
 fn key(ctx: &LabContext) -> Option<Arc<dyn Fresnel>> {
-    ctx.key().map(|k| k.fresnel.clone())
+    ctx.key().map(|k| k.code::<dyn contracts::lab10::Fresnel>())
 }
 
 fn load<I, O>(ctx: &LabContext, name: &str) -> Result<GoldenFile<I, O>, String>
@@ -334,7 +334,7 @@ fn check_coefficient(
 /// incidence, equal media, the key and the golden cases.
 fn check_pairs(which: Coefficient, s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
     let key = key(ctx);
-    let base = ctx.base.reflection.clone();
+    let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
     for_all(600, reflectance_strategy(), |input| {
         let Some(pair) = pair_of(base.as_ref(), input) else {
             return Ok(());
@@ -395,7 +395,7 @@ fn check_pairs(which: Coefficient, s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Re
 fn exercise_10_1(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
     check_pairs(Coefficient::RS, s, ctx)?;
     // Entering a denser medium the perpendicular amplitude is negative at every angle.
-    let base = ctx.base.reflection.clone();
+    let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
     for_all(200, reflectance_strategy(), |(c, e1, e2)| {
         if e2 < e1 * 1.01 {
             return Ok(());
@@ -425,7 +425,7 @@ fn brewster(reflection: &dyn Reflection, e1: f32, e2: f32) -> Option<(f32, f32)>
 fn exercise_10_2(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
     check_pairs(Coefficient::RP, s, ctx)?;
     // Brewster's angle: no parallel reflection there, and the amplitude changes sign across it.
-    let base = ctx.base.reflection.clone();
+    let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
     for_all(300, (index_strategy(), index_strategy()), |(e1, e2)| {
         if (e1 - e2).abs() < 0.05 {
             return Ok(());
@@ -588,7 +588,7 @@ pub fn reflectance_is_clear(&(c, e1, e2): &ReflectanceInput) -> bool {
 
 fn exercise_10_4(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
     let key = key(ctx);
-    let base = ctx.base.reflection.clone();
+    let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
     let clear =
         reflectance_strategy().prop_filter("clear of the critical angle", reflectance_is_clear);
     for_all(800, clear, |input| {
@@ -802,7 +802,7 @@ pub enum Part {
 }
 
 impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`]).
+    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
     pub fn function(self) -> &'static str {
         match self {
             Part::RS => "fresnel_r_s",
@@ -896,13 +896,10 @@ impl Part {
 /// The pipeline of one part's snapshots: `student` for that part only, `base` for the rest,
 /// at lab 10 with the depth limit [`SNAPSHOT_MAX_DEPTH`].
 pub fn part_pipeline(part: Part, student: &Arc<dyn Fresnel>, base: &Pipeline) -> Pipeline {
-    Pipeline {
-        fresnel: PartSlot::shared(part.function(), student, &base.fresnel),
-        lab: 10,
-        view: View::Shaded,
-        max_depth: SNAPSHOT_MAX_DEPTH,
-        ..base.clone()
-    }
+    let mut pipeline = base.with_student_function(part.function(), student);
+    pipeline.view = View::Shaded;
+    pipeline.max_depth = SNAPSHOT_MAX_DEPTH;
+    pipeline
 }
 
 /// Renders one snapshot scene through `pipeline`.

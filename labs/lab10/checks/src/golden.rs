@@ -16,7 +16,8 @@ pub fn generate_golden(
     ctx: &LabContext,
 ) -> Result<Vec<PathBuf>, Error> {
     let r = reference.as_ref();
-    let base = ctx.base.reflection.as_ref();
+    let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
+    let base = base.as_ref();
     let mut written = Vec::new();
 
     let pairs = |seed: u8| -> Vec<PairInput> {

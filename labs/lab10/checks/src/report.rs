@@ -33,10 +33,7 @@ struct Shot {
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let (w, h) = ctx.size(512, 384);
     let spp = if ctx.quick { 1 } else { 4 };
-    let at_lab = |lab: u32| Pipeline {
-        lab,
-        ..ctx.pipeline.clone()
-    };
+    let at_lab = |lab: u32| ctx.pipeline.clone().through(lab);
     // Start the worker threads before the first timed render.
     ctx.render_timed(
         &builtin_scene("default")?,
@@ -170,7 +167,7 @@ fn closeup_figure(
 /// A table of the reflectance at [`TABLE_ANGLES`] from air into glass and back, or the
 /// message of the unfinished exercise that stopped it.
 fn reflectance_table(pipeline: &Pipeline) -> String {
-    let fresnel = pipeline.fresnel.clone();
+    let fresnel = pipeline.code::<dyn contracts::lab10::Fresnel>();
     let rows = raylab_core::catch_quietly("lab 10's reflectance table", || {
         let mut table = String::from(
             "| angle of incidence θ₁ | R, air → glass (1 → 1.5) | R, glass → air (1.5 → 1) |\n| --- | --- | --- |\n",

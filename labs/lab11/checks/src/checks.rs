@@ -97,7 +97,8 @@ pub fn exercises() -> Vec<Exercise<dyn AmbientOcclusion>> {
 // Shared pieces
 
 fn key(ctx: &LabContext) -> Option<Arc<dyn AmbientOcclusion>> {
-    ctx.key().map(|p| p.ambient_occlusion.clone())
+    ctx.key()
+        .map(|p| p.code::<dyn contracts::lab11::AmbientOcclusion>())
 }
 
 fn load<I, O>(ctx: &LabContext, name: &str) -> Result<GoldenFile<I, O>, String>

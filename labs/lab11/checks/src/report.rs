@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use crate::checks::{SKY_PROBE, STUDIO_PROBE};
 use contracts::lab11::HemisphereSampler;
-use pipeline::Pipeline;
+
 use raylab_core::Error;
 use raylab_core::film::ToneMap;
 use raylab_core::glam::Vec3;
@@ -49,9 +49,10 @@ pub fn probe_scene(probe: Option<(&str, ProbeMapping)>) -> Result<Scene, Error> 
 /// The figures of lab 11.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let (w, h) = ctx.size(320, 240);
-    let with = |rays: u32, sampler: HemisphereSampler| Pipeline {
-        occlusion_rays: (if ctx.quick { rays / 10 } else { rays }, sampler),
-        ..ctx.pipeline.clone()
+    let with = |rays: u32, sampler: HemisphereSampler| {
+        let mut pipeline = ctx.pipeline.clone();
+        pipeline.occlusion_rays = (if ctx.quick { rays / 10 } else { rays }, sampler);
+        pipeline
     };
     let white = probe_scene(None)?;
     // Start the worker threads before the first timed render.

@@ -1491,7 +1491,6 @@ pub fn cornell_pipeline(code: &Arc<dyn PathTracing>, base: &Pipeline) -> Result<
         .ok_or("the base pipeline holds no code of lab 12")?;
     let slot: Arc<dyn PathTracing> = PartSlot::shared("path_radiance", code, &base_code);
     let mut pipeline = base.clone().with_part::<dyn PathTracing>(slot);
-    pipeline.lab = 12;
     pipeline.view = View::Shaded;
     pipeline.max_depth = CORNELL_DEPTH;
     Ok(pipeline)

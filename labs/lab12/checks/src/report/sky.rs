@@ -84,9 +84,10 @@ fn strategies(
         (PathSampling::Light, "light sampling only"),
         (PathSampling::Mis, "both, power heuristic"),
     ];
-    let with = |sampling| Pipeline {
-        path_sampling: sampling,
-        ..pipeline.clone()
+    let with = |sampling| {
+        let mut pipeline = pipeline.clone();
+        pipeline.path_sampling = sampling;
+        pipeline
     };
     // Seconds per sample of each, from a short render; the time of the weighted one at `spp`
     // samples is every strategy's budget.
@@ -131,7 +132,8 @@ fn distribution(ctx: &ReportContext, scene: &Scene, pipeline: &Pipeline) -> Resu
         what: "the sky scene".into(),
         reason: "it has no [environment]".into(),
     })?;
-    let code = pipeline.path_tracing.as_ref();
+    let code = pipeline.code::<dyn contracts::lab12::PathTracing>();
+    let code = code.as_ref();
     let sky_panel = Panel::new(downsampled(env, w, h), "the sky (exposure 0.3)");
     let mut notes = Vec::new();
     let (drawn, density) = match &pipeline.sky {
