@@ -16,7 +16,7 @@ use contracts::sampling::Rng;
 use grading::LabContext;
 use grading::chi2::chi_square_pooled;
 use grading::stats::{family_z_limit, mean_and_standard_error, sidak};
-use pipeline::path::with_sky;
+use pipeline::job::prepare;
 use pipeline::render::render;
 use raylab_core::render::RenderSettings;
 use raylab_core::scene::{EnvironmentMap, ProbeMapping, ProceduralProbe, Texture};
@@ -610,7 +610,7 @@ pub fn check_sky_furnace(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(
     let pipeline = crate::checks::cornell_pipeline(s, &ctx.base)?;
     // Without a distribution (the lab's Exercise 12.11 broken, and no key), the sky is found by
     // BSDF samples only: still one in the furnace.
-    let pipeline = with_sky(&pipeline, &scene).unwrap_or(pipeline);
+    let pipeline = prepare(pipeline, &scene, |_| {});
     let film = render(&scene, &pipeline, &FURNACE_SETTINGS).map_err(|e| e.to_string())?;
     let values: Vec<f64> = film.pixels.iter().map(|p| f64::from(p.x)).collect();
     let what = format!(

@@ -12,7 +12,8 @@ use contracts::lab12::{PathTracing, SkyDistribution};
 use contracts::sampling::Rng;
 use figures::{Figure, Panel, ReportContext, settings, timed};
 use pipeline::Pipeline;
-use pipeline::path::{PathSampling, with_sky};
+use pipeline::job::prepare;
+use pipeline::path::PathSampling;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap};
 use raylab_core::scene::{EnvironmentMap, Scene, load_scene_file};
@@ -31,13 +32,11 @@ pub fn sky_scene() -> Result<Scene, Error> {
 /// The figures of the sky.
 pub fn figures(ctx: &ReportContext) -> Result<Vec<Figure>, Error> {
     let scene = sky_scene()?;
-    let (pipeline, note) = match with_sky(&ctx.pipeline, &scene) {
-        Ok(prepared) => (prepared, String::new()),
-        Err(e) => (
-            ctx.pipeline.clone(),
-            format!(" — the sky is found by BSDF samples only: {e}"),
-        ),
-    };
+    let mut note = String::new();
+    let pipeline = prepare(ctx.pipeline.clone(), &scene, |line| {
+        note.push_str(" — ");
+        note.push_str(&line);
+    });
     Ok(vec![
         materials(ctx, &scene, &pipeline, &note)?,
         strategies(ctx, &scene, &pipeline, &note)?,
