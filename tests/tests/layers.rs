@@ -156,3 +156,77 @@ fn a_lab_s_tests_build_no_web_server() {
         }
     }
 }
+
+/// The modules a file of `framework/core/src/` imports outside its tests: each `crate::NAME`
+/// and `super::NAME` of its `use` lines before `#[cfg(test)]`.
+fn core_imports(file: &str) -> BTreeSet<String> {
+    let text = std::fs::read_to_string(root().join("framework/core/src").join(file))
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
+    let code = text.split("#[cfg(test)]").next().unwrap_or("");
+    let mut found = BTreeSet::new();
+    for line in code.lines().map(str::trim) {
+        let Some(path) = line
+            .strip_prefix("use ")
+            .or_else(|| line.strip_prefix("pub use "))
+        else {
+            continue;
+        };
+        for prefix in ["crate::", "super::"] {
+            if let Some(rest) = path.strip_prefix(prefix) {
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                found.insert(format!("{prefix}{name}"));
+            }
+        }
+    }
+    found
+}
+
+/// Inside the core, the acceleration structure's files import one way (`sah` ← `wide` ← `slabs`
+/// ← `bvh` ← `triangles`, `stats` a leaf) and of the rest of the crate only `math` and the
+/// kernels of `geometry`; the kernels import only `math`.
+#[test]
+fn the_core_s_acceleration_and_kernels_import_one_way() {
+    let order = ["sah", "wide", "slabs", "stats", "bvh", "triangles"];
+    let mut problems = Vec::new();
+    for (rank, module) in order.iter().enumerate() {
+        for import in core_imports(&format!("accel/{module}.rs")) {
+            // An item `accel/mod.rs` re-exports stands for its module.
+            let import = reexported_by_accel(&import).unwrap_or(import);
+            let allowed = match import.split_once("::") {
+                Some(("crate", name)) => ["math", "geometry"].contains(&name),
+                Some(("super", name)) => order[..rank].contains(&name) && *name != **module,
+                _ => false,
+            };
+            if !allowed {
+                problems.push(format!("accel/{module}.rs imports {import}"));
+            }
+        }
+    }
+    for kernel in ["plane", "sphere", "triangle"] {
+        for import in core_imports(&format!("geometry/{kernel}.rs")) {
+            if import != "crate::math" {
+                problems.push(format!("geometry/{kernel}.rs imports {import}"));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// `super::MODULE` for `super::ITEM` when `framework/core/src/accel/mod.rs` re-exports ITEM
+/// from MODULE (`pub use bvh::Bvh;`).
+fn reexported_by_accel(import: &str) -> Option<String> {
+    let item = import.strip_prefix("super::")?;
+    let text = std::fs::read_to_string(root().join("framework/core/src/accel/mod.rs")).ok()?;
+    text.lines().find_map(|line| {
+        let (module, items) = line.trim().strip_prefix("pub use ")?.split_once("::")?;
+        let listed = items
+            .trim_end_matches(';')
+            .trim_matches(|c| c == '{' || c == '}')
+            .split(',')
+            .any(|i| i.trim() == item);
+        listed.then(|| format!("super::{module}"))
+    })
+}

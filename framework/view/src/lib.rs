@@ -2,7 +2,7 @@
 //!
 //! `raylab view`: a page served on 127.0.0.1 that shows a render converging. A worker thread
 //! renders passes of a few samples per pixel through each pipeline (the student's and, beside
-//! it, the reference) with [`pipeline::render::render_partial`], so a panicking function
+//! it, the reference) with [`raylab_core::render::render_partial_with`], so a panicking function
 //! marks its pixels instead of stopping anything; the passes accumulate into each pixel's mean
 //! until the camera moves, which starts the accumulation again at once. The render pauses when
 //! the images have converged to [`TARGET_ERROR`] (the error estimated from the passes), and
