@@ -821,3 +821,59 @@ mod tests {
         let _ = fs::remove_dir_all(&dir);
     }
 }
+
+/// What the handout's README and `raylab render --help` tell students about a lab whose
+/// solution is not released, held against what the code does.
+#[cfg(test)]
+mod student_facing_claims {
+    use clap::ValueEnum;
+    use pipeline::Pipeline;
+    use pipeline::render::render_partial;
+    use raylab_core::render::RenderSettings;
+    use raylab_core::scene::builtin_scene;
+
+    use super::*;
+    use crate::render::PipelineChoice;
+
+    /// A render in a pipeline that waits for labs 1 and 2 (a handout before any release): every
+    /// pixel panicked, each naming lab 1 as the one it waits for.
+    fn waiting_render() -> raylab_core::render::PartialRender {
+        let scene = builtin_scene("default").unwrap();
+        let settings = RenderSettings {
+            width: 8,
+            height: 6,
+            ..RenderSettings::default()
+        };
+        render_partial(&scene, &Pipeline::waiting(2), &settings).unwrap()
+    }
+
+    #[test]
+    fn a_lab_not_released_is_waited_for_as_the_texts_say() {
+        let text = readme(&BTreeSet::new());
+        // The README quotes the words of the check that waits: the waiting slot's message.
+        let quoted = "waiting for lab N's solution";
+        assert!(text.contains(quoted), "{text}");
+        let rendered = waiting_render();
+        let failures = rendered.failures.sorted();
+        assert_eq!(failures.len(), 1, "{failures:?}");
+        assert_eq!(failures[0].pixels, 8 * 6);
+        let message = &failures[0].panic.message;
+        assert!(
+            message.contains(&quoted.replace('N', "1")),
+            "the waiting slot says {message:?}; the README quotes {quoted:?}"
+        );
+        // Those pixels are the magenta ones the README and `--help` speak of.
+        assert!(rendered.panicked.iter().all(|&p| p));
+        assert!(text.contains("magenta, waiting for it"), "{text}");
+        let help = PipelineChoice::Reference
+            .to_possible_value()
+            .and_then(|v| v.get_help().map(ToString::to_string))
+            .unwrap_or_default();
+        assert!(help.contains("waiting for it"), "{help}");
+        // No text says a released pipeline runs the student's own code in another lab's place.
+        for said in [&text, &help] {
+            assert!(!said.contains("your own code for the labs"), "{said}");
+            assert!(!said.contains("runs your own code"), "{said}");
+        }
+    }
+}
