@@ -1,19 +1,20 @@
 //! The film: floating-point RGB radiance per pixel, tone mapping to displayable values, and
 //! image output (sRGB PNG for viewing, OpenEXR for exact float comparison).
 
+mod bounded;
 mod color;
 mod decode;
+mod decoded;
 mod image_io;
 mod openexr;
 mod rgbe;
 mod tonemap;
 
+pub(crate) use bounded::one_line;
+pub use bounded::{LoadBudget, read_bounded, read_text_bounded};
 pub use color::{linear_to_srgb, luminance, srgb_to_linear};
 pub(crate) use decode::decode_image;
-pub(crate) use image_io::one_line;
-pub use image_io::{
-    LoadBudget, read_bounded, read_exr, read_text_bounded, write_exr, write_png, write_srgb8_png,
-};
+pub use image_io::{read_exr, write_exr, write_png, write_srgb8_png};
 pub use rgbe::RgbeImage;
 pub use tonemap::ToneMap;
 

@@ -8,8 +8,8 @@
 use glam::Vec3;
 
 use super::Film;
-use super::decode::{DecodedImage, check_size};
-use super::image_io::LoadBudget;
+use super::bounded::LoadBudget;
+use super::decoded::{DecodedImage, check_size};
 
 /// The magic number every OpenEXR file starts with.
 const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
@@ -705,7 +705,7 @@ fn zip_decompress(data: &[u8], expected: usize, index: usize) -> Result<Vec<u8>,
         }
         status => format!(
             "chunk {index}'s ZIP data is not zlib data ({})",
-            super::decode::words(&format!("{status:?}"))
+            super::decoded::words(&format!("{status:?}"))
         ),
     })?;
     if out.len() != expected {

@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::Film;
-use super::image_io::{LoadBudget, create_parent, read_bounded};
+use super::bounded::{LoadBudget, create_parent, read_bounded};
 use crate::Error;
 
 /// The pixels of a Radiance file as stored: `[r, g, b, e]` per pixel, row by row from the top.
