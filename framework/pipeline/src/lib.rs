@@ -462,7 +462,7 @@ impl Pipeline {
                 emitted + self.shade_dielectric(scene, ray, &hit, material, rng)
             }
             IllumModel::Transparent | IllumModel::AbsorbingVolume => {
-                emitted + self.trace_refracted(scene, ray, &hit, material.ior, rng)
+                emitted + self.trace_refracted(scene, ray, &hit, material.ior, false, rng)
             }
             IllumModel::Glossy | IllumModel::GlossyVolume => {
                 // The worksheet's glossy shader: a little Phong and mirror, mostly refraction
@@ -470,7 +470,7 @@ impl Pipeline {
                 emitted
                     + 0.1 * self.shade_phong(scene, ray, &hit, diffuse, rng)
                     + 0.1 * self.trace_reflected(scene, ray, &hit, rng)
-                    + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, rng)
+                    + 0.9 * self.trace_refracted(scene, ray, &hit, material.ior, false, rng)
             }
             IllumModel::Phong => {
                 emitted
@@ -576,28 +576,6 @@ impl Pipeline {
         self.radiance_at(scene, &reflected, RayKind::Reflected, depth, hit.ior, rng)
     }
 
-    /// Radiance along the refracted direction, or the reflected one under total internal
-    /// reflection (black past the depth limit).
-    fn trace_refracted(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        hit: &Hit,
-        material_ior: f32,
-        rng: &mut Rng,
-    ) -> Vec3 {
-        if hit.trace_depth >= self.max_depth {
-            return Vec3::ZERO;
-        }
-        match self.reflection().refracted_ray(ray, hit, material_ior) {
-            Some((refracted, ior)) => {
-                let depth = hit.trace_depth + 1;
-                self.radiance_at(scene, &refracted, RayKind::Refracted, depth, ior, rng)
-            }
-            None => self.trace_reflected(scene, ray, hit, rng),
-        }
-    }
-
     /// Lab 10's shaders of a dielectric (DTU `Transparent`, `Glossy`, `Volume` and
     /// `GlossyVolume` with Fresnel): the reflected and refracted radiance weighted by the
     /// Fresnel reflectance, plus the Phong highlight (the specular lobe alone) on a glossy
@@ -610,7 +588,7 @@ impl Pipeline {
         material: &Material,
         rng: &mut Rng,
     ) -> Vec3 {
-        let mut radiance = self.trace_fresnel(scene, ray, hit, material.ior, rng);
+        let mut radiance = self.trace_refracted(scene, ray, hit, material.ior, true, rng);
         if matches!(
             material.illum,
             IllumModel::Glossy | IllumModel::GlossyVolume
@@ -628,16 +606,17 @@ impl Pipeline {
         radiance * self.medium_transmittance(ray.direction, hit, material)
     }
 
-    /// `R` times the radiance along the reflected ray plus `1 − R` times the radiance along
-    /// the refracted ray, `R` the Fresnel reflectance (lab 10) at the interface lab 04 finds;
-    /// the reflected radiance alone under total internal reflection (black past the depth
-    /// limit).
-    fn trace_fresnel(
+    /// Radiance through a dielectric interface: along the refracted ray lab 04 finds or, when
+    /// `fresnel`, `R` times the radiance along the reflected ray plus `1 − R` times that, `R`
+    /// the Fresnel reflectance (lab 10); the reflected radiance alone under total internal
+    /// reflection (black past the depth limit).
+    fn trace_refracted(
         &self,
         scene: &Scene,
         ray: &Ray,
         hit: &Hit,
         material_ior: f32,
+        fresnel: bool,
         rng: &mut Rng,
     ) -> Vec3 {
         if hit.trace_depth >= self.max_depth {
@@ -646,6 +625,10 @@ impl Pipeline {
         let Some((refracted, ior)) = self.reflection().refracted_ray(ray, hit, material_ior) else {
             return self.trace_reflected(scene, ray, hit, rng);
         };
+        let depth = hit.trace_depth + 1;
+        if !fresnel {
+            return self.radiance_at(scene, &refracted, RayKind::Refracted, depth, ior, rng);
+        }
         let side = self
             .reflection()
             .interface(ray.direction, hit, material_ior);
@@ -661,7 +644,6 @@ impl Pipeline {
             radiance += r * self.trace_reflected(scene, ray, hit, rng);
         }
         if r != 1.0 {
-            let depth = hit.trace_depth + 1;
             radiance += (1.0 - r)
                 * self.radiance_at(scene, &refracted, RayKind::Refracted, depth, ior, rng);
         }
