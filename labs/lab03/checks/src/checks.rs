@@ -28,6 +28,7 @@ use pipeline::{Pipeline, View};
 use raylab_core::render::RenderSettings;
 
 mod area_light;
+mod cornell;
 mod irradiance;
 mod jitter;
 mod shadow_rays;
@@ -35,11 +36,12 @@ mod soft_shadows;
 mod triangle_sampling;
 
 pub use area_light::area_sample_strategy;
+pub use cornell::snapshot_scene;
 pub use irradiance::{
     IRRADIANCE_ALPHA, IRRADIANCE_ESTIMATES, IRRADIANCE_LEVELS, MIN_STRATIFICATION_GAIN,
     check_irradiance, form_factor_parallel_corner, irradiance_parallel_rectangle,
 };
-pub use shadow_rays::{TMAX_SHORT_BY, TMIN_RANGE, render_point_snapshot, snapshot_scene};
+pub use shadow_rays::{TMAX_SHORT_BY, TMIN_RANGE, render_point_snapshot};
 pub use soft_shadows::{AREA_TOLERANCE, area_statistics, check_area_snapshot, render_area};
 
 use area_light::exercise_3_4;

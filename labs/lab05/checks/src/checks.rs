@@ -39,20 +39,21 @@ mod inputs;
 mod lights;
 mod monte_carlo;
 
-pub use hemisphere_integral::{
-    COARSE_STEPS, RadianceProfile, coarse_profiles, midpoint_in_mu, midpoint_in_theta,
-};
+pub use hemisphere_integral::{COARSE_STEPS, coarse_profiles, midpoint_in_mu, midpoint_in_theta};
 pub use inputs::{
     BulbInput, EmitterInput, EquivalentInput, IlluminanceInput, ObservationInput, PhotonsInput,
-    RadiosityInput, WORKSHEET_BULB, WORKSHEET_EMITTER, WORKSHEET_EQUIVALENT, WORKSHEET_ILLUMINANCE,
-    WORKSHEET_OBSERVATION, WORKSHEET_PHOTONS, WORKSHEET_RADIOSITY, WORKSHEET_TABLE, bulb_strategy,
-    emitter_strategy, equivalent_strategy, illuminance_strategy, magnitude, observation_strategy,
-    photons_strategy, radiosity_strategy, wavelength,
+    RadianceProfile, RadiosityInput, WORKSHEET_BULB, WORKSHEET_EMITTER, WORKSHEET_EQUIVALENT,
+    WORKSHEET_ILLUMINANCE, WORKSHEET_OBSERVATION, WORKSHEET_PHOTONS, WORKSHEET_RADIOSITY,
+    WORKSHEET_TABLE, bulb_strategy, emitter_strategy, equivalent_strategy, illuminance_strategy,
+    magnitude, observation_strategy, photons_strategy, radiosity_strategy, wavelength,
 };
-pub use lights::{LightCase, MC_ESTIMATES_TILTED, MC_SAMPLES_TILTED, light_cases, mean_cases};
+pub use lights::{
+    LightCase, MC_ESTIMATES, MC_ESTIMATES_TILTED, MC_SAMPLES, MC_SAMPLES_TILTED, light_cases,
+    mean_cases,
+};
 pub use monte_carlo::{
-    BIG_LIGHT, Estimator, EstimatorVariance, MC_ALPHA, MC_ESTIMATES, MC_SAMPLES, MC_SCALES,
-    VARIANCE_SLACK, estimate, estimates, mean_and_variance,
+    BIG_LIGHT, Estimator, EstimatorVariance, MC_ALPHA, MC_SCALES, VARIANCE_SLACK, estimate,
+    estimates, mean_and_variance,
 };
 
 use closed_forms::{

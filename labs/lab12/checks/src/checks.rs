@@ -13,8 +13,6 @@ use glam::Vec3;
 use contracts::lab12::PathTracing;
 use grading::{Exercise, GoldenFile, LabContext};
 
-use crate::sky::{exercise_12_11, exercise_12_12, exercise_12_13};
-
 mod accumulation;
 mod bsdf;
 mod bsdf_sampling;
@@ -22,6 +20,7 @@ mod cornell;
 mod light_sampling;
 mod mis_roulette;
 mod path_loop;
+pub mod sky;
 
 pub use accumulation::{GOLDEN_RELATIVE_ERROR, estimates, relative_error_inputs};
 pub use bsdf::{
@@ -48,6 +47,7 @@ use bsdf_sampling::exercise_12_3;
 use light_sampling::{exercise_12_4, exercise_12_5};
 use mis_roulette::{exercise_12_6, exercise_12_7};
 use path_loop::exercise_12_8;
+use sky::{exercise_12_11, exercise_12_12, exercise_12_13};
 
 /// This lab.
 pub const LAB: course::LabId = course::LabId::of(12);

@@ -2,9 +2,10 @@
 //! their golden data (docs/lab12.md).
 
 pub mod checks;
+
+pub use checks::sky;
 #[cfg(feature = "report")]
 pub mod report;
-pub mod sky;
 
 use std::path::PathBuf;
 use std::sync::Arc;

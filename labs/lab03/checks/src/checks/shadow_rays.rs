@@ -17,9 +17,10 @@ use raylab_core::sampling::Rng;
 use raylab_core::scene::Hit;
 use raylab_core::scene::{
     CameraSetup, DirectionalLight, Light, Material, MaterialId, Mesh, Plane, PointLight, Scene,
-    SceneDescription, builtin_scene,
+    SceneDescription,
 };
 
+use super::cornell::snapshot_scene;
 use super::soft_shadows::check_area_snapshot;
 use super::{Part, SNAPSHOT_LIGHT_SAMPLES, SNAPSHOT_POINT, SNAPSHOT_SETTINGS, part_pipeline};
 
@@ -399,22 +400,6 @@ fn check_small_scenes(s: &Arc<dyn Shadows>, base: &Pipeline) -> Result<(), Strin
         ));
     }
     Ok(())
-}
-
-/// The Cornell box with only its point light (`point = true`) or only its area light.
-pub fn snapshot_scene(point: bool) -> Result<Scene, raylab_core::Error> {
-    let mut scene = builtin_scene("cornell")?;
-    scene.lights.retain(|l| match l {
-        Light::Point(_) => point,
-        Light::Area(_) => !point,
-        Light::Directional(_) => false,
-    });
-    scene.name = if point {
-        "cornell, point light only".into()
-    } else {
-        "cornell, area light only".into()
-    };
-    Ok(scene)
 }
 
 /// The hard-shadow snapshot of a part: the Cornell box lit by its point light.

@@ -10,7 +10,7 @@ use pipeline::render::render;
 use raylab_core::film::Film;
 use raylab_core::render::RenderSettings;
 
-use super::shadow_rays::snapshot_scene;
+use super::cornell::snapshot_scene;
 use super::{
     Part, REFERENCE_SEEDS, SNAPSHOT_AREA, SNAPSHOT_LIGHT_SAMPLES, SNAPSHOT_SETTINGS, STUDENT_SEEDS,
     part_pipeline,

@@ -3,51 +3,14 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
 use contracts::lab05::Radiometry;
 use grading::{LabContext, for_all};
 
-use super::inputs::{RadiosityInput, WORKSHEET_RADIOSITY, radiosity_strategy};
+use super::inputs::{RadianceProfile, RadiosityInput, WORKSHEET_RADIOSITY, radiosity_strategy};
 use super::{
     CASES, GOLDEN_RADIOSITY, LAW_TOL, QUADRATURE_TOL, REL_TOL, check_against_key, check_golden,
     rel_close,
 };
-
-/// A radiance distribution over the hemisphere for Exercise 5.7:
-/// `L(θ, φ) = constant + cosine·cos θ + cosine_squared·cos² θ + azimuthal·sin θ·cos φ`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RadianceProfile {
-    /// Uniform part (a diffuse surface), W/(m² sr).
-    pub constant: f64,
-    /// Coefficient of `cos θ`.
-    pub cosine: f64,
-    /// Coefficient of `cos² θ`.
-    pub cosine_squared: f64,
-    /// Coefficient of `sin θ cos φ` (tilted lobe; integrates to zero against `cos θ`).
-    pub azimuthal: f64,
-}
-
-impl RadianceProfile {
-    /// `L(θ, φ)`.
-    pub fn radiance(&self, theta: f64, phi: f64) -> f64 {
-        let c = theta.cos();
-        self.constant
-            + self.cosine * c
-            + self.cosine_squared * c * c
-            + self.azimuthal * theta.sin() * phi.cos()
-    }
-
-    /// The profile with every coefficient times `k`.
-    fn scaled(&self, k: f64) -> Self {
-        Self {
-            constant: k * self.constant,
-            cosine: k * self.cosine,
-            cosine_squared: k * self.cosine_squared,
-            azimuthal: k * self.azimuthal,
-        }
-    }
-}
 
 /// The student's radiosity of a profile.
 fn radiosity_of(s: &dyn Radiometry, (profile, steps): &RadiosityInput) -> f64 {

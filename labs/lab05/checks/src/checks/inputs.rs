@@ -4,7 +4,7 @@ use std::f64::consts::PI;
 
 use proptest::prelude::*;
 
-use super::hemisphere_integral::RadianceProfile;
+use serde::{Deserialize, Serialize};
 
 /// Input of 5.1: electrical power (W), efficiency, wavelength (nm).
 pub type PhotonsInput = (f64, f64, f64);
@@ -110,4 +110,39 @@ pub fn radiosity_strategy() -> impl Strategy<Value = RadiosityInput> + Clone {
                 steps,
             )
         })
+}
+
+/// A radiance distribution over the hemisphere for Exercise 5.7:
+/// `L(θ, φ) = constant + cosine·cos θ + cosine_squared·cos² θ + azimuthal·sin θ·cos φ`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RadianceProfile {
+    /// Uniform part (a diffuse surface), W/(m² sr).
+    pub constant: f64,
+    /// Coefficient of `cos θ`.
+    pub cosine: f64,
+    /// Coefficient of `cos² θ`.
+    pub cosine_squared: f64,
+    /// Coefficient of `sin θ cos φ` (tilted lobe; integrates to zero against `cos θ`).
+    pub azimuthal: f64,
+}
+
+impl RadianceProfile {
+    /// `L(θ, φ)`.
+    pub fn radiance(&self, theta: f64, phi: f64) -> f64 {
+        let c = theta.cos();
+        self.constant
+            + self.cosine * c
+            + self.cosine_squared * c * c
+            + self.azimuthal * theta.sin() * phi.cos()
+    }
+
+    /// The profile with every coefficient times `k`.
+    pub(super) fn scaled(&self, k: f64) -> Self {
+        Self {
+            constant: k * self.constant,
+            cosine: k * self.cosine,
+            cosine_squared: k * self.cosine_squared,
+            azimuthal: k * self.azimuthal,
+        }
+    }
 }

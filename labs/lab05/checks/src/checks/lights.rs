@@ -5,7 +5,10 @@ use glam::DVec3;
 use contracts::lab05::{Receiver, RectangleLight};
 use grading::radiometry::irradiance_polygon;
 
-use super::monte_carlo::{MC_ESTIMATES, MC_SAMPLES};
+/// Samples per estimate in the Monte Carlo checks.
+pub const MC_SAMPLES: u32 = 16;
+/// Estimates per configuration and scale.
+pub const MC_ESTIMATES: u32 = 256;
 
 /// One area-light configuration of the Monte Carlo checks.
 #[derive(Clone, Copy, Debug)]

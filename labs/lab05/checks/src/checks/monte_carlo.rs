@@ -11,14 +11,10 @@ use grading::{GoldenFile, LabContext};
 use raylab_core::sampling::Rng;
 
 use super::GOLDEN_VARIANCE;
-use super::lights::{LightCase, light_cases, mean_cases};
+use super::lights::{LightCase, MC_ESTIMATES, MC_SAMPLES, light_cases, mean_cases};
 
 /// The configuration where the cosine estimator's variance is below the area estimator's.
 pub const BIG_LIGHT: usize = 2;
-/// Samples per estimate in the Monte Carlo checks.
-pub const MC_SAMPLES: u32 = 16;
-/// Estimates per configuration and scale.
-pub const MC_ESTIMATES: u32 = 256;
 /// The scales of the mean test (the ends and the middle of
 /// [`SCALES`](grading::strategies::SCALES)) and the radiance
 /// factor at each.

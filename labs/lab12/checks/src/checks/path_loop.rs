@@ -355,6 +355,6 @@ pub(super) fn exercise_12_8(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Resul
             world.max_depth
         ));
     }
-    crate::sky::check_sky_furnace(s, ctx)?;
+    super::sky::check_sky_furnace(s, ctx)?;
     check_cornell(s, ctx)
 }

@@ -21,7 +21,7 @@ use pipeline::render::render;
 use raylab_core::render::RenderSettings;
 use raylab_core::scene::{EnvironmentMap, ProbeMapping, ProceduralProbe, Texture};
 
-use crate::checks::SIGNIFICANCE;
+use super::{SIGNIFICANCE, cornell_pipeline};
 
 /// A test sky: a `width × height` latitude–longitude image of luminance, row by row from the
 /// top.
@@ -607,7 +607,7 @@ pub fn check_sky_furnace(s: &Arc<dyn PathTracing>, ctx: &LabContext) -> Result<(
         mapping: ProbeMapping::Latlong,
         scale: 1.0,
     });
-    let pipeline = crate::checks::cornell_pipeline(s, &ctx.base)?;
+    let pipeline = cornell_pipeline(s, &ctx.base)?;
     // Without a distribution (the lab's Exercise 12.11 broken, and no key), the sky is found by
     // BSDF samples only: still one in the furnace.
     let pipeline = prepare(pipeline, &scene, |_| {});
