@@ -14,6 +14,8 @@ mod gradescope;
 #[cfg(feature = "instructor")]
 mod handout;
 mod hint;
+#[cfg(feature = "instructor")]
+mod html;
 mod lab_program;
 mod labs;
 #[cfg(feature = "instructor")]
@@ -21,6 +23,8 @@ mod new_lab;
 mod render;
 mod report;
 mod reset;
+#[cfg(feature = "instructor")]
+mod similar_pairs;
 #[cfg(feature = "instructor")]
 mod similarity;
 mod status;

@@ -16,33 +16,23 @@ use std::process::Command;
 
 use clap::Args;
 use course::LabId;
-use maud::{Markup, html};
+use maud::html;
 use raylab_core::Error;
 
-use crate::grade::reports::{SORT_SCRIPT, page, section_list};
+use crate::grade::class::{graded_labs, student_names};
 use crate::grade::submission::{LabSources, lab_sources, read_regular, shown};
-use crate::grade::{graded_labs, student_names};
 use crate::handout::{io, repository_root};
+use crate::html::{SORT_SCRIPT, page, section_list};
+use crate::similar_pairs::{CSV, MAX_CSV_BYTES, PAGE, link_for_class_page};
 
-/// The page of similar pairs, in the output directory.
-pub const PAGE: &str = "similarity.html";
-/// The similar pairs as CSV, in the output directory: `lab`, `student_a`, `student_b`,
-/// `similarity` (0 to 1), `longest_fragment` (in k-grams of tokens), `fragment_a`, `fragment_b`
-/// (where the longest shared fragment is in each, `labs/labNN/src/FILE:LINE–LINE`).
-pub const CSV: &str = "similarity.csv";
 /// The files given to Dolos (each student's joined sources per lab), in the output directory.
 const WORK: &str = ".similarity";
 /// The command that installs Dolos, for the error that says it is missing.
 const INSTALL: &str = "bash labs/raylab/scripts/install-dolos.sh";
-/// The largest [`CSV`] read back for the class page (8 MiB).
-const MAX_CSV_BYTES: u64 = 8 << 20;
 /// The most lines of a shared fragment shown on the page, per side.
 const MAX_FRAGMENT_LINES: usize = 80;
 /// The most pairs whose fragments [`PAGE`] shows (the most similar ones; all are listed).
 const MAX_FRAGMENT_PAIRS: usize = 200;
-/// The most pairs listed on the class page (all are in [`PAGE`]).
-const MAX_CLASS_PAGE_PAIRS: usize = 20;
-
 /// Options of `raylab similarity`.
 #[derive(Args, Debug)]
 pub struct SimilarityArgs {
@@ -573,36 +563,6 @@ fn similarity_page(
         }
     };
     page("Similar submissions", body, Some(SORT_SCRIPT))
-}
-
-/// The section of the class page (`index.html` of `raylab grade`) on similar submissions, when
-/// `raylab similarity` wrote its results into `dir`: how many pairs, the most similar ones, and
-/// a link to [`PAGE`]. `None` when `dir` holds no readable [`CSV`].
-pub fn link_for_class_page(dir: &Path) -> Option<Markup> {
-    let bytes = read_regular(&dir.join(CSV), MAX_CSV_BYTES).ok()?;
-    let mut reader = csv::Reader::from_reader(bytes.as_slice());
-    let rows: Vec<csv::StringRecord> = reader.records().collect::<Result<_, _>>().ok()?;
-    Some(html! {
-        section id="similarity" {
-            h2 { "Similar submissions" }
-            p {
-                (rows.len()) " pairs at or above the threshold of "
-                code { "raylab similarity" } ": see " a href=(PAGE) { (PAGE) } "."
-            }
-            @if !rows.is_empty() {
-                table {
-                    thead { tr { th { "lab" } th { "student A" } th { "student B" } th { "similarity" } } }
-                    tbody {
-                        @for row in rows.iter().take(MAX_CLASS_PAGE_PAIRS) {
-                            tr {
-                                @for k in 0..4 { td { (row.get(k).unwrap_or_default()) } }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    })
 }
 
 /// Puts [`link_for_class_page`]'s section into the class page `dir/index.html`, if there is one

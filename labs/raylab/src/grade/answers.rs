@@ -12,7 +12,7 @@ use course::answers::{Answer, ImageLink, Question};
 use maud::{Markup, html};
 use raylab_core::Error;
 
-use super::StudentGrade;
+use super::markdown::code_span;
 use super::submission::{self, MAX_ANSWER_IMAGE_BYTES, MAX_ANSWER_IMAGES_BYTES};
 use crate::handout::io;
 
@@ -168,7 +168,7 @@ impl LabAnswers {
                     let _ = write!(
                         out,
                         "*(the image {} was not taken: {why})*",
-                        super::reports::code_span(&image.link.target)
+                        code_span(&image.link.target)
                     );
                 }
             }
@@ -276,48 +276,5 @@ impl LabAnswers {
     /// The questions with the answer of each, for Gradescope's page: `(question, answer)`.
     pub fn questions_and_answers(&self) -> impl Iterator<Item = (&Question, &str)> {
         self.questions.iter().map(|q| (q, self.answer(q)))
-    }
-}
-
-/// The class page's table of written answers: per student and lab, how many questions are
-/// answered, linking to the answers in the student's report. Nothing when no one wrote any.
-pub fn class_table(grades: &[StudentGrade]) -> Markup {
-    let labs: Vec<LabId> = {
-        let mut labs: Vec<LabId> = grades
-            .iter()
-            .flat_map(|g| g.answers.iter().map(|a| a.lab))
-            .collect();
-        labs.sort();
-        labs.dedup();
-        labs
-    };
-    html! {
-        @if !labs.is_empty() {
-            h2 { "Written answers" }
-            p { "Questions answered in each lab's " code { "answers.md" } ", to grade by hand." }
-            table class="sortable" {
-                thead { tr { th { "student" } @for lab in &labs { th { "lab " (format!("{:02}", lab.number())) } } } }
-                tbody {
-                    @for g in grades {
-                        tr {
-                            td { (g.student) }
-                            @for lab in &labs {
-                                @match g.answers.iter().find(|a| a.lab == *lab) {
-                                    Some(a) => {
-                                        @let (answered, total) = a.counts();
-                                        td data-v=(answered) {
-                                            a href={ (g.student) "/report.html#answers-" (lab) } {
-                                                (answered) "/" (total)
-                                            }
-                                        }
-                                    }
-                                    None => td data-v="-1" { "none" },
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
     }
 }

@@ -9,7 +9,7 @@ use base64::Engine as _;
 use maud::html;
 
 use super::answers::LabAnswers;
-use super::{ExerciseGrade, StudentGrade};
+use super::grades::{ExerciseGrade, StudentGrade, image_caption};
 
 /// The most image bytes (before encoding) one `results.json` carries: Gradescope stores the
 /// file with the submission, and a page of megabytes loads slowly. Images past it are named,
@@ -103,7 +103,7 @@ pub fn gradescope_html(e: &ExerciseGrade, output: &str, dir: &Path, budget: &mut
         .iter()
         .filter_map(|image| {
             let url = budgeted_data_url(dir, image, budget)?;
-            Some((super::reports::image_caption(image), url))
+            Some((image_caption(image), url))
         })
         .collect();
     let left_out = e.images.len() - shown.len();

@@ -8,14 +8,18 @@ use std::path::Path;
 use std::time::Duration;
 
 use grading::Visibility;
-use maud::{DOCTYPE, Markup, PreEscaped, html};
+use maud::{Markup, html};
 use raylab_core::Error;
 
 use crate::bench::median;
 
+use super::feedback;
+use super::grades::{ExerciseGrade, Status, StudentGrade, image_caption};
+use super::markdown::{code_span, fenced, table_cell};
 use super::term::{CourseTerms, LabDeadline, Lateness, ManualPoints, Submitted, rfc3339};
-use super::{ExerciseGrade, Status, StudentGrade, feedback};
 use crate::handout::io;
+use crate::html::{SORT_SCRIPT, page, section_list, stamp};
+use crate::similar_pairs::link_for_class_page;
 
 /// Writes `report.md`, `report.html` and `results.json` of `grade` into `dir`. Nothing in a
 /// grade names a place of the grader's machine: the student's code could read none (its build
@@ -53,7 +57,7 @@ pub fn write_class(
     write(&dir.join("timings.csv"), &timings(grades))?;
     write(
         &dir.join("index.html"),
-        &index(grades, crate::similarity::link_for_class_page(dir)),
+        &index(grades, link_for_class_page(dir)),
     )
 }
 
@@ -177,25 +181,6 @@ fn result_label(e: &ExerciseGrade) -> String {
     }
 }
 
-/// `text` as a Markdown code span: shown as it is, never read as Markdown or HTML (a file
-/// name in a submission is the student's to choose: `docs/<img src=x onerror=…>.md`). The
-/// fence is one backtick longer than the longest run in `text`; control characters become
-/// U+FFFD.
-pub(super) fn code_span(text: &str) -> String {
-    let text: String = text
-        .chars()
-        .map(|c| if c.is_control() { '\u{fffd}' } else { c })
-        .collect();
-    let mut longest = 0;
-    let mut run = 0;
-    for c in text.chars() {
-        run = if c == '`' { run + 1 } else { 0 };
-        longest = longest.max(run);
-    }
-    let fence = "`".repeat(longest + 1);
-    format!("{fence} {text} {fence}")
-}
-
 fn markdown(grade: &StudentGrade) -> String {
     let mut md = format!(
         "# Grade report: {}\n\n**{}/{} points**\n\n",
@@ -316,70 +301,8 @@ fn markdown(grade: &StudentGrade) -> String {
     md
 }
 
-/// `text` in a Markdown table cell: as text (no HTML, no Markdown), on one line, with its
-/// pipes escaped.
-fn table_cell(text: &str) -> String {
-    if text.is_empty() {
-        return String::new();
-    }
-    code_span(text).replace('|', "\\|")
-}
-
 /// The heading of what the student's code printed, set apart from the verdict.
 const PROGRAM_OUTPUT: &str = "Output of your code (as it printed it; not part of the verdict)";
-
-/// `text` as a Markdown code block whose fence no line of `text` can close.
-fn fenced(text: &str) -> String {
-    let longest = text.split(|c| c != '`').map(str::len).max().unwrap_or(0);
-    let fence = "`".repeat(longest.max(2) + 1);
-    format!("{fence}text\n{text}\n{fence}\n")
-}
-
-/// "student", "reference" or "difference", from a failure image's file name.
-pub(super) fn image_caption(image: &Path) -> String {
-    let stem = image.file_stem().unwrap_or_default().to_string_lossy();
-    stem.rsplit('-').next().unwrap_or_default().to_string()
-}
-
-const STYLE: &str = "body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em}\
-table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.3em .6em;text-align:left}\
-.passed{color:#060}.failed{color:#a00}pre{background:#f4f4f4;padding:.6em;white-space:pre-wrap}\
-pre.program{border-left:4px solid #c90}\
-.images{display:flex;gap:1em;flex-wrap:wrap}figure{margin:0}img{image-rendering:pixelated;\
-width:320px;border:1px solid #ccc}footer{margin-top:2em;color:#666}\
-pre.answer{background:#f4f8ff;border-left:4px solid #36c}";
-
-/// A page with `title`, the shared style, `body` and the grader's stamp at its foot.
-pub(crate) fn page(title: &str, body: Markup, script: Option<&str>) -> String {
-    html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                title { (title) }
-                style { (PreEscaped(STYLE)) }
-            }
-            body {
-                (body)
-                footer { p { (stamp()) } }
-                @if let Some(script) = script {
-                    script { (PreEscaped(script)) }
-                }
-            }
-        }
-    }
-    .into_string()
-}
-
-/// A titled list, or nothing when `lines` is empty.
-pub(crate) fn section_list(title: Markup, lines: &[String]) -> Markup {
-    html! {
-        @if !lines.is_empty() {
-            h2 { (title) }
-            ul { @for line in lines { li { (line) } } }
-        }
-    }
-}
 
 fn html(grade: &StudentGrade) -> String {
     let body = html! {
@@ -748,21 +671,6 @@ fn junit(grades: &[StudentGrade]) -> String {
     report.to_string().unwrap_or_default()
 }
 
-/// The grader's version and the time of writing, for the foot of every report.
-fn stamp() -> String {
-    format!(
-        "raylab {} (grader), {}",
-        env!("CARGO_PKG_VERSION"),
-        utc_time(crate::utc::now())
-    )
-}
-
-/// `seconds` since the Unix epoch as `YYYY-MM-DD HH:MM UTC`.
-fn utc_time(seconds: u64) -> String {
-    let [year, month, day, hour, minute, _] = crate::utc::date_time(seconds);
-    format!("{year:04}-{month:02}-{day:02} {hour:02}:{minute:02} UTC")
-}
-
 /// Mean and median of `values`, as table cells.
 fn mean_median(values: &mut [f64]) -> Markup {
     let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
@@ -772,10 +680,6 @@ fn mean_median(values: &mut [f64]) -> Markup {
         td data-v=(median) { (format!("{median:.1}")) }
     }
 }
-
-/// Sorts a table by the column whose header is clicked (numbers as numbers), each click
-/// reversing the order.
-pub(crate) const SORT_SCRIPT: &str = "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.style.cursor='pointer';th.title='sort';th.onclick=()=>{const t=th.closest('table'),b=t.tBodies[0],rows=[...b.rows],up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';const key=r=>{const s=r.cells[i].dataset.v??r.cells[i].textContent;const n=parseFloat(s);return isNaN(n)?s:n};rows.sort((x,y)=>{const a=key(x),c=key(y);return (a<c?-1:a>c?1:0)*(up?1:-1)});rows.forEach(r=>b.appendChild(r))}});";
 
 /// The class page: each student's points per lab and total, linking to their report; per lab
 /// and per exercise the mean and median points and how many passed; the tables sort by any
@@ -857,7 +761,7 @@ fn index(grades: &[StudentGrade], similarity: Option<Markup>) -> String {
                 }
             }
         }
-        (super::answers::class_table(grades))
+        (class_table(grades))
         @if let Some(similarity) = similarity { (similarity) }
         p { "Also: gradebook.csv, canvas.csv (for Canvas's gradebook import), junit.xml, each student's results.json (Gradescope), and in "
             code { "pages/" } " each student's report as one file with its images inlined." }
@@ -899,29 +803,55 @@ fn exercise_statistics(grades: &[StudentGrade], k: usize) -> (Vec<f64>, usize, S
     (earned, passed, common)
 }
 
+/// The class page's table of written answers: per student and lab, how many questions are
+/// answered, linking to the answers in the student's report. Nothing when no one wrote any.
+fn class_table(grades: &[StudentGrade]) -> Markup {
+    let labs: Vec<LabId> = {
+        let mut labs: Vec<LabId> = grades
+            .iter()
+            .flat_map(|g| g.answers.iter().map(|a| a.lab))
+            .collect();
+        labs.sort();
+        labs.dedup();
+        labs
+    };
+    html! {
+        @if !labs.is_empty() {
+            h2 { "Written answers" }
+            p { "Questions answered in each lab's " code { "answers.md" } ", to grade by hand." }
+            table class="sortable" {
+                thead { tr { th { "student" } @for lab in &labs { th { "lab " (format!("{:02}", lab.number())) } } } }
+                tbody {
+                    @for g in grades {
+                        tr {
+                            td { (g.student) }
+                            @for lab in &labs {
+                                @match g.answers.iter().find(|a| a.lab == *lab) {
+                                    Some(a) => {
+                                        @let (answered, total) = a.counts();
+                                        td data-v=(answered) {
+                                            a href={ (g.student) "/report.html#answers-" (lab) } {
+                                                (answered) "/" (total)
+                                            }
+                                        }
+                                    }
+                                    None => td data-v="-1" { "none" },
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use base64::Engine as _;
     use course::ExerciseInfo;
     use std::path::PathBuf;
-
-    #[test]
-    fn utc_time_of_known_instants() {
-        assert_eq!(utc_time(0), "1970-01-01 00:00 UTC");
-        // 2000-02-29 12:34 UTC, a leap day in a year divisible by 400.
-        assert_eq!(utc_time(951_827_640), "2000-02-29 12:34 UTC");
-        assert_eq!(utc_time(1_798_761_599), "2026-12-31 23:59 UTC");
-    }
-
-    #[test]
-    fn file_names_in_markdown_are_code() {
-        assert_eq!(
-            code_span("modified: docs/<img src=x onerror=alert(1)>.md"),
-            "` modified: docs/<img src=x onerror=alert(1)>.md `"
-        );
-        assert_eq!(code_span("a``b`\nc"), "``` a``b`\u{fffd}c ```");
-    }
 
     #[test]
     fn median_of_odd_and_even_counts() {
@@ -1031,7 +961,7 @@ mod tests {
         let class = fs::read_to_string(dir.join("index.html")).unwrap();
         assert!(!class.contains("similarity.html"), "{class}");
         fs::write(
-            dir.join(crate::similarity::CSV),
+            dir.join(crate::similar_pairs::CSV),
             "lab,student_a,student_b,similarity,longest_fragment,fragment_a,fragment_b\n\
              lab01,ann,ben,0.912,40,labs/lab01/src/lib.rs:1–9,labs/lab01/src/lib.rs:3–11\n",
         )

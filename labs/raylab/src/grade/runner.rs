@@ -12,7 +12,7 @@ use grading::ExerciseInfo;
 use grading::verdict::{self, RecordScanner};
 use raylab_core::Error;
 
-use super::Status;
+use super::grades::Status;
 use super::sandbox::{LINGERING, Sandbox};
 use crate::handout::io;
 
