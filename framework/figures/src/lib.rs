@@ -11,9 +11,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use course::LabId;
-use grading::task::ReportJob;
 use image::{RgbImage, imageops};
 use pipeline::Pipeline;
+use pipeline::job::ReportJob;
 use pipeline::render::render_partial;
 use raylab_core::Error;
 use raylab_core::film::{Film, ToneMap, write_srgb8_png};

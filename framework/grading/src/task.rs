@@ -8,7 +8,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use pipeline::Pipeline;
-use pipeline::job::RenderJob;
+use pipeline::job::{RenderJob, ReportJob};
 use serde::{Deserialize, Serialize};
 
 use crate::verdict::Record;
@@ -66,21 +66,6 @@ pub struct ViewJob {
     /// worst pixel of a failing image check).
     #[serde(default)]
     pub inspect: Option<[u32; 2]>,
-}
-
-/// A lab's report: where and how its figures are made (`raylab report`).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ReportJob {
-    /// The directory of the lab's figures (made when missing).
-    pub dir: PathBuf,
-    /// Smaller images and fewer samples.
-    pub quick: bool,
-    /// Whose code renders the lab's slots, in words ("Reference", "Student").
-    pub whose: String,
-    /// The student's written answers (`labs/labNN/answers.md`), shown after the figures; the
-    /// report only reads the file.
-    #[serde(default)]
-    pub answers: Option<PathBuf>,
 }
 
 /// What makes a lab's report in its program: the lab's figures (its checks' `report`

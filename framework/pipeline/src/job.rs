@@ -283,6 +283,21 @@ fn unmodelled_materials(pipeline: &Pipeline, scene: &Scene) -> Vec<String> {
     lines
 }
 
+/// A lab's report: where and how its figures are made (`raylab report`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ReportJob {
+    /// The directory of the lab's figures (made when missing).
+    pub dir: PathBuf,
+    /// Smaller images and fewer samples.
+    pub quick: bool,
+    /// Whose code renders the lab's slots, in words ("Reference", "Student").
+    pub whose: String,
+    /// The student's written answers (`labs/labNN/answers.md`), shown after the figures; the
+    /// report only reads the file.
+    #[serde(default)]
+    pub answers: Option<PathBuf>,
+}
+
 /// Loads a scene by built-in name or path.
 pub fn load_scene(spec: &str) -> Result<Scene, Error> {
     if BUILTIN_SCENES.contains(&spec) {

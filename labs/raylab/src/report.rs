@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use course::LabId;
 use course::answers::FIGURES;
-use grading::task::{ReportJob, Task};
+use grading::task::Task;
+use pipeline::job::ReportJob;
 use raylab_core::Error;
 
 use crate::render::PipelineChoice;

@@ -152,7 +152,7 @@ fn convergence(ctx: &ReportContext, case: &LightCase, file: &str) -> Result<Figu
 
 /// Makes the lab's report: its figures through `pipeline` (`raylab report`).
 pub fn make(
-    job: &grading::task::ReportJob,
+    job: &pipeline::job::ReportJob,
     pipeline: pipeline::Pipeline,
 ) -> Result<(), raylab_core::Error> {
     figures::make(job, crate::checks::LAB, pipeline, figures)

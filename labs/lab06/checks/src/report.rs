@@ -273,7 +273,7 @@ fn unshot_points(values: &[f64]) -> Vec<(f64, f64)> {
 
 /// Makes the lab's report: its figures through `pipeline` (`raylab report`).
 pub fn make(
-    job: &grading::task::ReportJob,
+    job: &pipeline::job::ReportJob,
     pipeline: pipeline::Pipeline,
 ) -> Result<(), raylab_core::Error> {
     figures::make(job, crate::checks::LAB, pipeline, figures)

@@ -247,7 +247,7 @@ fn addressing_panels(ctx: &ReportContext) -> Result<Figure, Error> {
 
 /// Makes the lab's report: its figures through `pipeline` (`raylab report`).
 pub fn make(
-    job: &grading::task::ReportJob,
+    job: &pipeline::job::ReportJob,
     pipeline: pipeline::Pipeline,
 ) -> Result<(), raylab_core::Error> {
     figures::make(job, crate::checks::LAB, pipeline, figures)
