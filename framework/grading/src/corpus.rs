@@ -168,18 +168,18 @@ pub fn charged_once<S: ?Sized + contracts::Mix + 'static>(
 }
 
 /// The tests of a lab's corpus, at the end of `labs/labNN/tests/corpus.rs`:
-/// `grading::corpus_tests!(lab03, lab03_checks);` after the file's `variants()`, a list of
+/// `grading::corpus_tests!(lab03, lab03_checks, reference);` after the file's `variants()`, a list of
 /// variants with a `name`, a `verdict` and the lab's `contracts::labNN::Contract` implemented.
 #[macro_export]
 macro_rules! corpus_tests {
-    ($lab:ident, $checks:ident) => {
+    ($lab:ident, $checks:ident, $key:ident) => {
         /// The lab's context in the reference pipeline, with the answer keys `keys`.
         fn corpus_context(keys: &[u32]) -> $crate::LabContext {
             let lab = $checks::checks::LAB;
             $crate::corpus::context(
                 lab,
                 env!("CARGO_MANIFEST_DIR"),
-                ::reference::pipeline(lab.number()),
+                $key::pipeline(lab.number()),
                 keys,
             )
         }
@@ -199,7 +199,7 @@ macro_rules! corpus_tests {
 
         /// The answer key of the lab.
         fn key() -> ::std::sync::Arc<::contracts::$lab::Contract> {
-            ::reference::pipeline($checks::checks::LAB.number())
+            $key::pipeline($checks::checks::LAB.number())
                 .part::<::contracts::$lab::Contract>()
                 .expect("the repository holds every lab's answer key")
         }
@@ -207,7 +207,7 @@ macro_rules! corpus_tests {
         #[test]
         fn the_reference_passes_every_exercise() {
             let exercises = $checks::checks::exercises();
-            let ctx = corpus_context(::reference::KEYS);
+            let ctx = corpus_context($key::KEYS);
             $crate::corpus::assert_all_pass($crate::corpus::run_all(&exercises, &key(), &ctx));
         }
 
@@ -216,7 +216,7 @@ macro_rules! corpus_tests {
             let exercises = $checks::checks::exercises();
             let stubs: ::std::sync::Arc<::contracts::$lab::Contract> =
                 ::std::sync::Arc::new($lab::Student);
-            let ctx = corpus_context(::reference::KEYS);
+            let ctx = corpus_context($key::KEYS);
             $crate::corpus::assert_all_fail_cleanly(
                 &exercises,
                 $crate::corpus::run_all(&exercises, &stubs, &ctx),
@@ -236,7 +236,7 @@ macro_rules! corpus_tests {
                 remote
             };
             let exercises = $checks::checks::exercises();
-            let ctx = corpus_context(::reference::KEYS);
+            let ctx = corpus_context($key::KEYS);
             $crate::corpus::assert_all_pass($crate::corpus::run_all(
                 &exercises,
                 &remote(key()),
@@ -255,7 +255,7 @@ macro_rules! corpus_tests {
         #[test]
         fn every_mistake_is_rejected_and_every_alternative_accepted() {
             let exercises = $checks::checks::exercises();
-            let ctx = corpus_context(::reference::KEYS);
+            let ctx = corpus_context($key::KEYS);
             let problems = $crate::corpus::judge(&ctx, &exercises, corpus());
             assert!(problems.is_empty(), "{}", problems.join("\n"));
         }
@@ -264,7 +264,7 @@ macro_rules! corpus_tests {
         /// judged with the key in place of those whose own exercise fails.
         #[test]
         fn every_mistake_costs_its_own_exercise_alone() {
-            let ctx = corpus_context(::reference::KEYS);
+            let ctx = corpus_context($key::KEYS);
             let problems =
                 $crate::corpus::charged_once(&ctx, $checks::checks::exercises(), corpus());
             assert!(problems.is_empty(), "{}", problems.join("\n"));
@@ -275,7 +275,7 @@ macro_rules! corpus_tests {
         #[test]
         fn every_mistake_is_rejected_and_every_alternative_accepted_without_the_key() {
             let lab = $checks::checks::LAB;
-            let ctx = corpus_context(&$crate::corpus::keys_but(lab, ::reference::KEYS));
+            let ctx = corpus_context(&$crate::corpus::keys_but(lab, $key::KEYS));
             assert!(ctx.key().is_none());
             let mut variants = corpus();
             variants.push(("the reference", $crate::corpus::Verdict::Accept, key()));

@@ -34,14 +34,16 @@ pub fn lab_dir(built: &'static str) -> &'static str {
 pub const PRECOMPILE_VAR: &str = "RAYLAB_PRECOMPILE";
 
 /// The whole of a graded program, `labs/labNN/graded/main.rs`:
-/// `grading::graded_program!(lab03, lab03_checks);`.
+/// `grading::graded_program!(lab03, lab03_checks, reference, wasm_host);`: the lab, its checks,
+/// the answer key and the runtime of the student's module, each a crate of the program's own
+/// manifest.
 #[macro_export]
 macro_rules! graded_program {
-    ($lab:ident, $checks:ident) => {
+    ($lab:ident, $checks:ident, $key:ident, $host:ident) => {
         fn main() {
             if let Some(out) = ::std::env::var_os($crate::graded::PRECOMPILE_VAR) {
                 let wasm = ::std::env::var_os($crate::graded::MODULE_VAR).unwrap_or_default();
-                let compiled = ::wasm_host::StudentModule::precompile(
+                let compiled = $host::StudentModule::precompile(
                     ::std::path::Path::new(&wasm),
                     ::std::path::Path::new(&out),
                 );
@@ -54,9 +56,7 @@ macro_rules! graded_program {
             let lab = $checks::checks::LAB;
             let subject: ::std::sync::Arc<::contracts::$lab::Contract> = ::std::sync::Arc::new(
                 ::contracts::wire::Remote::<::contracts::$lab::Contract>::new(
-                    ::std::sync::Arc::new(::wasm_host::ModuleFromEnv::new(
-                        $crate::graded::MODULE_VAR,
-                    )),
+                    ::std::sync::Arc::new($host::ModuleFromEnv::new($crate::graded::MODULE_VAR)),
                 ),
             );
             $crate::harness::run($crate::harness::LabChecks {
@@ -64,8 +64,8 @@ macro_rules! graded_program {
                 lab_dir: $crate::graded::lab_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/..")),
                 exercises: $checks::checks::exercises(),
                 subject,
-                base: ::reference::pipeline(lab.number()),
-                key_labs: ::reference::KEYS,
+                base: $key::pipeline(lab.number()),
+                key_labs: $key::KEYS,
                 hidden: true,
                 report: None,
                 generate_golden: $checks::generate_golden,
@@ -172,7 +172,7 @@ pub fn write_graded_crate(
         dir.join("main.rs"),
         format!(
             "//! The graded program of {lab} (written by `raylab grade`).\n\
-             grading::graded_program!({lab}, {lab}_checks);\n"
+             grading::graded_program!({lab}, {lab}_checks, reference, wasm_host);\n"
         ),
     )
 }

@@ -158,17 +158,18 @@ pub fn key_of<S: ?Sized + Send + Sync + 'static>(lab: LabId, base: &Pipeline) ->
 }
 
 /// The whole of a lab's program, `labs/labNN/tests/checks.rs`: `grading::lab_program!(lab03,
-/// lab03_checks);` names its lab crate and its checks crate, whose contract is
-/// `contracts::lab03::Contract`.
+/// lab03_checks, reference);` names its lab crate, its checks crate and the answer key's crate
+/// (the macro names no crate its caller does not: grading depends on none of them); the lab's
+/// contract is `contracts::lab03::Contract`.
 /// The program checks the student's code (`labNN::Student`), or with the lab's `reference`
 /// feature the answer key, in `reference::pipeline`, with the lab's report figures when built
 /// with its `report` feature.
 #[macro_export]
 macro_rules! lab_program {
-    ($lab:ident, $checks:ident) => {
+    ($lab:ident, $checks:ident, $key:ident) => {
         fn main() {
             let lab = $checks::checks::LAB;
-            let base = ::reference::pipeline(lab.number());
+            let base = $key::pipeline(lab.number());
             #[cfg(feature = "reference")]
             let subject = $crate::harness::key_of::<::contracts::$lab::Contract>(lab, &base);
             #[cfg(not(feature = "reference"))]
@@ -180,7 +181,7 @@ macro_rules! lab_program {
                 exercises: $checks::checks::exercises(),
                 subject,
                 base,
-                key_labs: ::reference::KEYS,
+                key_labs: $key::KEYS,
                 hidden: cfg!(feature = "hidden-exercises"),
                 #[cfg(feature = "report")]
                 report: Some($checks::report::make),

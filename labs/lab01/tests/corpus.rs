@@ -453,4 +453,4 @@ fn a_wrong_image_plane_names_its_resolution() {
     assert!(!failure.message.contains("UVec2"), "{}", failure.message);
 }
 
-grading::corpus_tests!(lab01, lab01_checks);
+grading::corpus_tests!(lab01, lab01_checks, reference);

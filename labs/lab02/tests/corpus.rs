@@ -483,4 +483,4 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-grading::corpus_tests!(lab02, lab02_checks);
+grading::corpus_tests!(lab02, lab02_checks, reference);

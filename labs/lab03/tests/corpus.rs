@@ -449,4 +449,4 @@ mod tests {
     }
 }
 
-grading::corpus_tests!(lab03, lab03_checks);
+grading::corpus_tests!(lab03, lab03_checks, reference);

@@ -8,4 +8,4 @@
 //! and in a handout, for this lab before its solution is released, your own code; a check
 //! that needs another lab whose solution is not released yet says it waits for that lab.
 
-grading::lab_program!(lab04, lab04_checks);
+grading::lab_program!(lab04, lab04_checks, reference);

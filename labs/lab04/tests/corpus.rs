@@ -532,4 +532,4 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-grading::corpus_tests!(lab04, lab04_checks);
+grading::corpus_tests!(lab04, lab04_checks, reference);

@@ -6,4 +6,4 @@
 //! the tree holds it. No check of one exercise calls your code for another, so you can do them
 //! in any order.
 
-grading::lab_program!(lab05, lab05_checks);
+grading::lab_program!(lab05, lab05_checks, reference);

@@ -754,4 +754,4 @@ fn midpoint(l: &dyn Fn(f64, f64) -> f64, n: u32, theta_max: f64, weight: fn(f64)
     sum
 }
 
-grading::corpus_tests!(lab05, lab05_checks);
+grading::corpus_tests!(lab05, lab05_checks, reference);

@@ -563,4 +563,4 @@ fn hemicube_sums_meet_their_bound_with_margin() {
     }
 }
 
-grading::corpus_tests!(lab06, lab06_checks);
+grading::corpus_tests!(lab06, lab06_checks, reference);

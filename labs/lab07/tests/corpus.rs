@@ -332,4 +332,4 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-grading::corpus_tests!(lab07, lab07_checks);
+grading::corpus_tests!(lab07, lab07_checks, reference);

@@ -566,4 +566,4 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-grading::corpus_tests!(lab08, lab08_checks);
+grading::corpus_tests!(lab08, lab08_checks, reference);

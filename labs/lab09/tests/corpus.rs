@@ -534,4 +534,4 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-grading::corpus_tests!(lab09, lab09_checks);
+grading::corpus_tests!(lab09, lab09_checks, reference);

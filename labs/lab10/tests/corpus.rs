@@ -375,4 +375,4 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-grading::corpus_tests!(lab10, lab10_checks);
+grading::corpus_tests!(lab10, lab10_checks, reference);

@@ -415,4 +415,4 @@ impl AmbientOcclusion for Variant {
     }
 }
 
-grading::corpus_tests!(lab11, lab11_checks);
+grading::corpus_tests!(lab11, lab11_checks, reference);

@@ -5,4 +5,4 @@
 //! `cargo test -p lab12 --features reference` checks the reference solution instead, where
 //! the tree holds it.
 
-grading::lab_program!(lab12, lab12_checks);
+grading::lab_program!(lab12, lab12_checks, reference);

@@ -1392,4 +1392,4 @@ fn path_loop(
     radiance
 }
 
-grading::corpus_tests!(lab12, lab12_checks);
+grading::corpus_tests!(lab12, lab12_checks, reference);

@@ -215,7 +215,7 @@ fn handout_then_grade_four_submissions() {
     copy_tree(&handout, &edited);
     let checks = edited.join("labs/lab01/tests/checks.rs");
     let text = read(&checks).replace(
-        "grading::lab_program!(lab01, lab01_checks);",
+        "grading::lab_program!(lab01, lab01_checks, reference);",
         "fn main() {}",
     );
     assert_ne!(text, read(&checks), "the edit changes the lab's program");

@@ -833,7 +833,7 @@ fn grade_hostile_submissions(run_as: Option<&str>) {
         Ok(checks) => {
             problems.check(
                 checks == handout_checks
-                    && checks.contains("grading::lab_program!(lab02, lab02_checks);"),
+                    && checks.contains("grading::lab_program!(lab02, lab02_checks, reference);"),
                 "vandal",
                 || {
                     "the grading tree's labs/lab02/tests/checks.rs differs from the handout's"
