@@ -36,7 +36,7 @@ pub(crate) mod submission;
 pub mod term;
 mod tree;
 
-use course::LabId;
+use course::{ExerciseInfo, LabId};
 use std::collections::BTreeSet;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -460,87 +460,178 @@ fn grade_submission(
     dir: &Path,
     class: &ClassGrading,
 ) -> Result<StudentGrade, Error> {
-    let ClassGrading {
-        handout,
-        workspace,
-        shared,
-        labs,
-        timeout,
-        scan,
-        bar,
-    } = *class;
-    let mut notes = Vec::new();
-    let mut rejected = Vec::new();
-    let mut flagged = Vec::new();
-    let mut timings = Timings::default();
-    let changed_files = submission::changed_files(submission, handout)?;
-    let runs = workspace.runs.join(student);
-
-    // Only the graded labs' code is built: every other slot of every check is the answer key,
-    // so one lab's code never costs points in another. Each lab is compiled in the build jail,
-    // which holds its sources and nothing else of this machine's.
-    let mut broken = std::collections::BTreeMap::<LabId, (Status, String)>::new();
-    // Exercises whose answer the code takes from the framework, with where.
-    let mut answered = std::collections::BTreeMap::<String, Vec<String>>::new();
-    let mut written = Vec::new();
-    let private = [
-        workspace.sandbox.cargo_home().to_path_buf(),
-        workspace.runs.clone(),
-        workspace.jail.clone(),
-    ];
-    let builder = LabBuild {
-        sandbox: &workspace.sandbox,
-        jail: &shared.jail,
-        host: HostPaths {
-            tree: &workspace.tree,
-            target: &workspace.target,
-            private: &private,
-        },
-        timeout: workspace.build_timeout,
-        memory: workspace.sandbox.build_memory_limit(),
+    let mut record = SubmissionRecord::default();
+    let changed_files = submission::changed_files(submission, class.handout)?;
+    let grading = SubmissionGrading {
+        submission,
+        student,
+        dir,
+        runs: class.workspace.runs.join(student),
+        class: *class,
     };
-    for &lab in labs {
-        let staged = runs.join("sources");
-        let intake = submission::install_lab_code(Some(submission), handout, &staged, lab)?;
-        notes.extend(intake.missing);
-        rejected.extend(intake.rejected);
+    grading.compile_labs(&mut record)?;
+    let exercises = grading.run_exercises(&mut record)?;
+    // The student's sources, modules and runs: nothing is left behind.
+    let runs = &grading.runs;
+    if runs.exists() {
+        fs::remove_dir_all(runs).map_err(io(runs))?;
+    }
+    Ok(StudentGrade {
+        student: student.to_string(),
+        exercises,
+        changed_files,
+        notes: record.notes,
+        rejected: record.rejected,
+        flagged: record.flagged,
+        sandbox: String::new(),
+        timings: record.timings,
+        answers: record.written,
+        deadlines: Vec::new(),
+        manual: Vec::new(),
+    })
+}
+
+/// One submission being graded: whose it is, and where its files go.
+struct SubmissionGrading<'a> {
+    /// The submission directory.
+    submission: &'a Path,
+    /// The student's name.
+    student: &'a str,
+    /// The student's report directory.
+    dir: &'a Path,
+    /// The student's sources, modules and runs in the grading directory.
+    runs: PathBuf,
+    /// What every submission of the class is graded with.
+    class: ClassGrading<'a>,
+}
+
+/// What grading one submission gathers on its way to the report.
+#[derive(Default)]
+struct SubmissionRecord {
+    /// Other remarks (a lab's sources missing).
+    notes: Vec<String>,
+    /// Entries of the sources and answers that were not taken.
+    rejected: Vec<String>,
+    /// Source lines the scan warns of.
+    flagged: Vec<String>,
+    /// Where the grading spent its time.
+    timings: Timings,
+    /// The labs whose exercises cannot run, with their status and why.
+    broken: std::collections::BTreeMap<LabId, (Status, String)>,
+    /// Exercises whose answer the code takes from the framework, with where.
+    answered: std::collections::BTreeMap<String, Vec<String>>,
+    /// The written answers of the graded labs.
+    written: Vec<answers::LabAnswers>,
+}
+
+/// A lab's graded program, ready to run the lab's exercises on the student's module.
+struct LabProgram<'a> {
+    /// The lab's graded program.
+    executable: &'a Path,
+    /// The student's code of the lab, compiled for the graded program.
+    module: PathBuf,
+    /// The lab's directory in the grading tree.
+    lab_dir: PathBuf,
+    /// The graded program's test names.
+    tests: Vec<String>,
+}
+
+impl SubmissionGrading<'_> {
+    /// Takes each graded lab's sources and answers and compiles its code in the build jail.
+    fn compile_labs(&self, record: &mut SubmissionRecord) -> Result<(), Error> {
+        let ClassGrading {
+            workspace,
+            shared,
+            labs,
+            ..
+        } = self.class;
+        // Only the graded labs' code is built: every other slot of every check is the answer
+        // key, so one lab's code never costs points in another. Each lab is compiled in the
+        // build jail, which holds its sources and nothing else of this machine's.
+        let private = [
+            workspace.sandbox.cargo_home().to_path_buf(),
+            workspace.runs.clone(),
+            workspace.jail.clone(),
+        ];
+        let builder = LabBuild {
+            sandbox: &workspace.sandbox,
+            jail: &shared.jail,
+            host: HostPaths {
+                tree: &workspace.tree,
+                target: &workspace.target,
+                private: &private,
+            },
+            timeout: workspace.build_timeout,
+            memory: workspace.sandbox.build_memory_limit(),
+        };
+        for &lab in labs {
+            let staged = self.runs.join("sources");
+            self.take_lab(lab, &staged, record)?;
+            self.compile_lab(&builder, lab, &staged, record)?;
+        }
+        Ok(())
+    }
+
+    /// Stages the lab's sources in `staged`, reads its answers, and scans its sources.
+    fn take_lab(
+        &self,
+        lab: LabId,
+        staged: &Path,
+        record: &mut SubmissionRecord,
+    ) -> Result<(), Error> {
+        let (submission, handout) = (self.submission, self.class.handout);
+        let intake = submission::install_lab_code(Some(submission), handout, staged, lab)?;
+        record.notes.extend(intake.missing);
+        record.rejected.extend(intake.rejected);
         match submission::read_answers(submission, lab) {
             Ok(Some(text)) => {
                 let mut lab_answers = answers::LabAnswers::read(lab, &text);
-                rejected.extend(lab_answers.take_images(submission, dir)?);
-                written.push(lab_answers);
+                record
+                    .rejected
+                    .extend(lab_answers.take_images(submission, self.dir)?);
+                record.written.push(lab_answers);
             }
             Ok(None) => {}
-            Err(line) => rejected.push(line),
+            Err(line) => record.rejected.push(line),
         }
-        if scan {
+        if self.class.scan {
             // A warning: the build could not read such a file anyway.
-            let scan::LabScan { flags, denied } = scan::scan_lab(
-                &staged,
-                lab,
-                course::lab(lab).map_or(&[][..], |l| &l.denied),
-            );
-            flagged.extend(flags);
+            let scan::LabScan { flags, denied } =
+                scan::scan_lab(staged, lab, course::lab(lab).map_or(&[][..], |l| &l.denied));
+            record.flagged.extend(flags);
             for denied in denied {
                 for id in denied.exercises {
-                    answered
+                    record
+                        .answered
                         .entry(id.clone())
                         .or_default()
                         .push(denied.line.clone());
                 }
-                flagged.push(denied.line);
+                record.flagged.push(denied.line);
             }
         }
+        Ok(())
+    }
+
+    /// Compiles the lab's staged sources to a module; a lab that does not build is noted broken.
+    fn compile_lab(
+        &self,
+        builder: &LabBuild,
+        lab: LabId,
+        staged: &Path,
+        record: &mut SubmissionRecord,
+    ) -> Result<(), Error> {
+        let (student, bar, shared) = (self.student, self.class.bar, self.class.shared);
         bar.doing(format!("{student}: compiling labs/{lab}/src"), false);
         let started = std::time::Instant::now();
-        let module = runs.join(format!("{lab}.wasm"));
+        let module = self.runs.join(format!("{lab}.wasm"));
         let calls = shared.calls.get(&lab).ok_or_else(|| Error::Failed {
             what: format!("lab {lab}"),
             reason: "the shared build has no compiler record of it".into(),
         })?;
         let built = builder.build(lab, calls, &staged.join(format!("labs/{lab}/src")), &module)?;
         let took = started.elapsed().as_secs_f64();
-        timings.build += took;
+        record.timings.build += took;
         bar.logged(|| {
             let outcome = match &built {
                 Built::Module => "compiled",
@@ -552,7 +643,7 @@ fn grade_submission(
         match built {
             Built::Module => {}
             Built::DoesNotCompile(errors) => {
-                broken.insert(
+                record.broken.insert(
                     lab,
                     (
                         Status::DoesNotCompile,
@@ -561,7 +652,7 @@ fn grade_submission(
                 );
             }
             Built::NotGraded(why) => {
-                broken.insert(
+                record.broken.insert(
                     lab,
                     (
                         Status::NotGraded,
@@ -570,19 +661,32 @@ fn grade_submission(
                 );
             }
         }
+        Ok(())
     }
 
-    let mut exercises = Vec::new();
-    for &lab in labs {
+    /// Grades every exercise of the graded labs, lab by lab.
+    fn run_exercises(&self, record: &mut SubmissionRecord) -> Result<Vec<ExerciseGrade>, Error> {
+        let mut exercises = Vec::new();
+        for &lab in self.class.labs {
+            exercises.extend(self.grade_lab(lab, record)?);
+        }
+        Ok(exercises)
+    }
+
+    /// Grades the exercises of one lab: all failed when its code did not build.
+    fn grade_lab(
+        &self,
+        lab: LabId,
+        record: &mut SubmissionRecord,
+    ) -> Result<Vec<ExerciseGrade>, Error> {
+        let shared = self.class.shared;
         let infos = crate::labs::exercises(lab);
-        let executable = match (broken.get(&lab), shared.programs.get(&lab)) {
+        let executable = match (record.broken.get(&lab), shared.programs.get(&lab)) {
             (Some((status, why)), _) => {
-                exercises.extend(
-                    infos
-                        .into_iter()
-                        .map(|i| ExerciseGrade::failed(i, status.clone(), why.clone())),
-                );
-                continue;
+                return Ok(infos
+                    .into_iter()
+                    .map(|i| ExerciseGrade::failed(i, status.clone(), why.clone()))
+                    .collect());
             }
             (None, None) => {
                 return Err(Error::Failed {
@@ -592,6 +696,22 @@ fn grade_submission(
             }
             (None, Some(executable)) => executable,
         };
+        let program = self.prepare_lab(lab, executable, &mut record.timings)?;
+        let mut exercises = Vec::new();
+        for info in infos {
+            exercises.push(self.grade_exercise(lab, &program, info, record)?);
+        }
+        Ok(exercises)
+    }
+
+    /// Lists the graded program's tests and compiles the student's module for it.
+    fn prepare_lab<'p>(
+        &self,
+        lab: LabId,
+        executable: &'p Path,
+        timings: &mut Timings,
+    ) -> Result<LabProgram<'p>, Error> {
+        let (workspace, runs) = (self.class.workspace, &self.runs);
         let lab_dir = workspace.tree.join(format!("labs/{lab}"));
         let started = std::time::Instant::now();
         let tests = runner::list_tests(
@@ -610,96 +730,120 @@ fn grade_submission(
             &runs.join(format!("{lab}.wasm")),
         )?;
         timings.run += started.elapsed().as_secs_f64();
-        for info in infos {
-            if let Some(lines) = answered.get(info.id.as_str()) {
-                let why = format!(
-                    "no points: the code names framework items that compute what Exercise {} asks, instead of computing it:\n{}",
-                    info.id,
-                    lines.join("\n")
-                );
-                bar.logged(|| format!("{student}: Exercise {} flagged (not run)", info.id));
-                exercises.push(ExerciseGrade::failed(info, Status::Flagged, why));
-                continue;
-            }
-            let Some(test) = tests.iter().find(|t| t.starts_with(&info.test_prefix())) else {
-                let why = format!(
-                    "the checks have no test {}… for Exercise {}",
-                    info.test_prefix(),
-                    info.id
-                );
-                bar.logged(|| format!("{student}: Exercise {} not graded: {why}", info.id));
-                exercises.push(ExerciseGrade::failed(info, Status::NotGraded, why));
-                continue;
-            };
-            let scratch = runs.join(&info.id);
-            if scratch.exists() {
-                fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
-            }
-            let how = ExerciseRun {
-                sandbox: &workspace.sandbox,
-                executable,
-                module: &module,
-                lab_dir: &lab_dir,
-                scratch: &scratch,
-                timeout,
-                memory_limit: workspace.sandbox.memory_limit(),
-            };
-            bar.doing(format!("{student}: Exercise {}", info.id), false);
-            let run = runner::run_exercise(&how, test, &info)?;
-            bar.logged(|| {
-                format!(
-                    "{student}: Exercise {} {} ({})",
-                    info.id,
-                    run.status.label(),
-                    seconds(run.seconds)
-                )
-            });
-            timings.timed_out += run.stopped_seconds;
-            timings.run += run.seconds - run.stopped_seconds;
-            let mut images = Vec::new();
-            for image in &run.images {
-                let name = format!(
-                    "{}-{}",
-                    info.id,
-                    image.file_name().unwrap_or_default().to_string_lossy()
-                );
-                let relative = PathBuf::from("images").join(format!("{lab}")).join(name);
-                crate::handout::copy_file(image, &dir.join(&relative))?;
-                images.push(relative);
-            }
-            // Nothing of a run outlives it but what the report keeps.
-            fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
-            exercises.push(ExerciseGrade {
-                score: if run.status == Status::Passed {
-                    info.points
-                } else {
-                    0
-                },
-                info,
-                status: run.status,
-                output: run.output,
-                program_output: run.program_output,
-                images,
-                seconds: run.seconds,
-                key_for: run.key_for,
-            });
+        Ok(LabProgram {
+            executable,
+            module,
+            lab_dir,
+            tests,
+        })
+    }
+
+    /// Grades one exercise: flagged or not graded without running, else by its check's run.
+    fn grade_exercise(
+        &self,
+        lab: LabId,
+        program: &LabProgram,
+        info: ExerciseInfo,
+        record: &mut SubmissionRecord,
+    ) -> Result<ExerciseGrade, Error> {
+        let (student, bar) = (self.student, self.class.bar);
+        if let Some(lines) = record.answered.get(info.id.as_str()) {
+            let why = format!(
+                "no points: the code names framework items that compute what Exercise {} asks, instead of computing it:\n{}",
+                info.id,
+                lines.join("\n")
+            );
+            bar.logged(|| format!("{student}: Exercise {} flagged (not run)", info.id));
+            return Ok(ExerciseGrade::failed(info, Status::Flagged, why));
         }
+        let Some(test) = program
+            .tests
+            .iter()
+            .find(|t| t.starts_with(&info.test_prefix()))
+        else {
+            let why = format!(
+                "the checks have no test {}… for Exercise {}",
+                info.test_prefix(),
+                info.id
+            );
+            bar.logged(|| format!("{student}: Exercise {} not graded: {why}", info.id));
+            return Ok(ExerciseGrade::failed(info, Status::NotGraded, why));
+        };
+        self.run_exercise(lab, program, test, info, &mut record.timings)
     }
-    // The student's sources, modules and runs: nothing is left behind.
-    if runs.exists() {
-        fs::remove_dir_all(&runs).map_err(io(&runs))?;
+
+    /// Runs the exercise's test in the sandbox and keeps the images its check wrote.
+    fn run_exercise(
+        &self,
+        lab: LabId,
+        program: &LabProgram,
+        test: &str,
+        info: ExerciseInfo,
+        timings: &mut Timings,
+    ) -> Result<ExerciseGrade, Error> {
+        let (student, bar, workspace) = (self.student, self.class.bar, self.class.workspace);
+        let scratch = self.runs.join(&info.id);
+        if scratch.exists() {
+            fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
+        }
+        let how = ExerciseRun {
+            sandbox: &workspace.sandbox,
+            executable: program.executable,
+            module: &program.module,
+            lab_dir: &program.lab_dir,
+            scratch: &scratch,
+            timeout: self.class.timeout,
+            memory_limit: workspace.sandbox.memory_limit(),
+        };
+        bar.doing(format!("{student}: Exercise {}", info.id), false);
+        let run = runner::run_exercise(&how, test, &info)?;
+        bar.logged(|| {
+            format!(
+                "{student}: Exercise {} {} ({})",
+                info.id,
+                run.status.label(),
+                seconds(run.seconds)
+            )
+        });
+        timings.timed_out += run.stopped_seconds;
+        timings.run += run.seconds - run.stopped_seconds;
+        let images = self.keep_images(lab, &info, &run.images)?;
+        // Nothing of a run outlives it but what the report keeps.
+        fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
+        Ok(ExerciseGrade {
+            score: if run.status == Status::Passed {
+                info.points
+            } else {
+                0
+            },
+            info,
+            status: run.status,
+            output: run.output,
+            program_output: run.program_output,
+            images,
+            seconds: run.seconds,
+            key_for: run.key_for,
+        })
     }
-    Ok(StudentGrade {
-        student: student.to_string(),
-        exercises,
-        changed_files,
-        notes,
-        rejected,
-        flagged,
-        sandbox: String::new(),
-        timings,
-        answers: written,
-        deadlines: Vec::new(),
-        manual: Vec::new(),
-    })
+
+    /// Copies an exercise's images into the report's `images/` directory, named by exercise.
+    fn keep_images(
+        &self,
+        lab: LabId,
+        info: &ExerciseInfo,
+        run_images: &[PathBuf],
+    ) -> Result<Vec<PathBuf>, Error> {
+        let mut images = Vec::new();
+        for image in run_images {
+            let name = format!(
+                "{}-{}",
+                info.id,
+                image.file_name().unwrap_or_default().to_string_lossy()
+            );
+            let relative = PathBuf::from("images").join(format!("{lab}")).join(name);
+            crate::handout::copy_file(image, &self.dir.join(&relative))?;
+            images.push(relative);
+        }
+        Ok(images)
+    }
 }
