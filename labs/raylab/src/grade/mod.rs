@@ -181,45 +181,112 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
 
 /// Grades the class of `args`: reports per student and for the class.
 fn grade_class(args: &GradeArgs) -> Result<(), Error> {
-    let labs = graded_labs(&args.labs)?;
-    let students = student_names(&args.submissions)?;
-    // The course's terms are read and checked before anything is built.
-    let terms = args
-        .course
-        .as_deref()
-        // On Gradescope (one submission, `--results-json`) extensions are Gradescope's: the
-        // file's students are not the submission's folder.
-        .map(|path| {
-            term::CourseTerms::load(path, args.results_json.is_none().then_some(&students[..]))
-        })
-        .transpose()?;
-    let times = term::SubmissionTimes::new(
-        &args.submitted_at,
-        args.submission_times.as_deref(),
-        &students,
-    )?;
-    if let Some(path) = &args.gradescope_metadata
-        && students.len() != 1
-    {
-        return Err(Error::Invalid {
-            what: format!("--gradescope-metadata {}", path.display()),
-            reason: format!(
-                "Gradescope's metadata is one submission's, not {}'s",
-                students.len()
-            ),
-        });
+    let ClassInputs {
+        labs,
+        students,
+        terms,
+        times,
+        gradescope,
+        mut manual,
+    } = ClassInputs::read(args)?;
+    let sandbox = make_sandbox(args)?;
+    let (handout, workspace) = prepare_workspace(args, sandbox)?;
+    let trees = TreeSetup::new(args, &workspace.tag)?;
+    build_tree(&repository_root(), &handout, &trees.options(false))?;
+    let started = std::time::Instant::now();
+    let bar = Progress::new(args.submissions.len());
+    let class = ClassRun {
+        args,
+        labs: &labs,
+        students: &students,
+        terms: terms.as_ref(),
+        times: &times,
+        gradescope: gradescope.as_ref(),
+        handout: &handout,
+        workspace: &workspace,
+        trees: &trees,
+        bar: &bar,
+    };
+    let mut tree = class.build_shared()?;
+    let mut grades = Vec::new();
+    for (k, (submission, student)) in args.submissions.iter().zip(&students).enumerate() {
+        grades.push(class.grade_student(k, submission, student, &mut manual, &mut tree)?);
+        bar.submission_done();
     }
-    let gradescope = args
-        .gradescope_metadata
-        .as_deref()
-        .map(term::GradescopeSubmission::load)
-        .transpose()?;
-    let mut manual = args
-        .manual_points
-        .as_deref()
-        .map(|path| term::manual_points(path, &students, &labs))
-        .transpose()?
-        .unwrap_or_default();
+    class.write_reports(&grades, started)
+}
+
+/// What a class's grading reads and checks before anything is built.
+struct ClassInputs {
+    /// The graded labs.
+    labs: Vec<LabId>,
+    /// The students, one per submission.
+    students: Vec<String>,
+    /// The course's terms, if a course file is given.
+    terms: Option<term::CourseTerms>,
+    /// The submission times given.
+    times: term::SubmissionTimes,
+    /// Gradescope's submission metadata, if given.
+    gradescope: Option<term::GradescopeSubmission>,
+    /// The points graded by hand, per student.
+    manual: std::collections::BTreeMap<String, Vec<term::ManualPoints>>,
+}
+
+impl ClassInputs {
+    /// Reads the labs, the students, the course's terms, the times and the manual points.
+    fn read(args: &GradeArgs) -> Result<Self, Error> {
+        let labs = graded_labs(&args.labs)?;
+        let students = student_names(&args.submissions)?;
+        // The course's terms are read and checked before anything is built.
+        let terms = args
+            .course
+            .as_deref()
+            // On Gradescope (one submission, `--results-json`) extensions are Gradescope's: the
+            // file's students are not the submission's folder.
+            .map(|path| {
+                term::CourseTerms::load(path, args.results_json.is_none().then_some(&students[..]))
+            })
+            .transpose()?;
+        let times = term::SubmissionTimes::new(
+            &args.submitted_at,
+            args.submission_times.as_deref(),
+            &students,
+        )?;
+        if let Some(path) = &args.gradescope_metadata
+            && students.len() != 1
+        {
+            return Err(Error::Invalid {
+                what: format!("--gradescope-metadata {}", path.display()),
+                reason: format!(
+                    "Gradescope's metadata is one submission's, not {}'s",
+                    students.len()
+                ),
+            });
+        }
+        let gradescope = args
+            .gradescope_metadata
+            .as_deref()
+            .map(term::GradescopeSubmission::load)
+            .transpose()?;
+        let manual = args
+            .manual_points
+            .as_deref()
+            .map(|path| term::manual_points(path, &students, &labs))
+            .transpose()?
+            .unwrap_or_default();
+        Ok(Self {
+            labs,
+            students,
+            terms,
+            times,
+            gradescope,
+            manual,
+        })
+    }
+}
+
+/// The sandbox that builds and runs student code, with the limits of `args`.
+fn make_sandbox(args: &GradeArgs) -> Result<Sandbox, Error> {
     let memory = args.memory_limit << 20;
     let run_as = args.run_as.as_deref().map(RunAs::resolve).transpose()?;
     let sandbox = Sandbox::new(
@@ -242,6 +309,11 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             "warning: --unsandboxed: student code runs as your user and can read and write everything you can"
         );
     }
+    Ok(sandbox)
+}
+
+/// The grading directory's handout and workspace, cleared of a previous grading's.
+fn prepare_workspace(args: &GradeArgs, sandbox: Sandbox) -> Result<(PathBuf, Workspace), Error> {
     let grading = args.out.join(".grading");
     let handout = grading.join("handout");
     fs::create_dir_all(&grading).map_err(io(&grading))?;
@@ -269,96 +341,202 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             fs::remove_dir_all(dir).map_err(io(dir))?;
         }
     }
-    let released: BTreeSet<LabId> = args.release_solutions.iter().copied().collect();
-    let framework_tag = format!(
-        "framework.{}",
-        Manifest::of(&repository_root().join("framework"))?.digest()
-    );
-    let options = |grading| TreeOptions {
-        released: released.clone(),
-        answer_key: grading,
-        version_tag: grading.then(|| format!("grading.{tag}")),
-        // The framework by its content: gradings from the same framework share its build.
-        framework_tag: grading.then(|| framework_tag.clone()),
-    };
-    build_tree(&repository_root(), &handout, &options(false))?;
-    // The grading tree with the handout's stubs, and everything the submissions share built
-    // from it: before the first submission's clock starts, so that no student pays for it.
-    let make_tree = || -> Result<(Manifest, Shared), Error> {
+    Ok((handout, workspace))
+}
+
+/// How the handout and the grading tree are built from the repository.
+struct TreeSetup {
+    /// Labs whose solution was released in the handout.
+    released: BTreeSet<LabId>,
+    /// The grading directory's tag.
+    tag: String,
+    /// The framework's tag, by its content.
+    framework_tag: String,
+}
+
+impl TreeSetup {
+    /// The released labs of `args`, the grading's `tag` and the framework's digest.
+    fn new(args: &GradeArgs, tag: &str) -> Result<Self, Error> {
+        let released: BTreeSet<LabId> = args.release_solutions.iter().copied().collect();
+        let framework_tag = format!(
+            "framework.{}",
+            Manifest::of(&repository_root().join("framework"))?.digest()
+        );
+        Ok(Self {
+            released,
+            tag: tag.to_string(),
+            framework_tag,
+        })
+    }
+
+    /// The options of the handout, or with `grading` of the grading tree.
+    fn options(&self, grading: bool) -> TreeOptions {
+        let tag = &self.tag;
+        TreeOptions {
+            released: self.released.clone(),
+            answer_key: grading,
+            version_tag: grading.then(|| format!("grading.{tag}")),
+            // The framework by its content: gradings from the same framework share its build.
+            framework_tag: grading.then(|| self.framework_tag.clone()),
+        }
+    }
+}
+
+/// The grading tree as built, and what the submissions share built from it.
+struct GradingTree {
+    /// The tree's hashes, to find what a submission changed.
+    pristine: Manifest,
+    /// The graded programs and the build jail.
+    shared: Shared,
+}
+
+/// A class being graded, once its inputs are read and its workspace is prepared.
+struct ClassRun<'a> {
+    /// The options of `raylab grade`.
+    args: &'a GradeArgs,
+    /// The graded labs.
+    labs: &'a [LabId],
+    /// The students, one per submission.
+    students: &'a [String],
+    /// The course's terms.
+    terms: Option<&'a term::CourseTerms>,
+    /// The submission times given.
+    times: &'a term::SubmissionTimes,
+    /// Gradescope's submission metadata.
+    gradescope: Option<&'a term::GradescopeSubmission>,
+    /// The handout the submissions started from.
+    handout: &'a Path,
+    /// The grading tree and its builds.
+    workspace: &'a Workspace,
+    /// How the grading tree is built.
+    trees: &'a TreeSetup,
+    /// The progress shown while grading.
+    bar: &'a Progress,
+}
+
+impl ClassRun<'_> {
+    /// Builds the grading tree with the handout's stubs, and what every submission shares.
+    fn make_tree(&self) -> Result<(Manifest, Shared), Error> {
+        let workspace = self.workspace;
         if workspace.tree.exists() {
             fs::remove_dir_all(&workspace.tree).map_err(io(&workspace.tree))?;
         }
-        build_tree(&repository_root(), &workspace.tree, &options(true))?;
+        build_tree(
+            &repository_root(),
+            &workspace.tree,
+            &self.trees.options(true),
+        )?;
         workspace.prepare()?;
-        let shared = workspace.build_shared(&labs)?;
+        let shared = workspace.build_shared(self.labs)?;
         Ok((Manifest::of(&workspace.tree)?, shared))
-    };
-    let started = std::time::Instant::now();
-    let bar = Progress::new(args.submissions.len());
-    bar.doing(
-        "building what every submission shares: the framework, the checks and the build jail"
-            .into(),
-        true,
-    );
-    let preparing = std::time::Instant::now();
-    let (mut pristine, mut shared) = make_tree()?;
-    bar.line(&format!(
-        "built what every submission shares in {:.0} s (no submission's time)",
-        preparing.elapsed().as_secs_f64()
-    ));
-    let timeout = Duration::from_secs(args.timeout);
-    let mut grades = Vec::new();
-    for (k, (submission, student)) in args.submissions.iter().zip(&students).enumerate() {
-        bar.doing(
-            format!("grading {student} ({} of {})", k + 1, students.len()),
+    }
+
+    /// Builds the grading tree before the first submission, on no submission's clock.
+    fn build_shared(&self) -> Result<GradingTree, Error> {
+        // The grading tree with the handout's stubs, and everything the submissions share built
+        // from it: before the first submission's clock starts, so that no student pays for it.
+        self.bar.doing(
+            "building what every submission shares: the framework, the checks and the build jail"
+                .into(),
             true,
         );
-        let dir = args.out.join(student);
+        let preparing = std::time::Instant::now();
+        let (pristine, shared) = self.make_tree()?;
+        self.bar.line(&format!(
+            "built what every submission shares in {:.0} s (no submission's time)",
+            preparing.elapsed().as_secs_f64()
+        ));
+        Ok(GradingTree { pristine, shared })
+    }
+
+    /// Grades the `k`th submission, adds its terms and writes its report.
+    fn grade_student(
+        &self,
+        k: usize,
+        submission: &Path,
+        student: &str,
+        manual: &mut std::collections::BTreeMap<String, Vec<term::ManualPoints>>,
+        tree: &mut GradingTree,
+    ) -> Result<StudentGrade, Error> {
+        self.bar.doing(
+            format!("grading {student} ({} of {})", k + 1, self.students.len()),
+            true,
+        );
+        let dir = self.args.out.join(student);
         if dir.exists() {
             fs::remove_dir_all(&dir).map_err(io(&dir))?;
         }
+        let mut grade = self.grade_or_ungraded(submission, student, &dir, &tree.shared);
+        grade.sandbox = self.workspace.sandbox.describe();
+        grade.manual = manual.remove(student).unwrap_or_default();
+        grade.deadlines = term::deadlines(
+            student,
+            self.labs,
+            self.terms,
+            &|lab| self.times.of(student, submission, lab),
+            self.gradescope,
+        );
+        self.verify_tree(&mut grade, tree)?;
+        self.write_student_report(student, &mut grade, &dir)?;
+        Ok(grade)
+    }
+
+    /// Grades one submission into `dir`, or as not graded when the grader fails on it.
+    fn grade_or_ungraded(
+        &self,
+        submission: &Path,
+        student: &str,
+        dir: &Path,
+        shared: &Shared,
+    ) -> StudentGrade {
+        let bar = self.bar;
         // One submission that cannot be graded costs that submission, not the class.
         let class = ClassGrading {
-            handout: &handout,
-            workspace: &workspace,
-            shared: &shared,
-            labs: &labs,
-            timeout,
-            scan: !args.no_scan,
-            bar: &bar,
+            handout: self.handout,
+            workspace: self.workspace,
+            shared,
+            labs: self.labs,
+            timeout: Duration::from_secs(self.args.timeout),
+            scan: !self.args.no_scan,
+            bar,
         };
-        let mut grade = grade_submission(submission, student, &dir, &class).unwrap_or_else(|e| {
+        grade_submission(submission, student, dir, &class).unwrap_or_else(|e| {
             // The details, which may name places of this machine, are the instructor's.
             bar.warn(&format!("{student}: not graded: {e}"));
             StudentGrade::ungraded(
                 student,
-                &labs,
+                self.labs,
                 "the grader failed on it (the grader's output says why); this is no mark of the code",
             )
-        });
-        grade.sandbox = workspace.sandbox.describe();
-        grade.manual = manual.remove(student).unwrap_or_default();
-        grade.deadlines = term::deadlines(
-            student,
-            &labs,
-            terms.as_ref(),
-            &|lab| times.of(student, submission, lab),
-            gradescope.as_ref(),
-        );
+        })
+    }
+
+    /// Checks the grading tree after a submission, and rebuilds it if it changed.
+    fn verify_tree(&self, grade: &mut StudentGrade, tree: &mut GradingTree) -> Result<(), Error> {
         // The sandbox keeps the tree read-only; should it change all the same (unsandboxed),
         // the submission is named and the next one gets a fresh tree.
-        let changes = pristine.changes(&workspace.tree)?;
+        let changes = tree.pristine.changes(&self.workspace.tree)?;
         if !changes.is_empty() {
             grade.notes.push(format!(
                 "the grading tree was changed while this submission ran ({}); it was rebuilt for the next submission",
                 changes.join(", ")
             ));
-            (pristine, shared) = make_tree()?;
+            (tree.pristine, tree.shared) = self.make_tree()?;
         }
+        Ok(())
+    }
+
+    /// Writes the student's reports into `dir` and shows the student's points.
+    fn write_student_report(
+        &self,
+        student: &str,
+        grade: &mut StudentGrade,
+        dir: &Path,
+    ) -> Result<(), Error> {
         let started = std::time::Instant::now();
-        reports::write_student(&grade, &dir)?;
+        reports::write_student(grade, dir)?;
         grade.timings.report = started.elapsed().as_secs_f64();
-        bar.line(&format!(
+        self.bar.line(&format!(
             "{student}: {}/{} points{}",
             grade.score(),
             grade.max_score(),
@@ -371,17 +549,25 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
                 )
             }
         ));
-        grades.push(grade);
-        bar.submission_done();
+        Ok(())
     }
-    bar.finish();
-    println!("{}", summary(&grades, started.elapsed()));
-    reports::write_class(&grades, &args.out, terms.as_ref())?;
-    println!(
-        "reports in {}: index.html, gradebook.csv, canvas.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
-        args.out.display()
-    );
-    Ok(())
+
+    /// Ends the progress, prints the summary and writes the class's reports.
+    fn write_reports(
+        &self,
+        grades: &[StudentGrade],
+        started: std::time::Instant,
+    ) -> Result<(), Error> {
+        let (args, bar) = (self.args, self.bar);
+        bar.finish();
+        println!("{}", summary(grades, started.elapsed()));
+        reports::write_class(grades, &args.out, self.terms)?;
+        println!(
+            "reports in {}: index.html, gradebook.csv, canvas.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
+            args.out.display()
+        );
+        Ok(())
+    }
 }
 
 /// The line that ends a grading run: how many submissions in how long, their mean points, and
