@@ -25,7 +25,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::TextureFile;
-use super::obj::{ReadText, accepted_illums, load_obj_with, name_list, read_text};
+use super::obj::{ObjData, ReadText, accepted_illums, load_obj_with, name_list, read_text};
 use super::{
     CameraSetup, DirectionalLight, IllumModel, Light, Material, MaterialId, Mesh, Plane,
     PointLight, Scene, SceneDescription, Sphere, Texture,
@@ -197,6 +197,12 @@ struct Builder<'a> {
     read: ReadText<'a>,
 }
 
+/// The materials that scene entries can name: each name's id, and the names in order.
+struct MaterialNames<'f> {
+    ids: HashMap<String, MaterialId>,
+    names: Vec<&'f String>,
+}
+
 impl Builder<'_> {
     fn fail(&self, reason: String) -> Error {
         Error::SceneFile {
@@ -222,12 +228,44 @@ impl Builder<'_> {
         self.at.set(Some(span.start));
     }
 
+    /// Builds the scene of a parsed scene file, checking its entries in this order.
     fn build(&self, file: SceneToml) -> Result<Scene, Error> {
-        let name = file.name.clone().unwrap_or_else(|| {
+        let name = self.scene_name(&file);
+        let camera = self.place_camera(&file)?;
+        let background = self.background(&file)?;
+        let environment = self.load_environment(&file)?;
+        let (mut materials, known) = self.build_materials(&file)?;
+        let lights = self.place_lights(&file.lights)?;
+        let planes = self.place_planes(&file.planes, &known)?;
+        let spheres = self.place_spheres(&file.spheres, &known)?;
+        let mesh = self.place_meshes(&file.meshes, &known, &mut materials)?;
+        self.finish_scene(
+            &file,
+            SceneDescription {
+                name,
+                camera: Some(camera),
+                background,
+                environment,
+                materials,
+                lights,
+                planes,
+                spheres,
+                mesh,
+            },
+        )
+    }
+
+    /// The scene's name: the file's `name`, or else the file's stem.
+    fn scene_name(&self, file: &SceneToml) -> String {
+        file.name.clone().unwrap_or_else(|| {
             self.path
                 .file_stem()
                 .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned())
-        });
+        })
+    }
+
+    /// The `[camera]` table, which every scene must have.
+    fn place_camera(&self, file: &SceneToml) -> Result<CameraSetup, Error> {
         let camera = file.camera.as_ref().ok_or_else(|| {
             self.fail(
                 "the scene has no camera; expected a [camera] table with eye, look_at, up and focal_distance"
@@ -236,12 +274,16 @@ impl Builder<'_> {
         })?;
         self.entry(camera.span());
         let camera = camera.get_ref();
-        let camera = CameraSetup {
+        Ok(CameraSetup {
             eye: Vec3::from(camera.eye),
             look_at: Vec3::from(camera.look_at),
             up: Vec3::from(camera.up),
             focal_distance: camera.focal_distance,
-        };
+        })
+    }
+
+    /// The background colour (black by default), checked to be finite.
+    fn background(&self, file: &SceneToml) -> Result<Vec3, Error> {
         self.at
             .set(file.background.as_ref().map(|b| b.span().start));
         let background = file
@@ -253,15 +295,25 @@ impl Builder<'_> {
                 "background is {background}; expected finite numbers"
             )));
         }
+        Ok(background)
+    }
 
-        let environment = match &file.environment {
+    /// The environment map of the `[environment]` table, if the scene has one.
+    fn load_environment(&self, file: &SceneToml) -> Result<Option<EnvironmentMap>, Error> {
+        Ok(match &file.environment {
             Some(env) => {
                 self.entry(env.span());
                 Some(self.environment(env.get_ref())?)
             }
             None => None,
-        };
+        })
+    }
 
+    /// The `[materials.*]` tables, in the order of their names, with the ids of those names.
+    fn build_materials<'f>(
+        &self,
+        file: &'f SceneToml,
+    ) -> Result<(Vec<Material>, MaterialNames<'f>), Error> {
         let mut materials = Vec::new();
         let mut ids = HashMap::new();
         let mut textures = HashMap::new();
@@ -272,25 +324,32 @@ impl Builder<'_> {
             materials.push(self.material(key, m, &mut textures)?);
         }
         let names: Vec<&String> = file.materials.keys().collect();
-        let lookup = |what: String, name: &str| -> Result<MaterialId, Error> {
-            ids.get(name).copied().ok_or_else(|| {
-                self.fail(if names.is_empty() {
-                    format!(
-                        "{what}: unknown material '{}'; no materials are defined (add a [materials.{0}] table)",
-                        name.escape_debug()
-                    )
-                } else {
-                    format!(
-                        "{what}: unknown material '{}'; expected one of {}",
-                        name.escape_debug(),
-                        name_list(&names)
-                    )
-                })
-            })
-        };
+        Ok((materials, MaterialNames { ids, names }))
+    }
 
+    /// The id of the material `name` that the entry `what` names.
+    fn lookup(&self, known: &MaterialNames, what: String, name: &str) -> Result<MaterialId, Error> {
+        let MaterialNames { ids, names } = known;
+        ids.get(name).copied().ok_or_else(|| {
+            self.fail(if names.is_empty() {
+                format!(
+                    "{what}: unknown material '{}'; no materials are defined (add a [materials.{0}] table)",
+                    name.escape_debug()
+                )
+            } else {
+                format!(
+                    "{what}: unknown material '{}'; expected one of {}",
+                    name.escape_debug(),
+                    name_list(names)
+                )
+            })
+        })
+    }
+
+    /// The `[[lights]]` entries: point lights and directional lights, checked.
+    fn place_lights(&self, entries: &[Spanned<LightToml>]) -> Result<Vec<Light>, Error> {
         let mut lights = Vec::new();
-        for (i, l) in file.lights.iter().enumerate() {
+        for (i, l) in entries.iter().enumerate() {
             self.entry(l.span());
             lights.push(match l.get_ref() {
                 LightToml::Point {
@@ -326,9 +385,17 @@ impl Builder<'_> {
                 }
             });
         }
+        Ok(lights)
+    }
 
+    /// The `[[planes]]` entries, with their materials and texture scales.
+    fn place_planes(
+        &self,
+        entries: &[Spanned<PlaneToml>],
+        known: &MaterialNames,
+    ) -> Result<Vec<Plane>, Error> {
         let mut planes = Vec::new();
-        for (i, p) in file.planes.iter().enumerate() {
+        for (i, p) in entries.iter().enumerate() {
             self.entry(p.span());
             let p = p.get_ref();
             let (point, normal) = (Vec3::from(p.point), Vec3::from(p.normal));
@@ -337,7 +404,11 @@ impl Builder<'_> {
                     "planes[{i}]: point {point} and normal {normal}; expected finite numbers and a non-zero normal"
                 )));
             }
-            let mut plane = Plane::new(point, normal, lookup(format!("planes[{i}]"), &p.material)?);
+            let mut plane = Plane::new(
+                point,
+                normal,
+                self.lookup(known, format!("planes[{i}]"), &p.material)?,
+            );
             if let Some(s) = p.tex_scale {
                 if !(s.is_finite() && s > 0.0) {
                     return Err(self.fail(format!(
@@ -348,9 +419,17 @@ impl Builder<'_> {
             }
             planes.push(plane);
         }
+        Ok(planes)
+    }
 
+    /// The `[[spheres]]` entries, with their materials.
+    fn place_spheres(
+        &self,
+        entries: &[Spanned<SphereToml>],
+        known: &MaterialNames,
+    ) -> Result<Vec<Sphere>, Error> {
         let mut spheres = Vec::new();
-        for (i, s) in file.spheres.iter().enumerate() {
+        for (i, s) in entries.iter().enumerate() {
             self.entry(s.span());
             let s = s.get_ref();
             let center = Vec3::from(s.center);
@@ -363,44 +442,31 @@ impl Builder<'_> {
             spheres.push(Sphere {
                 center,
                 radius: s.radius,
-                material: lookup(format!("spheres[{i}]"), &s.material)?,
+                material: self.lookup(known, format!("spheres[{i}]"), &s.material)?,
             });
         }
+        Ok(spheres)
+    }
 
+    /// The `[[meshes]]` entries merged into one mesh; the materials of their OBJ files are
+    /// appended to `materials` unless an entry overrides them.
+    fn place_meshes(
+        &self,
+        entries: &[Spanned<MeshToml>],
+        known: &MaterialNames,
+        materials: &mut Vec<Material>,
+    ) -> Result<Mesh, Error> {
         let mut mesh = Mesh::default();
-        for (i, m) in file.meshes.iter().enumerate() {
+        for (i, m) in entries.iter().enumerate() {
             self.entry(m.span());
             let m = m.get_ref();
             let what = format!("meshes[{i}]");
             let overridden = m
                 .material
                 .as_ref()
-                .map(|name| lookup(what.clone(), name))
+                .map(|name| self.lookup(known, what.clone(), name))
                 .transpose()?;
-            let obj_path = self.base_dir.join(&m.file);
-            let text = (self.read)(&obj_path).map_err(|e| {
-                self.fail(format!(
-                    "{what}: cannot read the OBJ file '{}': {e}",
-                    obj_path.display().to_string().escape_debug()
-                ))
-            })?;
-            // A texture of the OBJ's materials names its MTL line, and then this entry.
-            let obj = load_obj_with(&obj_path, &text, self.read).map_err(|e| match e {
-                Error::Texture {
-                    path,
-                    named_by,
-                    reason,
-                } => Error::Texture {
-                    path,
-                    named_by: Some(format!(
-                        "{}, in the OBJ file of {what} {}",
-                        named_by.as_deref().unwrap_or("the texture"),
-                        self.place()
-                    )),
-                    reason,
-                },
-                other => other,
-            })?;
+            let obj = self.load_mesh_obj(&what, m)?;
             let mut part = self.transform(&what, m, obj.mesh)?;
             match overridden {
                 Some(id) => part.face_materials.fill(id),
@@ -414,22 +480,47 @@ impl Builder<'_> {
             }
             mesh.append(&part);
         }
+        Ok(mesh)
+    }
 
+    /// Reads and parses the OBJ file of the mesh entry `what`.
+    fn load_mesh_obj(&self, what: &str, m: &MeshToml) -> Result<ObjData, Error> {
+        let obj_path = self.base_dir.join(&m.file);
+        let text = (self.read)(&obj_path).map_err(|e| {
+            self.fail(format!(
+                "{what}: cannot read the OBJ file '{}': {e}",
+                obj_path.display().to_string().escape_debug()
+            ))
+        })?;
+        // A texture of the OBJ's materials names its MTL line, and then this entry.
+        load_obj_with(&obj_path, &text, self.read).map_err(|e| match e {
+            Error::Texture {
+                path,
+                named_by,
+                reason,
+            } => Error::Texture {
+                path,
+                named_by: Some(format!(
+                    "{}, in the OBJ file of {what} {}",
+                    named_by.as_deref().unwrap_or("the texture"),
+                    self.place()
+                )),
+                reason,
+            },
+            other => other,
+        })
+    }
+
+    /// Makes the scene of `description` and checks it as a whole.
+    fn finish_scene(
+        &self,
+        file: &SceneToml,
+        description: SceneDescription,
+    ) -> Result<Scene, Error> {
         // The scene-wide checks (the camera, the merged geometry) name the file; a camera
         // error its table's line, the others no line.
         let camera_at = file.camera.as_ref().map(|c| c.span().start);
-        Scene::new(SceneDescription {
-            name,
-            camera: Some(camera),
-            background,
-            environment,
-            materials,
-            lights,
-            planes,
-            spheres,
-            mesh,
-        })
-        .map_err(|e| match e {
+        Scene::new(description).map_err(|e| match e {
             Error::Scene { reason, .. } => {
                 self.at
                     .set(camera_at.filter(|_| reason.starts_with("camera")));

@@ -36,7 +36,7 @@ pub(crate) mod submission;
 pub mod term;
 mod tree;
 
-use course::LabId;
+use course::{ExerciseInfo, LabId};
 use std::collections::BTreeSet;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -181,45 +181,112 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
 
 /// Grades the class of `args`: reports per student and for the class.
 fn grade_class(args: &GradeArgs) -> Result<(), Error> {
-    let labs = graded_labs(&args.labs)?;
-    let students = student_names(&args.submissions)?;
-    // The course's terms are read and checked before anything is built.
-    let terms = args
-        .course
-        .as_deref()
-        // On Gradescope (one submission, `--results-json`) extensions are Gradescope's: the
-        // file's students are not the submission's folder.
-        .map(|path| {
-            term::CourseTerms::load(path, args.results_json.is_none().then_some(&students[..]))
-        })
-        .transpose()?;
-    let times = term::SubmissionTimes::new(
-        &args.submitted_at,
-        args.submission_times.as_deref(),
-        &students,
-    )?;
-    if let Some(path) = &args.gradescope_metadata
-        && students.len() != 1
-    {
-        return Err(Error::Invalid {
-            what: format!("--gradescope-metadata {}", path.display()),
-            reason: format!(
-                "Gradescope's metadata is one submission's, not {}'s",
-                students.len()
-            ),
-        });
+    let ClassInputs {
+        labs,
+        students,
+        terms,
+        times,
+        gradescope,
+        mut manual,
+    } = ClassInputs::read(args)?;
+    let sandbox = make_sandbox(args)?;
+    let (handout, workspace) = prepare_workspace(args, sandbox)?;
+    let trees = TreeSetup::new(args, &workspace.tag)?;
+    build_tree(&repository_root(), &handout, &trees.options(false))?;
+    let started = std::time::Instant::now();
+    let bar = Progress::new(args.submissions.len());
+    let class = ClassRun {
+        args,
+        labs: &labs,
+        students: &students,
+        terms: terms.as_ref(),
+        times: &times,
+        gradescope: gradescope.as_ref(),
+        handout: &handout,
+        workspace: &workspace,
+        trees: &trees,
+        bar: &bar,
+    };
+    let mut tree = class.build_shared()?;
+    let mut grades = Vec::new();
+    for (k, (submission, student)) in args.submissions.iter().zip(&students).enumerate() {
+        grades.push(class.grade_student(k, submission, student, &mut manual, &mut tree)?);
+        bar.submission_done();
     }
-    let gradescope = args
-        .gradescope_metadata
-        .as_deref()
-        .map(term::GradescopeSubmission::load)
-        .transpose()?;
-    let mut manual = args
-        .manual_points
-        .as_deref()
-        .map(|path| term::manual_points(path, &students, &labs))
-        .transpose()?
-        .unwrap_or_default();
+    class.write_reports(&grades, started)
+}
+
+/// What a class's grading reads and checks before anything is built.
+struct ClassInputs {
+    /// The graded labs.
+    labs: Vec<LabId>,
+    /// The students, one per submission.
+    students: Vec<String>,
+    /// The course's terms, if a course file is given.
+    terms: Option<term::CourseTerms>,
+    /// The submission times given.
+    times: term::SubmissionTimes,
+    /// Gradescope's submission metadata, if given.
+    gradescope: Option<term::GradescopeSubmission>,
+    /// The points graded by hand, per student.
+    manual: std::collections::BTreeMap<String, Vec<term::ManualPoints>>,
+}
+
+impl ClassInputs {
+    /// Reads the labs, the students, the course's terms, the times and the manual points.
+    fn read(args: &GradeArgs) -> Result<Self, Error> {
+        let labs = graded_labs(&args.labs)?;
+        let students = student_names(&args.submissions)?;
+        // The course's terms are read and checked before anything is built.
+        let terms = args
+            .course
+            .as_deref()
+            // On Gradescope (one submission, `--results-json`) extensions are Gradescope's: the
+            // file's students are not the submission's folder.
+            .map(|path| {
+                term::CourseTerms::load(path, args.results_json.is_none().then_some(&students[..]))
+            })
+            .transpose()?;
+        let times = term::SubmissionTimes::new(
+            &args.submitted_at,
+            args.submission_times.as_deref(),
+            &students,
+        )?;
+        if let Some(path) = &args.gradescope_metadata
+            && students.len() != 1
+        {
+            return Err(Error::Invalid {
+                what: format!("--gradescope-metadata {}", path.display()),
+                reason: format!(
+                    "Gradescope's metadata is one submission's, not {}'s",
+                    students.len()
+                ),
+            });
+        }
+        let gradescope = args
+            .gradescope_metadata
+            .as_deref()
+            .map(term::GradescopeSubmission::load)
+            .transpose()?;
+        let manual = args
+            .manual_points
+            .as_deref()
+            .map(|path| term::manual_points(path, &students, &labs))
+            .transpose()?
+            .unwrap_or_default();
+        Ok(Self {
+            labs,
+            students,
+            terms,
+            times,
+            gradescope,
+            manual,
+        })
+    }
+}
+
+/// The sandbox that builds and runs student code, with the limits of `args`.
+fn make_sandbox(args: &GradeArgs) -> Result<Sandbox, Error> {
     let memory = args.memory_limit << 20;
     let run_as = args.run_as.as_deref().map(RunAs::resolve).transpose()?;
     let sandbox = Sandbox::new(
@@ -242,6 +309,11 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             "warning: --unsandboxed: student code runs as your user and can read and write everything you can"
         );
     }
+    Ok(sandbox)
+}
+
+/// The grading directory's handout and workspace, cleared of a previous grading's.
+fn prepare_workspace(args: &GradeArgs, sandbox: Sandbox) -> Result<(PathBuf, Workspace), Error> {
     let grading = args.out.join(".grading");
     let handout = grading.join("handout");
     fs::create_dir_all(&grading).map_err(io(&grading))?;
@@ -269,96 +341,202 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
             fs::remove_dir_all(dir).map_err(io(dir))?;
         }
     }
-    let released: BTreeSet<LabId> = args.release_solutions.iter().copied().collect();
-    let framework_tag = format!(
-        "framework.{}",
-        Manifest::of(&repository_root().join("framework"))?.digest()
-    );
-    let options = |grading| TreeOptions {
-        released: released.clone(),
-        answer_key: grading,
-        version_tag: grading.then(|| format!("grading.{tag}")),
-        // The framework by its content: gradings from the same framework share its build.
-        framework_tag: grading.then(|| framework_tag.clone()),
-    };
-    build_tree(&repository_root(), &handout, &options(false))?;
-    // The grading tree with the handout's stubs, and everything the submissions share built
-    // from it: before the first submission's clock starts, so that no student pays for it.
-    let make_tree = || -> Result<(Manifest, Shared), Error> {
+    Ok((handout, workspace))
+}
+
+/// How the handout and the grading tree are built from the repository.
+struct TreeSetup {
+    /// Labs whose solution was released in the handout.
+    released: BTreeSet<LabId>,
+    /// The grading directory's tag.
+    tag: String,
+    /// The framework's tag, by its content.
+    framework_tag: String,
+}
+
+impl TreeSetup {
+    /// The released labs of `args`, the grading's `tag` and the framework's digest.
+    fn new(args: &GradeArgs, tag: &str) -> Result<Self, Error> {
+        let released: BTreeSet<LabId> = args.release_solutions.iter().copied().collect();
+        let framework_tag = format!(
+            "framework.{}",
+            Manifest::of(&repository_root().join("framework"))?.digest()
+        );
+        Ok(Self {
+            released,
+            tag: tag.to_string(),
+            framework_tag,
+        })
+    }
+
+    /// The options of the handout, or with `grading` of the grading tree.
+    fn options(&self, grading: bool) -> TreeOptions {
+        let tag = &self.tag;
+        TreeOptions {
+            released: self.released.clone(),
+            answer_key: grading,
+            version_tag: grading.then(|| format!("grading.{tag}")),
+            // The framework by its content: gradings from the same framework share its build.
+            framework_tag: grading.then(|| self.framework_tag.clone()),
+        }
+    }
+}
+
+/// The grading tree as built, and what the submissions share built from it.
+struct GradingTree {
+    /// The tree's hashes, to find what a submission changed.
+    pristine: Manifest,
+    /// The graded programs and the build jail.
+    shared: Shared,
+}
+
+/// A class being graded, once its inputs are read and its workspace is prepared.
+struct ClassRun<'a> {
+    /// The options of `raylab grade`.
+    args: &'a GradeArgs,
+    /// The graded labs.
+    labs: &'a [LabId],
+    /// The students, one per submission.
+    students: &'a [String],
+    /// The course's terms.
+    terms: Option<&'a term::CourseTerms>,
+    /// The submission times given.
+    times: &'a term::SubmissionTimes,
+    /// Gradescope's submission metadata.
+    gradescope: Option<&'a term::GradescopeSubmission>,
+    /// The handout the submissions started from.
+    handout: &'a Path,
+    /// The grading tree and its builds.
+    workspace: &'a Workspace,
+    /// How the grading tree is built.
+    trees: &'a TreeSetup,
+    /// The progress shown while grading.
+    bar: &'a Progress,
+}
+
+impl ClassRun<'_> {
+    /// Builds the grading tree with the handout's stubs, and what every submission shares.
+    fn make_tree(&self) -> Result<(Manifest, Shared), Error> {
+        let workspace = self.workspace;
         if workspace.tree.exists() {
             fs::remove_dir_all(&workspace.tree).map_err(io(&workspace.tree))?;
         }
-        build_tree(&repository_root(), &workspace.tree, &options(true))?;
+        build_tree(
+            &repository_root(),
+            &workspace.tree,
+            &self.trees.options(true),
+        )?;
         workspace.prepare()?;
-        let shared = workspace.build_shared(&labs)?;
+        let shared = workspace.build_shared(self.labs)?;
         Ok((Manifest::of(&workspace.tree)?, shared))
-    };
-    let started = std::time::Instant::now();
-    let bar = Progress::new(args.submissions.len());
-    bar.doing(
-        "building what every submission shares: the framework, the checks and the build jail"
-            .into(),
-        true,
-    );
-    let preparing = std::time::Instant::now();
-    let (mut pristine, mut shared) = make_tree()?;
-    bar.line(&format!(
-        "built what every submission shares in {:.0} s (no submission's time)",
-        preparing.elapsed().as_secs_f64()
-    ));
-    let timeout = Duration::from_secs(args.timeout);
-    let mut grades = Vec::new();
-    for (k, (submission, student)) in args.submissions.iter().zip(&students).enumerate() {
-        bar.doing(
-            format!("grading {student} ({} of {})", k + 1, students.len()),
+    }
+
+    /// Builds the grading tree before the first submission, on no submission's clock.
+    fn build_shared(&self) -> Result<GradingTree, Error> {
+        // The grading tree with the handout's stubs, and everything the submissions share built
+        // from it: before the first submission's clock starts, so that no student pays for it.
+        self.bar.doing(
+            "building what every submission shares: the framework, the checks and the build jail"
+                .into(),
             true,
         );
-        let dir = args.out.join(student);
+        let preparing = std::time::Instant::now();
+        let (pristine, shared) = self.make_tree()?;
+        self.bar.line(&format!(
+            "built what every submission shares in {:.0} s (no submission's time)",
+            preparing.elapsed().as_secs_f64()
+        ));
+        Ok(GradingTree { pristine, shared })
+    }
+
+    /// Grades the `k`th submission, adds its terms and writes its report.
+    fn grade_student(
+        &self,
+        k: usize,
+        submission: &Path,
+        student: &str,
+        manual: &mut std::collections::BTreeMap<String, Vec<term::ManualPoints>>,
+        tree: &mut GradingTree,
+    ) -> Result<StudentGrade, Error> {
+        self.bar.doing(
+            format!("grading {student} ({} of {})", k + 1, self.students.len()),
+            true,
+        );
+        let dir = self.args.out.join(student);
         if dir.exists() {
             fs::remove_dir_all(&dir).map_err(io(&dir))?;
         }
+        let mut grade = self.grade_or_ungraded(submission, student, &dir, &tree.shared);
+        grade.sandbox = self.workspace.sandbox.describe();
+        grade.manual = manual.remove(student).unwrap_or_default();
+        grade.deadlines = term::deadlines(
+            student,
+            self.labs,
+            self.terms,
+            &|lab| self.times.of(student, submission, lab),
+            self.gradescope,
+        );
+        self.verify_tree(&mut grade, tree)?;
+        self.write_student_report(student, &mut grade, &dir)?;
+        Ok(grade)
+    }
+
+    /// Grades one submission into `dir`, or as not graded when the grader fails on it.
+    fn grade_or_ungraded(
+        &self,
+        submission: &Path,
+        student: &str,
+        dir: &Path,
+        shared: &Shared,
+    ) -> StudentGrade {
+        let bar = self.bar;
         // One submission that cannot be graded costs that submission, not the class.
         let class = ClassGrading {
-            handout: &handout,
-            workspace: &workspace,
-            shared: &shared,
-            labs: &labs,
-            timeout,
-            scan: !args.no_scan,
-            bar: &bar,
+            handout: self.handout,
+            workspace: self.workspace,
+            shared,
+            labs: self.labs,
+            timeout: Duration::from_secs(self.args.timeout),
+            scan: !self.args.no_scan,
+            bar,
         };
-        let mut grade = grade_submission(submission, student, &dir, &class).unwrap_or_else(|e| {
+        grade_submission(submission, student, dir, &class).unwrap_or_else(|e| {
             // The details, which may name places of this machine, are the instructor's.
             bar.warn(&format!("{student}: not graded: {e}"));
             StudentGrade::ungraded(
                 student,
-                &labs,
+                self.labs,
                 "the grader failed on it (the grader's output says why); this is no mark of the code",
             )
-        });
-        grade.sandbox = workspace.sandbox.describe();
-        grade.manual = manual.remove(student).unwrap_or_default();
-        grade.deadlines = term::deadlines(
-            student,
-            &labs,
-            terms.as_ref(),
-            &|lab| times.of(student, submission, lab),
-            gradescope.as_ref(),
-        );
+        })
+    }
+
+    /// Checks the grading tree after a submission, and rebuilds it if it changed.
+    fn verify_tree(&self, grade: &mut StudentGrade, tree: &mut GradingTree) -> Result<(), Error> {
         // The sandbox keeps the tree read-only; should it change all the same (unsandboxed),
         // the submission is named and the next one gets a fresh tree.
-        let changes = pristine.changes(&workspace.tree)?;
+        let changes = tree.pristine.changes(&self.workspace.tree)?;
         if !changes.is_empty() {
             grade.notes.push(format!(
                 "the grading tree was changed while this submission ran ({}); it was rebuilt for the next submission",
                 changes.join(", ")
             ));
-            (pristine, shared) = make_tree()?;
+            (tree.pristine, tree.shared) = self.make_tree()?;
         }
+        Ok(())
+    }
+
+    /// Writes the student's reports into `dir` and shows the student's points.
+    fn write_student_report(
+        &self,
+        student: &str,
+        grade: &mut StudentGrade,
+        dir: &Path,
+    ) -> Result<(), Error> {
         let started = std::time::Instant::now();
-        reports::write_student(&grade, &dir)?;
+        reports::write_student(grade, dir)?;
         grade.timings.report = started.elapsed().as_secs_f64();
-        bar.line(&format!(
+        self.bar.line(&format!(
             "{student}: {}/{} points{}",
             grade.score(),
             grade.max_score(),
@@ -371,17 +549,25 @@ fn grade_class(args: &GradeArgs) -> Result<(), Error> {
                 )
             }
         ));
-        grades.push(grade);
-        bar.submission_done();
+        Ok(())
     }
-    bar.finish();
-    println!("{}", summary(&grades, started.elapsed()));
-    reports::write_class(&grades, &args.out, terms.as_ref())?;
-    println!(
-        "reports in {}: index.html, gradebook.csv, canvas.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
-        args.out.display()
-    );
-    Ok(())
+
+    /// Ends the progress, prints the summary and writes the class's reports.
+    fn write_reports(
+        &self,
+        grades: &[StudentGrade],
+        started: std::time::Instant,
+    ) -> Result<(), Error> {
+        let (args, bar) = (self.args, self.bar);
+        bar.finish();
+        println!("{}", summary(grades, started.elapsed()));
+        reports::write_class(grades, &args.out, self.terms)?;
+        println!(
+            "reports in {}: index.html, gradebook.csv, canvas.csv, junit.xml, timings.csv, and per student report.md, report.html, results.json",
+            args.out.display()
+        );
+        Ok(())
+    }
 }
 
 /// The line that ends a grading run: how many submissions in how long, their mean points, and
@@ -460,87 +646,178 @@ fn grade_submission(
     dir: &Path,
     class: &ClassGrading,
 ) -> Result<StudentGrade, Error> {
-    let ClassGrading {
-        handout,
-        workspace,
-        shared,
-        labs,
-        timeout,
-        scan,
-        bar,
-    } = *class;
-    let mut notes = Vec::new();
-    let mut rejected = Vec::new();
-    let mut flagged = Vec::new();
-    let mut timings = Timings::default();
-    let changed_files = submission::changed_files(submission, handout)?;
-    let runs = workspace.runs.join(student);
-
-    // Only the graded labs' code is built: every other slot of every check is the answer key,
-    // so one lab's code never costs points in another. Each lab is compiled in the build jail,
-    // which holds its sources and nothing else of this machine's.
-    let mut broken = std::collections::BTreeMap::<LabId, (Status, String)>::new();
-    // Exercises whose answer the code takes from the framework, with where.
-    let mut answered = std::collections::BTreeMap::<String, Vec<String>>::new();
-    let mut written = Vec::new();
-    let private = [
-        workspace.sandbox.cargo_home().to_path_buf(),
-        workspace.runs.clone(),
-        workspace.jail.clone(),
-    ];
-    let builder = LabBuild {
-        sandbox: &workspace.sandbox,
-        jail: &shared.jail,
-        host: HostPaths {
-            tree: &workspace.tree,
-            target: &workspace.target,
-            private: &private,
-        },
-        timeout: workspace.build_timeout,
-        memory: workspace.sandbox.build_memory_limit(),
+    let mut record = SubmissionRecord::default();
+    let changed_files = submission::changed_files(submission, class.handout)?;
+    let grading = SubmissionGrading {
+        submission,
+        student,
+        dir,
+        runs: class.workspace.runs.join(student),
+        class: *class,
     };
-    for &lab in labs {
-        let staged = runs.join("sources");
-        let intake = submission::install_lab_code(Some(submission), handout, &staged, lab)?;
-        notes.extend(intake.missing);
-        rejected.extend(intake.rejected);
+    grading.compile_labs(&mut record)?;
+    let exercises = grading.run_exercises(&mut record)?;
+    // The student's sources, modules and runs: nothing is left behind.
+    let runs = &grading.runs;
+    if runs.exists() {
+        fs::remove_dir_all(runs).map_err(io(runs))?;
+    }
+    Ok(StudentGrade {
+        student: student.to_string(),
+        exercises,
+        changed_files,
+        notes: record.notes,
+        rejected: record.rejected,
+        flagged: record.flagged,
+        sandbox: String::new(),
+        timings: record.timings,
+        answers: record.written,
+        deadlines: Vec::new(),
+        manual: Vec::new(),
+    })
+}
+
+/// One submission being graded: whose it is, and where its files go.
+struct SubmissionGrading<'a> {
+    /// The submission directory.
+    submission: &'a Path,
+    /// The student's name.
+    student: &'a str,
+    /// The student's report directory.
+    dir: &'a Path,
+    /// The student's sources, modules and runs in the grading directory.
+    runs: PathBuf,
+    /// What every submission of the class is graded with.
+    class: ClassGrading<'a>,
+}
+
+/// What grading one submission gathers on its way to the report.
+#[derive(Default)]
+struct SubmissionRecord {
+    /// Other remarks (a lab's sources missing).
+    notes: Vec<String>,
+    /// Entries of the sources and answers that were not taken.
+    rejected: Vec<String>,
+    /// Source lines the scan warns of.
+    flagged: Vec<String>,
+    /// Where the grading spent its time.
+    timings: Timings,
+    /// The labs whose exercises cannot run, with their status and why.
+    broken: std::collections::BTreeMap<LabId, (Status, String)>,
+    /// Exercises whose answer the code takes from the framework, with where.
+    answered: std::collections::BTreeMap<String, Vec<String>>,
+    /// The written answers of the graded labs.
+    written: Vec<answers::LabAnswers>,
+}
+
+/// A lab's graded program, ready to run the lab's exercises on the student's module.
+struct LabProgram<'a> {
+    /// The lab's graded program.
+    executable: &'a Path,
+    /// The student's code of the lab, compiled for the graded program.
+    module: PathBuf,
+    /// The lab's directory in the grading tree.
+    lab_dir: PathBuf,
+    /// The graded program's test names.
+    tests: Vec<String>,
+}
+
+impl SubmissionGrading<'_> {
+    /// Takes each graded lab's sources and answers and compiles its code in the build jail.
+    fn compile_labs(&self, record: &mut SubmissionRecord) -> Result<(), Error> {
+        let ClassGrading {
+            workspace,
+            shared,
+            labs,
+            ..
+        } = self.class;
+        // Only the graded labs' code is built: every other slot of every check is the answer
+        // key, so one lab's code never costs points in another. Each lab is compiled in the
+        // build jail, which holds its sources and nothing else of this machine's.
+        let private = [
+            workspace.sandbox.cargo_home().to_path_buf(),
+            workspace.runs.clone(),
+            workspace.jail.clone(),
+        ];
+        let builder = LabBuild {
+            sandbox: &workspace.sandbox,
+            jail: &shared.jail,
+            host: HostPaths {
+                tree: &workspace.tree,
+                target: &workspace.target,
+                private: &private,
+            },
+            timeout: workspace.build_timeout,
+            memory: workspace.sandbox.build_memory_limit(),
+        };
+        for &lab in labs {
+            let staged = self.runs.join("sources");
+            self.take_lab(lab, &staged, record)?;
+            self.compile_lab(&builder, lab, &staged, record)?;
+        }
+        Ok(())
+    }
+
+    /// Stages the lab's sources in `staged`, reads its answers, and scans its sources.
+    fn take_lab(
+        &self,
+        lab: LabId,
+        staged: &Path,
+        record: &mut SubmissionRecord,
+    ) -> Result<(), Error> {
+        let (submission, handout) = (self.submission, self.class.handout);
+        let intake = submission::install_lab_code(Some(submission), handout, staged, lab)?;
+        record.notes.extend(intake.missing);
+        record.rejected.extend(intake.rejected);
         match submission::read_answers(submission, lab) {
             Ok(Some(text)) => {
                 let mut lab_answers = answers::LabAnswers::read(lab, &text);
-                rejected.extend(lab_answers.take_images(submission, dir)?);
-                written.push(lab_answers);
+                record
+                    .rejected
+                    .extend(lab_answers.take_images(submission, self.dir)?);
+                record.written.push(lab_answers);
             }
             Ok(None) => {}
-            Err(line) => rejected.push(line),
+            Err(line) => record.rejected.push(line),
         }
-        if scan {
+        if self.class.scan {
             // A warning: the build could not read such a file anyway.
-            let scan::LabScan { flags, denied } = scan::scan_lab(
-                &staged,
-                lab,
-                course::lab(lab).map_or(&[][..], |l| &l.denied),
-            );
-            flagged.extend(flags);
+            let scan::LabScan { flags, denied } =
+                scan::scan_lab(staged, lab, course::lab(lab).map_or(&[][..], |l| &l.denied));
+            record.flagged.extend(flags);
             for denied in denied {
                 for id in denied.exercises {
-                    answered
+                    record
+                        .answered
                         .entry(id.clone())
                         .or_default()
                         .push(denied.line.clone());
                 }
-                flagged.push(denied.line);
+                record.flagged.push(denied.line);
             }
         }
+        Ok(())
+    }
+
+    /// Compiles the lab's staged sources to a module; a lab that does not build is noted broken.
+    fn compile_lab(
+        &self,
+        builder: &LabBuild,
+        lab: LabId,
+        staged: &Path,
+        record: &mut SubmissionRecord,
+    ) -> Result<(), Error> {
+        let (student, bar, shared) = (self.student, self.class.bar, self.class.shared);
         bar.doing(format!("{student}: compiling labs/{lab}/src"), false);
         let started = std::time::Instant::now();
-        let module = runs.join(format!("{lab}.wasm"));
+        let module = self.runs.join(format!("{lab}.wasm"));
         let calls = shared.calls.get(&lab).ok_or_else(|| Error::Failed {
             what: format!("lab {lab}"),
             reason: "the shared build has no compiler record of it".into(),
         })?;
         let built = builder.build(lab, calls, &staged.join(format!("labs/{lab}/src")), &module)?;
         let took = started.elapsed().as_secs_f64();
-        timings.build += took;
+        record.timings.build += took;
         bar.logged(|| {
             let outcome = match &built {
                 Built::Module => "compiled",
@@ -552,7 +829,7 @@ fn grade_submission(
         match built {
             Built::Module => {}
             Built::DoesNotCompile(errors) => {
-                broken.insert(
+                record.broken.insert(
                     lab,
                     (
                         Status::DoesNotCompile,
@@ -561,7 +838,7 @@ fn grade_submission(
                 );
             }
             Built::NotGraded(why) => {
-                broken.insert(
+                record.broken.insert(
                     lab,
                     (
                         Status::NotGraded,
@@ -570,19 +847,32 @@ fn grade_submission(
                 );
             }
         }
+        Ok(())
     }
 
-    let mut exercises = Vec::new();
-    for &lab in labs {
+    /// Grades every exercise of the graded labs, lab by lab.
+    fn run_exercises(&self, record: &mut SubmissionRecord) -> Result<Vec<ExerciseGrade>, Error> {
+        let mut exercises = Vec::new();
+        for &lab in self.class.labs {
+            exercises.extend(self.grade_lab(lab, record)?);
+        }
+        Ok(exercises)
+    }
+
+    /// Grades the exercises of one lab: all failed when its code did not build.
+    fn grade_lab(
+        &self,
+        lab: LabId,
+        record: &mut SubmissionRecord,
+    ) -> Result<Vec<ExerciseGrade>, Error> {
+        let shared = self.class.shared;
         let infos = crate::labs::exercises(lab);
-        let executable = match (broken.get(&lab), shared.programs.get(&lab)) {
+        let executable = match (record.broken.get(&lab), shared.programs.get(&lab)) {
             (Some((status, why)), _) => {
-                exercises.extend(
-                    infos
-                        .into_iter()
-                        .map(|i| ExerciseGrade::failed(i, status.clone(), why.clone())),
-                );
-                continue;
+                return Ok(infos
+                    .into_iter()
+                    .map(|i| ExerciseGrade::failed(i, status.clone(), why.clone()))
+                    .collect());
             }
             (None, None) => {
                 return Err(Error::Failed {
@@ -592,6 +882,22 @@ fn grade_submission(
             }
             (None, Some(executable)) => executable,
         };
+        let program = self.prepare_lab(lab, executable, &mut record.timings)?;
+        let mut exercises = Vec::new();
+        for info in infos {
+            exercises.push(self.grade_exercise(lab, &program, info, record)?);
+        }
+        Ok(exercises)
+    }
+
+    /// Lists the graded program's tests and compiles the student's module for it.
+    fn prepare_lab<'p>(
+        &self,
+        lab: LabId,
+        executable: &'p Path,
+        timings: &mut Timings,
+    ) -> Result<LabProgram<'p>, Error> {
+        let (workspace, runs) = (self.class.workspace, &self.runs);
         let lab_dir = workspace.tree.join(format!("labs/{lab}"));
         let started = std::time::Instant::now();
         let tests = runner::list_tests(
@@ -610,96 +916,120 @@ fn grade_submission(
             &runs.join(format!("{lab}.wasm")),
         )?;
         timings.run += started.elapsed().as_secs_f64();
-        for info in infos {
-            if let Some(lines) = answered.get(info.id.as_str()) {
-                let why = format!(
-                    "no points: the code names framework items that compute what Exercise {} asks, instead of computing it:\n{}",
-                    info.id,
-                    lines.join("\n")
-                );
-                bar.logged(|| format!("{student}: Exercise {} flagged (not run)", info.id));
-                exercises.push(ExerciseGrade::failed(info, Status::Flagged, why));
-                continue;
-            }
-            let Some(test) = tests.iter().find(|t| t.starts_with(&info.test_prefix())) else {
-                let why = format!(
-                    "the checks have no test {}… for Exercise {}",
-                    info.test_prefix(),
-                    info.id
-                );
-                bar.logged(|| format!("{student}: Exercise {} not graded: {why}", info.id));
-                exercises.push(ExerciseGrade::failed(info, Status::NotGraded, why));
-                continue;
-            };
-            let scratch = runs.join(&info.id);
-            if scratch.exists() {
-                fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
-            }
-            let how = ExerciseRun {
-                sandbox: &workspace.sandbox,
-                executable,
-                module: &module,
-                lab_dir: &lab_dir,
-                scratch: &scratch,
-                timeout,
-                memory_limit: workspace.sandbox.memory_limit(),
-            };
-            bar.doing(format!("{student}: Exercise {}", info.id), false);
-            let run = runner::run_exercise(&how, test, &info)?;
-            bar.logged(|| {
-                format!(
-                    "{student}: Exercise {} {} ({})",
-                    info.id,
-                    run.status.label(),
-                    seconds(run.seconds)
-                )
-            });
-            timings.timed_out += run.stopped_seconds;
-            timings.run += run.seconds - run.stopped_seconds;
-            let mut images = Vec::new();
-            for image in &run.images {
-                let name = format!(
-                    "{}-{}",
-                    info.id,
-                    image.file_name().unwrap_or_default().to_string_lossy()
-                );
-                let relative = PathBuf::from("images").join(format!("{lab}")).join(name);
-                crate::handout::copy_file(image, &dir.join(&relative))?;
-                images.push(relative);
-            }
-            // Nothing of a run outlives it but what the report keeps.
-            fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
-            exercises.push(ExerciseGrade {
-                score: if run.status == Status::Passed {
-                    info.points
-                } else {
-                    0
-                },
-                info,
-                status: run.status,
-                output: run.output,
-                program_output: run.program_output,
-                images,
-                seconds: run.seconds,
-                key_for: run.key_for,
-            });
+        Ok(LabProgram {
+            executable,
+            module,
+            lab_dir,
+            tests,
+        })
+    }
+
+    /// Grades one exercise: flagged or not graded without running, else by its check's run.
+    fn grade_exercise(
+        &self,
+        lab: LabId,
+        program: &LabProgram,
+        info: ExerciseInfo,
+        record: &mut SubmissionRecord,
+    ) -> Result<ExerciseGrade, Error> {
+        let (student, bar) = (self.student, self.class.bar);
+        if let Some(lines) = record.answered.get(info.id.as_str()) {
+            let why = format!(
+                "no points: the code names framework items that compute what Exercise {} asks, instead of computing it:\n{}",
+                info.id,
+                lines.join("\n")
+            );
+            bar.logged(|| format!("{student}: Exercise {} flagged (not run)", info.id));
+            return Ok(ExerciseGrade::failed(info, Status::Flagged, why));
         }
+        let Some(test) = program
+            .tests
+            .iter()
+            .find(|t| t.starts_with(&info.test_prefix()))
+        else {
+            let why = format!(
+                "the checks have no test {}… for Exercise {}",
+                info.test_prefix(),
+                info.id
+            );
+            bar.logged(|| format!("{student}: Exercise {} not graded: {why}", info.id));
+            return Ok(ExerciseGrade::failed(info, Status::NotGraded, why));
+        };
+        self.run_exercise(lab, program, test, info, &mut record.timings)
     }
-    // The student's sources, modules and runs: nothing is left behind.
-    if runs.exists() {
-        fs::remove_dir_all(&runs).map_err(io(&runs))?;
+
+    /// Runs the exercise's test in the sandbox and keeps the images its check wrote.
+    fn run_exercise(
+        &self,
+        lab: LabId,
+        program: &LabProgram,
+        test: &str,
+        info: ExerciseInfo,
+        timings: &mut Timings,
+    ) -> Result<ExerciseGrade, Error> {
+        let (student, bar, workspace) = (self.student, self.class.bar, self.class.workspace);
+        let scratch = self.runs.join(&info.id);
+        if scratch.exists() {
+            fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
+        }
+        let how = ExerciseRun {
+            sandbox: &workspace.sandbox,
+            executable: program.executable,
+            module: &program.module,
+            lab_dir: &program.lab_dir,
+            scratch: &scratch,
+            timeout: self.class.timeout,
+            memory_limit: workspace.sandbox.memory_limit(),
+        };
+        bar.doing(format!("{student}: Exercise {}", info.id), false);
+        let run = runner::run_exercise(&how, test, &info)?;
+        bar.logged(|| {
+            format!(
+                "{student}: Exercise {} {} ({})",
+                info.id,
+                run.status.label(),
+                seconds(run.seconds)
+            )
+        });
+        timings.timed_out += run.stopped_seconds;
+        timings.run += run.seconds - run.stopped_seconds;
+        let images = self.keep_images(lab, &info, &run.images)?;
+        // Nothing of a run outlives it but what the report keeps.
+        fs::remove_dir_all(&scratch).map_err(io(&scratch))?;
+        Ok(ExerciseGrade {
+            score: if run.status == Status::Passed {
+                info.points
+            } else {
+                0
+            },
+            info,
+            status: run.status,
+            output: run.output,
+            program_output: run.program_output,
+            images,
+            seconds: run.seconds,
+            key_for: run.key_for,
+        })
     }
-    Ok(StudentGrade {
-        student: student.to_string(),
-        exercises,
-        changed_files,
-        notes,
-        rejected,
-        flagged,
-        sandbox: String::new(),
-        timings,
-        answers: written,
-        deadlines: Vec::new(),
-        manual: Vec::new(),
-    })
+
+    /// Copies an exercise's images into the report's `images/` directory, named by exercise.
+    fn keep_images(
+        &self,
+        lab: LabId,
+        info: &ExerciseInfo,
+        run_images: &[PathBuf],
+    ) -> Result<Vec<PathBuf>, Error> {
+        let mut images = Vec::new();
+        for image in run_images {
+            let name = format!(
+                "{}-{}",
+                info.id,
+                image.file_name().unwrap_or_default().to_string_lossy()
+            );
+            let relative = PathBuf::from("images").join(format!("{lab}")).join(name);
+            crate::handout::copy_file(image, &self.dir.join(&relative))?;
+            images.push(relative);
+        }
+        Ok(images)
+    }
 }
