@@ -21,7 +21,30 @@ pub enum Verdict {
 }
 
 /// One variant as [`judge`] takes it: its name, its verdict and the code.
-pub type Variant<S> = (&'static str, Verdict, Arc<S>);
+pub type Entry<S> = (&'static str, Verdict, Arc<S>);
+
+/// A variant of a lab's answer key that one value of `C` (what it changes, which implements the
+/// lab's contract) stands for: its name and its verdict.
+#[derive(Clone, Copy, Debug)]
+pub struct Variant<C> {
+    /// What the variant does.
+    pub name: &'static str,
+    /// Mistake or alternative.
+    pub verdict: Verdict,
+    /// What the variant changes in the key.
+    pub change: C,
+}
+
+impl<C> Variant<C> {
+    /// The variant `name` with `verdict` that makes `change`.
+    pub fn new(name: &'static str, verdict: Verdict, change: C) -> Self {
+        Self {
+            name,
+            verdict,
+            change,
+        }
+    }
+}
 
 /// The context of `lab` (whose crate is at `lab_dir`) in `base`, with `keys` as the labs whose
 /// slot of `base` counts as the answer key: without `lab` among them the checks judge by golden
@@ -88,7 +111,7 @@ pub fn assert_all_fail_cleanly<S: ?Sized>(
 pub fn judge<S: ?Sized>(
     ctx: &LabContext,
     exercises: &[Exercise<S>],
-    variants: Vec<Variant<S>>,
+    variants: Vec<Entry<S>>,
 ) -> Vec<String> {
     let (lab, number) = (ctx.lab, ctx.lab.number());
     let mut problems = Vec::new();
@@ -138,7 +161,7 @@ pub fn judge<S: ?Sized>(
 pub fn charged_once<S: ?Sized + contracts::Mix + 'static>(
     ctx: &LabContext,
     exercises: Vec<Exercise<S>>,
-    variants: Vec<Variant<S>>,
+    variants: Vec<Entry<S>>,
 ) -> Vec<String> {
     let table: Vec<Arc<Exercise<S>>> = exercises.into_iter().map(Arc::new).collect();
     let mut problems = Vec::new();
@@ -169,10 +192,12 @@ pub fn charged_once<S: ?Sized + contracts::Mix + 'static>(
 
 /// The tests of a lab's corpus, at the end of `labs/labNN/tests/corpus.rs`:
 /// `grading::corpus_tests!(lab03, lab03_checks, reference);` after the file's `variants()`, a list of
-/// variants with a `name`, a `verdict` and the lab's `contracts::labNN::Contract` implemented.
+/// variants with a `name`, a `verdict` and the lab's `contracts::labNN::Contract` implemented;
+/// or `grading::corpus_tests!(lab11, lab11_checks, reference, code = change);` when the contract
+/// is implemented by each variant's field `change` (a [`Variant`](crate::corpus::Variant)'s).
 #[macro_export]
 macro_rules! corpus_tests {
-    ($lab:ident, $checks:ident, $key:ident) => {
+    ($lab:ident, $checks:ident, $key:ident $(, code = $code:ident)?) => {
         /// The lab's context in the reference pipeline, with the answer keys `keys`.
         fn corpus_context(keys: &[u32]) -> $crate::LabContext {
             let lab = $checks::checks::LAB;
@@ -185,13 +210,13 @@ macro_rules! corpus_tests {
         }
 
         /// The corpus as [`judge`]($crate::corpus::judge) takes it.
-        fn corpus() -> Vec<$crate::corpus::Variant<::contracts::$lab::Contract>> {
+        fn corpus() -> Vec<$crate::corpus::Entry<::contracts::$lab::Contract>> {
             variants()
                 .into_iter()
                 .map(|v| {
                     let (name, verdict) = (v.name, v.verdict);
                     let code: ::std::sync::Arc<::contracts::$lab::Contract> =
-                        ::std::sync::Arc::new(v);
+                        ::std::sync::Arc::new(v $(.$code)?);
                     (name, verdict, code)
                 })
                 .collect()

@@ -8,6 +8,7 @@ pub mod corpus;
 mod golden;
 pub mod graded;
 pub mod harness;
+pub mod part_snapshots;
 pub mod prerequisite;
 mod property;
 pub mod radiometry;
@@ -173,6 +174,12 @@ impl LabContext {
         self.has_key(self.lab).then_some(&self.base)
     }
 
+    /// The answer key's code of the contract `S`, when the context holds the key
+    /// ([`Self::key`]).
+    pub fn key_code<S: ?Sized + Send + Sync + 'static>(&self) -> Option<Arc<S>> {
+        self.key().map(|k| k.code::<S>())
+    }
+
     /// Path of a golden-case file of this lab.
     pub fn golden_path(&self, name: &str) -> PathBuf {
         self.lab_dir.join("golden").join(name)
@@ -192,6 +199,24 @@ impl LabContext {
     {
         GoldenFile::load(&self.golden_path(name))
             .map_err(|e| self.unreadable(&format!("golden/{name}"), e))
+    }
+
+    /// Records `f` (the reference) on `inputs` as the golden-case file `name` of exercise
+    /// `exercise` of this lab (`raylab golden`), and says which file.
+    pub fn record_golden<I, O>(
+        &self,
+        name: &str,
+        exercise: &str,
+        inputs: &[I],
+        f: impl Fn(&I) -> O,
+    ) -> Result<PathBuf, raylab_core::Error>
+    where
+        I: Clone + serde::Serialize + serde::de::DeserializeOwned,
+        O: serde::Serialize + serde::de::DeserializeOwned,
+    {
+        let path = self.golden_path(name);
+        GoldenFile::record(exercise, inputs, f).save(&path)?;
+        Ok(path)
     }
 
     /// The message of this lab's file `relative` (`golden/x.json`, `snapshots/y.exr`) that

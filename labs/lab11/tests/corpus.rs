@@ -12,9 +12,9 @@ use raylab_core::math::{Onb, RAY_EPSILON, Ray};
 use raylab_core::sampling::Rng;
 use reference::lab11::Lab11 as Reference;
 
-use grading::corpus::Verdict;
+use grading::corpus::{Variant, Verdict};
 
-/// What a variant changes.
+/// What a variant changes: the answer key with that one change, as the lab's contract.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Change {
     CubeWithoutBall,
@@ -54,23 +54,9 @@ enum Change {
 
 use Change::*;
 
-/// A lab 11 variant: the reference with one function changed.
-#[derive(Clone, Copy, Debug)]
-pub struct Variant {
-    /// What the variant does.
-    pub name: &'static str,
-    /// Mistake or alternative.
-    pub verdict: Verdict,
-    change: Change,
-}
-
-/// Every variant of lab 11.
-pub fn variants() -> Vec<Variant> {
-    let v = |name, verdict, change| Variant {
-        name,
-        verdict,
-        change,
-    };
+/// Every variant of lab 11: the reference with one function changed.
+fn variants() -> Vec<Variant<Change>> {
+    let v = Variant::new;
     let r = Verdict::Reject;
     let ok = Verdict::Accept;
     vec![
@@ -186,13 +172,13 @@ fn local(normal: Vec3, x: f32, y: f32, z: f32) -> Vec3 {
     Onb::from_w(normal).to_world(Vec3::new(x, y, z)).normalize()
 }
 
-impl AmbientOcclusion for Variant {
+impl AmbientOcclusion for Change {
     fn sample_hemisphere_rejection(&self, normal: Vec3, rng: &mut Rng) -> HemisphereSample {
         let uniform = |direction| HemisphereSample {
             direction,
             pdf: 0.5 * FRAC_1_PI,
         };
-        match self.change {
+        match *self {
             CubeWithoutBall => loop {
                 let p = cube(rng);
                 if p.dot(normal) >= 0.0 && p.length_squared() > 1e-6 {
@@ -240,7 +226,7 @@ impl AmbientOcclusion for Variant {
             direction,
             pdf: direction.dot(normal).max(0.0) * FRAC_1_PI,
         };
-        match self.change {
+        match *self {
             DiscRadiusWithoutRoot => {
                 let u = rng.next_vec2();
                 let (r, f) = (u.x, 2.0 * PI * u.y);
@@ -288,7 +274,7 @@ impl AmbientOcclusion for Variant {
         occluded: &dyn Fn(&Ray) -> bool,
         rng: &mut Rng,
     ) -> Occlusion {
-        let weight: fn(f32, f32) -> f32 = match self.change {
+        let weight: fn(f32, f32) -> f32 = match *self {
             IgnoresPdf => |_, _| 1.0,
             AssumesUniform => |cos, _| 2.0 * cos,
             PdfWithoutPi => |cos, pdf| cos / pdf,
@@ -300,30 +286,26 @@ impl AmbientOcclusion for Variant {
                     .ambient_occlusion(position, normal, samples, sampler, occluded, rng);
             }
         };
-        let tmin = if self.change == TminZero {
-            0.0
-        } else {
-            RAY_EPSILON
-        };
+        let tmin = if *self == TminZero { 0.0 } else { RAY_EPSILON };
         let (mut sum, mut bent, mut free) = (0.0, Vec3::ZERO, 0);
         for _ in 0..samples {
             let s = sampler(rng);
             let blocked = occluded(&Ray::unbounded(position, s.direction, tmin));
             let w = weight(s.direction.dot(normal).max(0.0), s.pdf);
-            if self.change == BentOverAllRays {
+            if *self == BentOverAllRays {
                 bent += w * s.direction;
             }
             if !blocked {
                 sum += w;
                 free += 1;
-                if self.change == BentUnweighted {
+                if *self == BentUnweighted {
                     bent += s.direction;
-                } else if self.change != BentOverAllRays {
+                } else if *self != BentOverAllRays {
                     bent += w * s.direction;
                 }
             }
         }
-        let n = if self.change == DividesByFree {
+        let n = if *self == DividesByFree {
             free.max(1)
         } else {
             samples.max(1)
@@ -338,7 +320,7 @@ impl AmbientOcclusion for Variant {
         let [r, g, b, e] = rgbe;
         let m = Vec3::new(r as f32, g as f32, b as f32);
         let e = i32::from(e);
-        match self.change {
+        match *self {
             NoMantissaScale if e > 0 => (m + 0.5) * f32::exp2((e - 128) as f32),
             NoHalfStep if e > 0 => m * f32::exp2((e - 136) as f32),
             ListingWithoutBias if e > 0 => (m + 0.5) * f32::exp2((e - 8) as f32),
@@ -349,7 +331,7 @@ impl AmbientOcclusion for Variant {
 
     fn angular_map_uv(&self, d: Vec3) -> Vec2 {
         let s = (d.x * d.x + d.y * d.y).sqrt();
-        match self.change {
+        match *self {
             BackToCentre if s < 1e-3 => Vec2::splat(0.5),
             AngularVUp => {
                 let uv = Reference.angular_map_uv(d);
@@ -364,7 +346,7 @@ impl AmbientOcclusion for Variant {
     }
 
     fn angular_map_direction(&self, uv: Vec2) -> Option<Vec3> {
-        match self.change {
+        match *self {
             AngularNeverNone => {
                 let c = (uv - Vec2::splat(0.5)).clamp_length_max(0.5);
                 Reference.angular_map_direction(Vec2::splat(0.5) + c)
@@ -377,7 +359,7 @@ impl AmbientOcclusion for Variant {
     }
 
     fn latlong_uv(&self, d: Vec3) -> Vec2 {
-        match self.change {
+        match *self {
             LatlongAzimuthFromXz => {
                 let uv = Reference.latlong_uv(d);
                 Vec2::new(0.5 + d.z.atan2(d.x) / (2.0 * PI), uv.y)
@@ -395,7 +377,7 @@ impl AmbientOcclusion for Variant {
     }
 
     fn latlong_direction(&self, uv: Vec2) -> Vec3 {
-        match self.change {
+        match *self {
             LatlongNoShift => Reference.latlong_direction(Vec2::new(uv.x + 0.5, uv.y)),
             _ => Reference.latlong_direction(uv),
         }
@@ -407,7 +389,7 @@ impl AmbientOcclusion for Variant {
         occlusion: &Occlusion,
         environment: Vec3,
     ) -> Vec3 {
-        match self.change {
+        match *self {
             ShaderExtraOneOverPi => FRAC_1_PI * occlusion.accessibility * diffuse * environment,
             ShaderIgnoresAccessibility => diffuse * environment,
             _ => Reference.shade_ambient_occlusion(diffuse, occlusion, environment),
@@ -415,4 +397,4 @@ impl AmbientOcclusion for Variant {
     }
 }
 
-grading::corpus_tests!(lab11, lab11_checks, reference);
+grading::corpus_tests!(lab11, lab11_checks, reference, code = change);

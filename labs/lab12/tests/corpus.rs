@@ -10,13 +10,13 @@ use contracts::lab12::{
     BsdfSample, BsdfValue, EmitterSample, PathHit, PathMaterial, PathTracing, PathVertex,
     PixelStatistics, SkyDistribution, SkySample,
 };
-use grading::corpus::Verdict;
+use grading::corpus::{Variant, Verdict};
 use raylab_core::glam::Vec3;
 use raylab_core::math::{Onb, RAY_EPSILON, Ray};
 use raylab_core::sampling::Rng;
 use reference::lab12::Lab12 as Reference;
 
-/// What a variant changes.
+/// What a variant changes: the answer key with that one change, as the lab's contract.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Change {
     MeanOfChannels,
@@ -123,23 +123,9 @@ enum Change {
 
 use Change::*;
 
-/// A lab 12 variant: the reference with one function changed.
-#[derive(Clone, Copy, Debug)]
-pub struct Variant {
-    /// What the variant does.
-    pub name: &'static str,
-    /// Mistake or alternative.
-    pub verdict: Verdict,
-    change: Change,
-}
-
-/// Every variant of lab 12.
-pub fn variants() -> Vec<Variant> {
-    let v = |name, verdict, change| Variant {
-        name,
-        verdict,
-        change,
-    };
+/// Every variant of lab 12: the reference with one function changed.
+fn variants() -> Vec<Variant<Change>> {
+    let v = Variant::new;
     let r = Verdict::Reject;
     let ok = Verdict::Accept;
     vec![
@@ -746,9 +732,9 @@ fn emitter_pdf_with(
     }
 }
 
-impl PathTracing for Variant {
+impl PathTracing for Change {
     fn luminance(&self, c: Vec3) -> f32 {
-        match self.change {
+        match *self {
             MeanOfChannels => (c.x + c.y + c.z) / 3.0,
             Bt601 => 0.299 * c.x + 0.587 * c.y + 0.114 * c.z,
             RedBlueSwapped => 0.0722 * c.x + 0.7152 * c.y + 0.2126 * c.z,
@@ -772,7 +758,7 @@ impl PathTracing for Variant {
             p,
         };
         let with = |parts: Parts| bsdf_with(m, normal, wo, wi, parts);
-        match self.change {
+        match *self {
             DiffuseWithoutPi if !below => {
                 let b = Reference.bsdf(m, normal, wo, wi);
                 BsdfValue {
@@ -863,7 +849,7 @@ impl PathTracing for Variant {
             )
         };
         let diffuse = |u: Vec3| about(normal, (1.0 - u.x).max(0.0).sqrt(), TAU * u.y);
-        match self.change {
+        match *self {
             PdfOfChosenLobe | ValueOfChosenLobe => {
                 let choice = rng.next_f32();
                 let u = rng.next_vec2();
@@ -883,7 +869,7 @@ impl PathTracing for Variant {
                 } else {
                     (m.diffuse * FRAC_1_PI, normal.dot(wi) * FRAC_1_PI)
                 };
-                Some(if self.change == PdfOfChosenLobe {
+                Some(if *self == PdfOfChosenLobe {
                     BsdfSample {
                         direction: wi,
                         value: b.value,
@@ -1014,7 +1000,7 @@ impl PathTracing for Variant {
                 delta: false,
             })
         };
-        match self.change {
+        match *self {
             AreaDensity => scaled(&|s| 1.0 / (s.pdf * area), rng),
             DistanceNotSquared => scaled(&|s| 1.0 / s.distance, rng),
             NoEmitterCosine => scaled(&|s| cos_at(s), rng),
@@ -1060,7 +1046,7 @@ impl PathTracing for Variant {
         distance: f32,
     ) -> f32 {
         let solid_angle = |d: f32, area: f32, cos: f32| d * d / (area * cos);
-        match self.change {
+        match *self {
             PdfAreaDensity => emitter_pdf_with(
                 triangle,
                 direction,
@@ -1110,7 +1096,7 @@ impl PathTracing for Variant {
     }
 
     fn power_heuristic(&self, pdf: f32, other: f32) -> f32 {
-        match self.change {
+        match *self {
             Balance => {
                 if pdf > 0.0 {
                     pdf / (pdf + other)
@@ -1137,7 +1123,7 @@ impl PathTracing for Variant {
             let q = largest.min(1.0);
             (largest > 0.0 && u < q).then(|| 1.0 / q)
         };
-        match self.change {
+        match *self {
             NoDivision => Reference.roulette(t, rng).map(|_| 1.0),
             MeanChannel => with(t.element_sum() / 3.0, rng),
             ByLuminance => with(Reference.luminance(t), rng),
@@ -1177,7 +1163,7 @@ impl PathTracing for Variant {
         rng: &mut Rng,
     ) -> Vec3 {
         path_loop(
-            self.change,
+            *self,
             ray,
             max_depth,
             trace,
@@ -1194,7 +1180,7 @@ impl PathTracing for Variant {
     fn accumulate(&self, st: &PixelStatistics, x: Vec3) -> PixelStatistics {
         let count = st.count + 1;
         let n = count as f32;
-        match self.change {
+        match *self {
             SumOfSquares => {
                 // Kept as Σx and Σx² in disguise: mean and the raw second moment.
                 let sum = st.mean * st.count as f32 + x;
@@ -1234,15 +1220,15 @@ impl PathTracing for Variant {
     }
 
     fn sky_distribution(&self, luminance: &[f32], width: u32, height: u32) -> SkyDistribution {
-        sky_distribution_with(self.change, luminance, width, height)
+        sky_distribution_with(*self, luminance, width, height)
     }
 
     fn sample_sky(&self, sky: &SkyDistribution, rng: &mut Rng) -> Option<SkySample> {
-        sample_sky_with(self.change, sky, rng)
+        sample_sky_with(*self, sky, rng)
     }
 
     fn sky_pdf(&self, sky: &SkyDistribution, direction: Vec3) -> f32 {
-        sky_pdf_with(self.change, sky, direction)
+        sky_pdf_with(*self, sky, direction)
     }
 
     fn relative_error(&self, st: &PixelStatistics) -> f32 {
@@ -1258,7 +1244,7 @@ impl PathTracing for Variant {
                 })
                 .fold(0.0, f32::max)
         };
-        match self.change {
+        match *self {
             PopulationVariance if st.count >= 2 => per_channel((st.m2 / n / n).powf(0.5)),
             WithoutRootN if st.count >= 2 => per_channel((st.m2 / (n - 1.0)).powf(0.5)),
             ByLuminanceOfMean if st.count >= 2 => {
@@ -1392,4 +1378,4 @@ fn path_loop(
     radiance
 }
 
-grading::corpus_tests!(lab12, lab12_checks, reference);
+grading::corpus_tests!(lab12, lab12_checks, reference, code = change);

@@ -215,8 +215,25 @@ struct CheckedObj {
     material_sources: Vec<(PathBuf, Option<usize>)>,
 }
 
-fn strip_comment(line: &str) -> &str {
-    line.split_once('#').map_or(line, |(before, _)| before)
+/// The parse error at line `line` of `path`, for a reason.
+fn parse_error(path: &Path, line: usize) -> impl Fn(String) -> Error + Copy + '_ {
+    move |reason| Error::Parse {
+        path: path.to_path_buf(),
+        line,
+        reason,
+    }
+}
+
+/// The lines of an OBJ or MTL file's `text`: each one's number (from 1), its text without the
+/// comment, its statement's keyword (empty on a blank or comment-only line) and the words after
+/// the keyword.
+fn statements(text: &str) -> impl Iterator<Item = (usize, &str, &str, Vec<&str>)> {
+    text.lines().enumerate().map(|(i, raw)| {
+        let content = raw.split_once('#').map_or(raw, |(before, _)| before);
+        let mut words = content.split_whitespace();
+        let keyword = words.next().unwrap_or_default();
+        (i + 1, content, keyword, words.collect())
+    })
 }
 
 /// The text after the statement keyword (file and material names may contain spaces).
@@ -296,20 +313,8 @@ fn check_obj(path: &Path, dir: &Path, text: &str, read: ReadText<'_>) -> Result<
     let mut known_set: HashSet<String> = HashSet::new();
     // Vertices, texture coordinates and normals defined so far.
     let mut counts = [0usize; 3];
-    for (i, raw) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let fail = |reason: String| Error::Parse {
-            path: path.to_path_buf(),
-            line: line_no,
-            reason,
-        };
-        let content = strip_comment(raw);
-        let mut words = content.split_whitespace();
-        let Some(keyword) = words.next() else {
-            out.push('\n');
-            continue;
-        };
-        let args: Vec<&str> = words.collect();
+    for (line_no, content, keyword, args) in statements(text) {
+        let fail = parse_error(path, line_no);
         match keyword {
             "v" => {
                 let v = parse_numbers(&args, "vertex", "coordinate").map_err(fail)?;
@@ -465,20 +470,8 @@ type MtlEntry = (String, Option<usize>);
 fn check_mtl(path: &Path, text: &str) -> Result<(String, Vec<MtlEntry>), Error> {
     let mut out = String::with_capacity(text.len());
     let mut names = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let fail = |reason: String| Error::Parse {
-            path: path.to_path_buf(),
-            line: line_no,
-            reason,
-        };
-        let content = strip_comment(raw);
-        let mut words = content.split_whitespace();
-        let Some(keyword) = words.next() else {
-            out.push('\n');
-            continue;
-        };
-        let args: Vec<&str> = words.collect();
+    for (line_no, content, keyword, args) in statements(text) {
+        let fail = parse_error(path, line_no);
         match keyword {
             "newmtl" => {
                 let name = rest_of_statement(content, keyword);

@@ -19,15 +19,13 @@ use glam::{DVec3, Vec2, Vec3};
 use proptest::prelude::*;
 
 use contracts::lab04::{Interface, Reflection};
+use grading::part_snapshots::{PartSnapshots, SnapshotScene};
 pub use grading::radiometry::samples_of;
 use grading::scenes::glossy_default_scene;
 use grading::strategies::{index_strategy, point, scale, unit_vector};
 use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
-use pipeline::render::render;
-use pipeline::{Pipeline, View};
-use raylab_core::film::Film;
 use raylab_core::math::{RAY_EPSILON, Ray};
 use raylab_core::render::RenderSettings;
 use raylab_core::scene::{Hit, HitSurface};
@@ -341,22 +339,8 @@ fn snell_has_solution(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
     sine(w.as_dvec3(), n.as_dvec3()) * eta_i as f64 / eta_t as f64 <= 1.0
 }
 
-/// The answer key's lab 04 slot, when the context holds it.
-fn key(ctx: &LabContext) -> Option<Arc<dyn Reflection>> {
-    ctx.key()
-        .map(|k| k.code::<dyn contracts::lab04::Reflection>())
-}
-
 // ---------------------------------------------------------------------------------------------
 // Comparisons
-
-fn load<I, O>(ctx: &LabContext, name: &str) -> Result<GoldenFile<I, O>, String>
-where
-    I: serde::Serialize + serde::de::DeserializeOwned,
-    O: serde::Serialize + serde::de::DeserializeOwned,
-{
-    ctx.golden(name)
-}
 
 fn finite(what: &str, v: Vec3) -> Result<(), String> {
     if v.is_finite() {
@@ -540,20 +524,6 @@ pub enum Part {
     Phong,
 }
 
-impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
-    pub fn function(self) -> &'static str {
-        match self {
-            Part::Reflect => "reflect",
-            Part::ReflectedRay => "reflected_ray",
-            Part::Interface => "interface",
-            Part::Refract => "refract",
-            Part::RefractedRay => "refracted_ray",
-            Part::Phong => "shade_phong",
-        }
-    }
-}
-
 /// The scenes of lab 04's snapshots.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Shot {
@@ -576,9 +546,10 @@ impl Shot {
         Shot::Glossy,
         Shot::TwoMirrors,
     ];
+}
 
-    /// The snapshot's file name (without `.exr`).
-    pub fn name(self) -> &'static str {
+impl SnapshotScene for Shot {
+    fn name(self) -> &'static str {
         match self {
             Shot::Default => "default",
             Shot::CornellSpheres => "cornell-spheres",
@@ -587,8 +558,7 @@ impl Shot {
         }
     }
 
-    /// The scene.
-    pub fn scene(self) -> Result<Scene, raylab_core::Error> {
+    fn scene(self) -> Result<Scene, raylab_core::Error> {
         match self {
             Shot::Default => builtin_scene("default"),
             Shot::CornellSpheres => {
@@ -602,9 +572,11 @@ impl Shot {
     }
 }
 
-impl Part {
-    /// Every part with the scenes its snapshots render.
-    pub const ALL: [(Part, &'static [Shot]); 6] = [
+impl PartSnapshots for Part {
+    type Contract = dyn Reflection;
+    type Shot = Shot;
+
+    const PARTS: &'static [(Part, &'static [Shot])] = &[
         // The renderer reaches `reflect`, `interface` and `refract` only through the student's
         // `reflected_ray` and `refracted_ray` (Exercises 4.2 and 4.5), whose images check them
         // together; composing them here would put those exercises' answers in the checks.
@@ -618,37 +590,20 @@ impl Part {
         ),
         (Part::Phong, &[Shot::Default, Shot::Glossy]),
     ];
-}
+    const SETTINGS: RenderSettings = SNAPSHOT_SETTINGS;
+    const MAX_DEPTH: u32 = SNAPSHOT_MAX_DEPTH;
+    const TOLERANCE: PixelTolerance = SNAPSHOT_TOLERANCE;
 
-/// The pipeline of one part's snapshots: `student` for that part only, `base` for the rest,
-/// at lab 4 with the depth limit [`SNAPSHOT_MAX_DEPTH`].
-pub fn part_pipeline(part: Part, student: &Arc<dyn Reflection>, base: &Pipeline) -> Pipeline {
-    let mut pipeline = base.with_student_function(part.function(), student);
-    pipeline.view = View::Shaded;
-    pipeline.max_depth = SNAPSHOT_MAX_DEPTH;
-    pipeline
-}
-
-/// Renders one snapshot scene through `pipeline`.
-pub fn render_shot(shot: Shot, pipeline: &Pipeline) -> Result<Film, raylab_core::Error> {
-    render(&shot.scene()?, pipeline, &SNAPSHOT_SETTINGS)
-}
-
-fn check_part_snapshots(
-    part: Part,
-    s: &Arc<dyn Reflection>,
-    ctx: &LabContext,
-) -> Result<(), String> {
-    let (_, shots) = Part::ALL
-        .iter()
-        .find(|p| p.0 == part)
-        .expect("every part is listed");
-    let pipeline = part_pipeline(part, s, &ctx.base);
-    for &shot in *shots {
-        let film = render_shot(shot, &pipeline).map_err(|e| e.to_string())?;
-        ctx.check_snapshot(shot.name(), &film, &SNAPSHOT_TOLERANCE)?;
+    fn function(self) -> &'static str {
+        match self {
+            Part::Reflect => "reflect",
+            Part::ReflectedRay => "reflected_ray",
+            Part::Interface => "interface",
+            Part::Refract => "refract",
+            Part::RefractedRay => "refracted_ray",
+            Part::Phong => "shade_phong",
+        }
     }
-    Ok(())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -685,7 +640,7 @@ fn check_law_of_reflection(call: &str, w: Vec3, n: Vec3, r: Vec3) -> Result<(), 
 }
 
 fn exercise_4_1(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Reflection>();
     for_all(500, (unit_vector(), unit_vector()), |(w, n)| {
         let call = format!("reflect(ω = {w}, n = {n})");
         let r = s.reflect(w, n);
@@ -704,7 +659,7 @@ fn exercise_4_1(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             None => Ok(()),
         }
     })?;
-    let golden: GoldenFile<ReflectInput, Vec3> = load(ctx, GOLDEN_REFLECT)?;
+    let golden: GoldenFile<ReflectInput, Vec3> = ctx.golden(GOLDEN_REFLECT)?;
     for case in &golden.cases {
         let (w, n) = case.input;
         compare_vec3(
@@ -745,7 +700,7 @@ fn front_hit_strategy() -> impl Strategy<Value = (Hit, Vec3, f32)> {
 }
 
 fn exercise_4_2(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Reflection>();
     for_all(300, front_hit_strategy(), |(hit, w, distance)| {
         let ray = incoming_ray(hit.position, w, distance);
         let call = format!(
@@ -764,7 +719,7 @@ fn exercise_4_2(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
         )
         .map_err(|e| format!("{e} ({hint})"))
     })?;
-    check_part_snapshots(Part::ReflectedRay, s, ctx)
+    Part::ReflectedRay.check_snapshots(s, ctx)
 }
 
 fn side_call(f: &str, (w, n, hit_ior, material_ior): SideInput) -> String {
@@ -805,7 +760,7 @@ fn check_interface_relations(call: &str, input: SideInput, got: Interface) -> Re
 }
 
 fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Reflection>();
     for_all(400, side_strategy(), |input| {
         let (w, _, _, material_ior) = input;
         let hit = side_hit(input);
@@ -850,7 +805,7 @@ fn exercise_4_3(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             None => Ok(()),
         }
     })?;
-    let golden: GoldenFile<SideInput, Interface> = load(ctx, GOLDEN_INTERFACE)?;
+    let golden: GoldenFile<SideInput, Interface> = ctx.golden(GOLDEN_INTERFACE)?;
     for case in &golden.cases {
         let (w, _, _, material_ior) = case.input;
         check_interface(
@@ -872,7 +827,7 @@ pub fn refract_is_clear(w: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> bool {
 }
 
 fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Reflection>();
     let key_refract =
         |(w, n, ei, et): RefractInput| key.as_ref().and_then(|k| k.refract(w, n, ei, et));
     let clear = refract_strategy().prop_filter("not at the critical angle", |&(w, n, ei, et)| {
@@ -920,7 +875,7 @@ fn exercise_4_4(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             key_refract(input),
         )
     })?;
-    let golden: GoldenFile<RefractInput, Option<Vec3>> = load(ctx, GOLDEN_REFRACT)?;
+    let golden: GoldenFile<RefractInput, Option<Vec3>> = ctx.golden(GOLDEN_REFRACT)?;
     for case in &golden.cases {
         let (w, n, ei, et) = case.input;
         check_refraction(
@@ -1029,7 +984,7 @@ pub fn side_is_clear(input: &SideInput) -> bool {
 }
 
 fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Reflection>();
     let strategy = (
         side_strategy().prop_filter("clear of the critical angle", side_is_clear),
         0.5f32..10.0,
@@ -1075,12 +1030,12 @@ fn exercise_4_5(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             )
         })
     })?;
-    let golden: GoldenFile<SideInput, Option<(Vec3, f32)>> = load(ctx, GOLDEN_REFRACTED_RAY)?;
+    let golden: GoldenFile<SideInput, Option<(Vec3, f32)>> = ctx.golden(GOLDEN_REFRACTED_RAY)?;
     for case in &golden.cases {
         let hit = side_hit(case.input);
         check_refracted_ray(s.as_ref(), case.input, &hit, 2.0, Some(case.expected))?;
     }
-    check_part_snapshots(Part::RefractedRay, s, ctx)
+    Part::RefractedRay.check_snapshots(s, ctx)
 }
 
 fn phong_call(
@@ -1218,7 +1173,7 @@ fn exercise_4_6(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
         )
         .map_err(|e| format!("{e}: the model is ρ_d/π + ρ_s·(s+2)/(2π)·max(0, r·v)^s, a sum of the two lobes"))
     })?;
-    if let Some(key) = key(ctx) {
+    if let Some(key) = ctx.key_code::<dyn Reflection>() {
         for_all(400, phong_strategy(), |(rho_d, rho_s, sh, n, v, lights)| {
             compare_vec3(
                 &phong_call(rho_d, rho_s, sh, n, v, &lights),
@@ -1229,7 +1184,7 @@ fn exercise_4_6(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             )
         })?;
     }
-    let golden: GoldenFile<PhongInput, Vec3> = load(ctx, GOLDEN_PHONG)?;
+    let golden: GoldenFile<PhongInput, Vec3> = ctx.golden(GOLDEN_PHONG)?;
     for case in &golden.cases {
         let (rho_d, rho_s, sh, n, v, lights) = &case.input;
         compare_vec3(
@@ -1240,5 +1195,5 @@ fn exercise_4_6(s: &Arc<dyn Reflection>, ctx: &LabContext) -> Result<(), String>
             1e-3,
         )?;
     }
-    check_part_snapshots(Part::Phong, s, ctx)
+    Part::Phong.check_snapshots(s, ctx)
 }

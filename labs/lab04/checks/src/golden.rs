@@ -5,8 +5,9 @@ use glam::Vec3;
 
 use super::checks::*;
 use contracts::lab04::Reflection;
+use grading::LabContext;
+use grading::part_snapshots::PartSnapshots;
 use grading::strategies::{samples, unit_vector};
-use grading::{GoldenFile, LabContext};
 use raylab_core::Error;
 
 /// Writes lab 04's golden cases and snapshots from `reference` into the lab's directory.
@@ -22,64 +23,55 @@ pub fn generate_golden(
     let mut written = Vec::new();
 
     let reflect: Vec<ReflectInput> = samples((unit_vector(), unit_vector()), 64, 41);
-    let path = ctx.golden_path(GOLDEN_REFLECT);
-    GoldenFile::record("4.1", &reflect, |&(w, n)| r.reflect(w, n)).save(&path)?;
-    written.push(path);
+    written.push(ctx.record_golden(GOLDEN_REFLECT, "4.1", &reflect, |&(w, n)| r.reflect(w, n))?);
 
     let sides: Vec<SideInput> = samples(side_strategy(), 96, 43);
-    let path = ctx.golden_path(GOLDEN_INTERFACE);
-    GoldenFile::record("4.3", &sides, |&input| {
-        let (w, n, hit_ior, material_ior) = input;
-        r.interface(
-            w,
-            &hit_at(Vec3::new(0.5, -1.0, 2.0), n, n, hit_ior),
-            material_ior,
-        )
-    })
-    .save(&path)?;
-    written.push(path);
+    written.push(
+        ctx.record_golden(GOLDEN_INTERFACE, "4.3", &sides, |&input| {
+            let (w, n, hit_ior, material_ior) = input;
+            r.interface(
+                w,
+                &hit_at(Vec3::new(0.5, -1.0, 2.0), n, n, hit_ior),
+                material_ior,
+            )
+        })?,
+    );
 
     let refract: Vec<RefractInput> = samples(refract_strategy(), 400, 44)
         .into_iter()
         .filter(|&(w, n, ei, et)| refract_is_clear(w, n, ei, et))
         .take(128)
         .collect();
-    let path = ctx.golden_path(GOLDEN_REFRACT);
-    GoldenFile::record("4.4", &refract, |&(w, n, ei, et)| r.refract(w, n, ei, et)).save(&path)?;
-    written.push(path);
+    written.push(
+        ctx.record_golden(GOLDEN_REFRACT, "4.4", &refract, |&(w, n, ei, et)| {
+            r.refract(w, n, ei, et)
+        })?,
+    );
 
     let rays: Vec<SideInput> = samples(side_strategy(), 400, 45)
         .into_iter()
         .filter(side_is_clear)
         .take(128)
         .collect();
-    let path = ctx.golden_path(GOLDEN_REFRACTED_RAY);
-    GoldenFile::record("4.5", &rays, |&input| {
-        let (w, n, hit_ior, material_ior) = input;
-        let hit = hit_at(Vec3::new(0.5, -1.0, 2.0), n, n, hit_ior);
-        r.refracted_ray(&incoming_ray(hit.position, w, 2.0), &hit, material_ior)
-            .map(|(ray, ior)| (ray.direction, ior))
-    })
-    .save(&path)?;
-    written.push(path);
+    written.push(
+        ctx.record_golden(GOLDEN_REFRACTED_RAY, "4.5", &rays, |&input| {
+            let (w, n, hit_ior, material_ior) = input;
+            let hit = hit_at(Vec3::new(0.5, -1.0, 2.0), n, n, hit_ior);
+            r.refracted_ray(&incoming_ray(hit.position, w, 2.0), &hit, material_ior)
+                .map(|(ray, ior)| (ray.direction, ior))
+        })?,
+    );
 
     let phong: Vec<PhongInput> = samples(phong_strategy(), 96, 46);
-    let path = ctx.golden_path(GOLDEN_PHONG);
-    GoldenFile::record("4.6", &phong, |(rho_d, rho_s, s, n, v, lights)| {
-        r.shade_phong(*rho_d, *rho_s, *s, *n, *v, &samples_of(lights))
-    })
-    .save(&path)?;
-    written.push(path);
+    written.push(ctx.record_golden(
+        GOLDEN_PHONG,
+        "4.6",
+        &phong,
+        |(rho_d, rho_s, s, n, v, lights)| {
+            r.shade_phong(*rho_d, *rho_s, *s, *n, *v, &samples_of(lights))
+        },
+    )?);
 
-    for shot in Shot::ALL {
-        let (part, _) = Part::ALL
-            .iter()
-            .find(|(_, shots)| shots.contains(&shot))
-            .expect("every shot belongs to a part");
-        let film = render_shot(shot, &part_pipeline(*part, reference, &ctx.base))?;
-        let path = ctx.snapshot_path(&format!("{}.exr", shot.name()));
-        raylab_core::film::write_exr(&film, &path)?;
-        written.push(path);
-    }
+    written.extend(Part::save_snapshots(&Shot::ALL, reference, ctx)?);
     Ok(written)
 }

@@ -4,6 +4,7 @@
 //! mirrors at growing depth limits.
 
 use crate::checks::Shot;
+use grading::part_snapshots::SnapshotScene;
 use grading::scenes::glossy_default_scene;
 
 use raylab_core::Error;

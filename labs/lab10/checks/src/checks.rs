@@ -23,14 +23,12 @@ use proptest::prelude::*;
 
 use contracts::lab04::Reflection;
 use contracts::lab10::Fresnel;
+use grading::part_snapshots::{PartSnapshots, SnapshotScene};
 use grading::scenes::glossy_default_scene;
 use grading::strategies::index_strategy;
 use grading::{
     Exercise, GoldenFile, LabContext, PixelTolerance, compare_f32, compare_vec3, for_all,
 };
-use pipeline::render::render;
-use pipeline::{Pipeline, View};
-use raylab_core::film::Film;
 use raylab_core::render::RenderSettings;
 use raylab_core::scene::{IllumModel, Material, Scene, builtin_scene};
 
@@ -173,19 +171,6 @@ pub fn volume_material(diffuse: Vec3) -> Material {
         specular: Vec3::ONE,
         ..Material::lambertian("volume", diffuse)
     }
-}
-
-/// The answer key's lab 10 slot, when the context holds it.
-fn key(ctx: &LabContext) -> Option<Arc<dyn Fresnel>> {
-    ctx.key().map(|k| k.code::<dyn contracts::lab10::Fresnel>())
-}
-
-fn load<I, O>(ctx: &LabContext, name: &str) -> Result<GoldenFile<I, O>, String>
-where
-    I: serde::Serialize + serde::de::DeserializeOwned,
-    O: serde::Serialize + serde::de::DeserializeOwned,
-{
-    ctx.golden(name)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -333,7 +318,7 @@ fn check_coefficient(
 /// The checks of Exercises 10.1–10.3: relations on random pairs, normal and grazing
 /// incidence, equal media, the key and the golden cases.
 fn check_pairs(which: Coefficient, s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Fresnel>();
     let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
     for_all(600, reflectance_strategy(), |input| {
         let Some(pair) = pair_of(base.as_ref(), input) else {
@@ -385,7 +370,7 @@ fn check_pairs(which: Coefficient, s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Re
         Coefficient::RP => GOLDEN_R_P,
         Coefficient::R => GOLDEN_R,
     };
-    let golden: GoldenFile<PairInput, f32> = load(ctx, name)?;
+    let golden: GoldenFile<PairInput, f32> = ctx.golden(name)?;
     for case in &golden.cases {
         check_coefficient(which, s.as_ref(), case.input, Some(case.expected))?;
     }
@@ -587,7 +572,7 @@ pub fn reflectance_is_clear(&(c, e1, e2): &ReflectanceInput) -> bool {
 }
 
 fn exercise_10_4(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Fresnel>();
     let base = ctx.base.code::<dyn contracts::lab04::Reflection>();
     let clear =
         reflectance_strategy().prop_filter("clear of the critical angle", reflectance_is_clear);
@@ -649,11 +634,11 @@ fn exercise_10_4(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
         }
         Ok(())
     })?;
-    let golden: GoldenFile<ReflectanceInput, f32> = load(ctx, GOLDEN_REFLECTANCE)?;
+    let golden: GoldenFile<ReflectanceInput, f32> = ctx.golden(GOLDEN_REFLECTANCE)?;
     for case in &golden.cases {
         check_reflectance(s.as_ref(), base.as_ref(), case.input, Some(case.expected))?;
     }
-    check_part_snapshots(Part::Reflectance, s, ctx)
+    Part::Reflectance.check_snapshots(s, ctx)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -728,7 +713,7 @@ fn check_transmittance(
 }
 
 fn exercise_10_5(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
-    let key = key(ctx);
+    let key = ctx.key_code::<dyn Fresnel>();
     for_all(600, transmittance_strategy(), |(d, rho)| {
         let expected = key
             .as_ref()
@@ -776,11 +761,11 @@ fn exercise_10_5(s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
             Ok(())
         },
     )?;
-    let golden: GoldenFile<TransmittanceInput, Vec3> = load(ctx, GOLDEN_TRANSMITTANCE)?;
+    let golden: GoldenFile<TransmittanceInput, Vec3> = ctx.golden(GOLDEN_TRANSMITTANCE)?;
     for case in &golden.cases {
         check_transmittance(s.as_ref(), case.input, Some(case.expected))?;
     }
-    check_part_snapshots(Part::Transmittance, s, ctx)
+    Part::Transmittance.check_snapshots(s, ctx)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -799,19 +784,6 @@ pub enum Part {
     Reflectance,
     /// Exercise 10.5.
     Transmittance,
-}
-
-impl Part {
-    /// The contract method whose code this part is (the student's in a [`PartSlot`](pipeline::PartSlot)).
-    pub fn function(self) -> &'static str {
-        match self {
-            Part::RS => "fresnel_r_s",
-            Part::RP => "fresnel_r_p",
-            Part::R => "fresnel_R",
-            Part::Reflectance => "fresnel_reflectance",
-            Part::Transmittance => "transmittance",
-        }
-    }
 }
 
 /// The scenes of lab 10's snapshots.
@@ -836,9 +808,10 @@ impl Shot {
         Shot::Volume,
         Shot::GlossyVolume,
     ];
+}
 
-    /// The snapshot's file name (without `.exr`).
-    pub fn name(self) -> &'static str {
+impl SnapshotScene for Shot {
+    fn name(self) -> &'static str {
         match self {
             Shot::Default => "default-fresnel",
             Shot::Glossy => "default-glossy-fresnel",
@@ -847,8 +820,7 @@ impl Shot {
         }
     }
 
-    /// The scene.
-    pub fn scene(self) -> Result<Scene, raylab_core::Error> {
+    fn scene(self) -> Result<Scene, raylab_core::Error> {
         match self {
             Shot::Default => builtin_scene("default"),
             Shot::Glossy => glossy_default_scene(),
@@ -880,9 +852,11 @@ pub fn volume_default_scene(illum: IllumModel) -> Result<Scene, raylab_core::Err
     Ok(scene)
 }
 
-impl Part {
-    /// Every part with the scenes its snapshots render.
-    pub const ALL: [(Part, &'static [Shot]); 5] = [
+impl PartSnapshots for Part {
+    type Contract = dyn Fresnel;
+    type Shot = Shot;
+
+    const PARTS: &'static [(Part, &'static [Shot])] = &[
         // The renderer reaches the coefficients only through the student's
         // `fresnel_reflectance` (Exercise 10.4), whose images check them together.
         (Part::RS, &[]),
@@ -891,31 +865,17 @@ impl Part {
         (Part::Reflectance, &[Shot::Default, Shot::Glossy]),
         (Part::Transmittance, &[Shot::Volume, Shot::GlossyVolume]),
     ];
-}
+    const SETTINGS: RenderSettings = SNAPSHOT_SETTINGS;
+    const MAX_DEPTH: u32 = SNAPSHOT_MAX_DEPTH;
+    const TOLERANCE: PixelTolerance = SNAPSHOT_TOLERANCE;
 
-/// The pipeline of one part's snapshots: `student` for that part only, `base` for the rest,
-/// at lab 10 with the depth limit [`SNAPSHOT_MAX_DEPTH`].
-pub fn part_pipeline(part: Part, student: &Arc<dyn Fresnel>, base: &Pipeline) -> Pipeline {
-    let mut pipeline = base.with_student_function(part.function(), student);
-    pipeline.view = View::Shaded;
-    pipeline.max_depth = SNAPSHOT_MAX_DEPTH;
-    pipeline
-}
-
-/// Renders one snapshot scene through `pipeline`.
-pub fn render_shot(shot: Shot, pipeline: &Pipeline) -> Result<Film, raylab_core::Error> {
-    render(&shot.scene()?, pipeline, &SNAPSHOT_SETTINGS)
-}
-
-fn check_part_snapshots(part: Part, s: &Arc<dyn Fresnel>, ctx: &LabContext) -> Result<(), String> {
-    let (_, shots) = Part::ALL
-        .iter()
-        .find(|p| p.0 == part)
-        .expect("every part is listed");
-    let pipeline = part_pipeline(part, s, &ctx.base);
-    for &shot in *shots {
-        let film = render_shot(shot, &pipeline).map_err(|e| e.to_string())?;
-        ctx.check_snapshot(shot.name(), &film, &SNAPSHOT_TOLERANCE)?;
+    fn function(self) -> &'static str {
+        match self {
+            Part::RS => "fresnel_r_s",
+            Part::RP => "fresnel_r_p",
+            Part::R => "fresnel_R",
+            Part::Reflectance => "fresnel_reflectance",
+            Part::Transmittance => "transmittance",
+        }
     }
-    Ok(())
 }

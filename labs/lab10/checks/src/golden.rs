@@ -3,8 +3,9 @@ use std::sync::Arc;
 
 use super::checks::*;
 use contracts::lab10::Fresnel;
+use grading::LabContext;
+use grading::part_snapshots::PartSnapshots;
 use grading::strategies::samples;
-use grading::{GoldenFile, LabContext};
 use raylab_core::Error;
 
 /// Writes lab 10's golden cases and snapshots from `reference` into the lab's directory.
@@ -42,9 +43,7 @@ pub fn generate_golden(
             r.fresnel_R(c1, c2, e1, e2)
         }),
     ] {
-        let path = ctx.golden_path(name);
-        GoldenFile::record(id, &pairs(seed), |&input| f(r, input)).save(&path)?;
-        written.push(path);
+        written.push(ctx.record_golden(name, id, &pairs(seed), |&input| f(r, input))?);
     }
 
     let reflectance: Vec<ReflectanceInput> = samples(reflectance_strategy(), 400, 104)
@@ -52,30 +51,20 @@ pub fn generate_golden(
         .filter(reflectance_is_clear)
         .take(128)
         .collect();
-    let path = ctx.golden_path(GOLDEN_REFLECTANCE);
-    GoldenFile::record("10.4", &reflectance, |&(c, e1, e2)| {
-        r.fresnel_reflectance(c, e1, e2)
-    })
-    .save(&path)?;
-    written.push(path);
+    written.push(
+        ctx.record_golden(GOLDEN_REFLECTANCE, "10.4", &reflectance, |&(c, e1, e2)| {
+            r.fresnel_reflectance(c, e1, e2)
+        })?,
+    );
 
     let transmittance: Vec<TransmittanceInput> = samples(transmittance_strategy(), 128, 105);
-    let path = ctx.golden_path(GOLDEN_TRANSMITTANCE);
-    GoldenFile::record("10.5", &transmittance, |&(d, rho)| {
-        r.transmittance(d, &volume_material(rho))
-    })
-    .save(&path)?;
-    written.push(path);
+    written.push(ctx.record_golden(
+        GOLDEN_TRANSMITTANCE,
+        "10.5",
+        &transmittance,
+        |&(d, rho)| r.transmittance(d, &volume_material(rho)),
+    )?);
 
-    for shot in Shot::ALL {
-        let (part, _) = Part::ALL
-            .iter()
-            .find(|(_, shots)| shots.contains(&shot))
-            .expect("every shot belongs to a part");
-        let film = render_shot(shot, &part_pipeline(*part, reference, &ctx.base))?;
-        let path = ctx.snapshot_path(&format!("{}.exr", shot.name()));
-        raylab_core::film::write_exr(&film, &path)?;
-        written.push(path);
-    }
+    written.extend(Part::save_snapshots(&Shot::ALL, reference, ctx)?);
     Ok(written)
 }
