@@ -22,7 +22,7 @@
 //! - 6.5 (`select_shooter`): the patch chosen has the most unshot power (radiosity times area)
 //!   over areas from 10⁻⁸ to 10⁶, and `None` when nothing is left to shoot.
 //! - 6.6 (`shoot`): on a shot whose factors all differ, relations that name each usual mistake
-//!   ([`diagnose_shoot`]): what a receiver gets halves with its area, doubles with the
+//!   (`shoot::diagnose_shoot`): what a receiver gets halves with its area, doubles with the
 //!   shooter's, ignores the shooter's radiosity `B_i` and reflectance; then on random shots
 //!   the shooter's unshot radiosity is zeroed and nothing else of it changes;
 //!   radiosity and unshot radiosity grow by the same amount; the power received is the power
@@ -33,8 +33,6 @@
 //! - 6.7 (`patch_colours`), 6.8 (`vertex_colours`): linearity, bounds (a vertex's colour lies
 //!   between its patches' colours), blindness to the patches' areas (from 10⁻³ to 10³: the
 //!   mean counts each patch once), golden cases, and the Cornell box's flat and smooth images.
-//!
-//! [`diagnose_shoot`]: shoot::diagnose_shoot
 
 use std::sync::Arc;
 

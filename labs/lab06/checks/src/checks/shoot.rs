@@ -278,7 +278,7 @@ fn diagnose_shoot(r: &dyn Radiosity, call: &str, input: &ShootInput) -> Result<(
 
 /// A shot in which every factor of `ρ_j ΔB_i F_ij A_i / A_j` differs from patch to patch and
 /// from channel to channel, and the shooter's radiosity from its unshot radiosity: the input
-/// on which [`diagnose_shoot`] first tells the mistakes apart.
+/// on which `diagnose_shoot` first tells the mistakes apart.
 pub fn diagnosis_input() -> ShootInput {
     let patches = vec![
         bare_patch(0.5, Vec3::new(0.3, 0.6, 0.9)),

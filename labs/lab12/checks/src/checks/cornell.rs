@@ -109,7 +109,7 @@ fn check_convergence_rate(
     })
 }
 
-/// [`check_convergence_rate`] of the images `render(spp, k)` makes (the `k`th render, at `spp`
+/// `check_convergence_rate` of the images `render(spp, k)` makes (the `k`th render, at `spp`
 /// samples per pixel).
 pub fn convergence_rate(
     reference: &RenderStatistics,

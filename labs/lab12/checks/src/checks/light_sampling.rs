@@ -19,8 +19,8 @@ pub const GOLDEN_EMITTER_PDF: &str = "emitter_pdf.json";
 /// Points drawn per case of the emitter checks.
 const EMITTER_SAMPLES: usize = 4_000;
 
-/// A triangle, a point in front of it, at a scale of [`SCALES`] and moved away from the
-/// origin.
+/// A triangle, a point in front of it, at a scale of `grading::strategies::scale()` and
+/// moved away from the origin.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EmitterCase {
     /// The emitting triangle.
