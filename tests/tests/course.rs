@@ -67,23 +67,24 @@ fn every_lab_crate_is_on_the_course_list() {
 }
 
 /// Each lab's program and corpus are the one line the scaffold writes, naming the lab's own
-/// crates: the harness and the corpus tests are the framework's, not copies.
+/// crates and the answer key's: the harness and the corpus tests are the framework's, not
+/// copies (a corpus may say how its variants are the lab's code: `, code = change`).
 #[test]
 fn every_lab_has_its_program_and_its_corpus() {
     for lab in course::labs() {
         let dir = root().join(lab.folder());
-        let call = |name: &str| format!("grading::{name}!({lab}, {lab}_checks);");
+        let call = |name: &str| format!("grading::{name}!({lab}, {lab}_checks, reference");
         let program = fs::read_to_string(dir.join("tests/checks.rs")).unwrap();
+        let whole = format!("{});", call("lab_program"));
         assert!(
-            program.contains(&call("lab_program")),
-            "{lab}/tests/checks.rs is not `{}`",
-            call("lab_program")
+            program.contains(&whole),
+            "{lab}/tests/checks.rs is not `{whole}`"
         );
         let corpus = fs::read_to_string(dir.join("tests/corpus.rs"))
             .unwrap_or_else(|e| panic!("{lab} has no mutant corpus tests/corpus.rs: {e}"));
         assert!(
             corpus.contains(&call("corpus_tests")),
-            "{lab}/tests/corpus.rs does not end with `{}`",
+            "{lab}/tests/corpus.rs does not end with `{}…);`",
             call("corpus_tests")
         );
     }
